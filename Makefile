@@ -1,0 +1,33 @@
+# optri: two commands on a fresh machine.
+#   make demo   set up .venv, solve the bundled octagon, print it and its table,
+#               plot it, and reproduce the paper's tables into demo-output/
+#   make test   set up .venv and run the whole test suite
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed
+OUT    := demo-output
+
+.PHONY: demo test lint bench clean
+
+$(STAMP): pyproject.toml
+	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet -e ".[test,shapely,mesh,gpu,dask,geo,compare]"
+	touch $(STAMP)
+
+demo: $(STAMP)
+	mkdir -p $(OUT)
+	$(BIN)/optri solve examples/octagon.csv --method memo --table --plot $(OUT)/octagon.png
+	$(BIN)/optri chain 30 35 15 5 10 20 25
+	@if $(BIN)/optri paper --help >/dev/null 2>&1; then $(BIN)/optri paper --out $(OUT)/paper; fi
+
+test: $(STAMP)
+	NUMBA_CACHE_DIR=$(CURDIR)/.numba-cache $(BIN)/python -m pytest -n 2 tests src/optri
+	$(BIN)/ruff check src tests benchmarks
+
+lint: $(STAMP)
+	$(BIN)/ruff check src tests benchmarks
+
+clean:
+	rm -rf $(VENV) $(OUT) .numba-cache .pytest_cache

@@ -1,0 +1,127 @@
+"""``optri solve`` and ``optri chain``."""
+
+from __future__ import annotations
+
+import json
+import time
+
+import click
+
+from ..chain import matrix_chain
+from ..engines import ENGINES
+from ..io import atomic_write, read_polygon
+from ..papertable import format_table
+from ..solve import triangulate
+from ..weights import WEIGHTS
+from . import main
+from .progress import progress_bar
+
+#: Show a progress bar from this many vertices on.
+PROGRESS_MIN_N = 1500
+
+
+def _parse_pair(value: str) -> str | tuple[str, ...]:
+    parts = tuple(p.strip() for p in value.split(","))
+    return parts if len(parts) > 1 else parts[0]
+
+
+@main.command()
+@click.argument("file", type=click.Path(dir_okay=False))
+@click.option(
+    "--weight",
+    "-w",
+    default="perimeter",
+    show_default=True,
+    help=f"Triangle weight ({', '.join(sorted(WEIGHTS))}); 'a,b' for a lexicographic pair.",
+)
+@click.option(
+    "--objective",
+    "-o",
+    default="sum",
+    show_default=True,
+    help="sum, max, or a lexicographic pair such as max,sum.",
+)
+@click.option(
+    "--method",
+    "-m",
+    default="auto",
+    show_default=True,
+    type=click.Choice(["auto", *ENGINES]),
+    help="Engine.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+@click.option(
+    "--plot",
+    "plot_path",
+    type=click.Path(dir_okay=False),
+    help="Write a PNG drawing of the triangulation.",
+)
+@click.option(
+    "--table", "show_table", is_flag=True, help="Print the n x n table like the paper's Table 1."
+)
+@click.option("--float32", is_flag=True, help="Compiled engines: float32 table.")
+@click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
+def solve(
+    file: str,
+    weight: str,
+    objective: str,
+    method: str,
+    as_json: bool,
+    plot_path: str | None,
+    show_table: bool,
+    float32: bool,
+    quiet: bool,
+) -> None:
+    """Optimal triangulation of the polygon in FILE (CSV x,y per line, or JSON)."""
+    vertices = read_polygon(file)
+    show_bar = not quiet and not as_json and len(vertices) >= PROGRESS_MIN_N
+    start = time.perf_counter()
+    with progress_bar(f"solving n={len(vertices)}", show_bar) as progress:
+        tri = triangulate(
+            vertices,
+            weight=_parse_pair(weight),
+            objective=_parse_pair(objective),
+            method=method,
+            progress=progress,
+            keep_table=True if show_table else None,
+            dtype="float32" if float32 else "float64",
+        )
+    seconds = time.perf_counter() - start
+    if plot_path:
+        from ..plot import save_figure
+
+        save_figure(tri.plot(), plot_path)
+    if as_json:
+        out = tri.to_dict()
+        out["seconds"] = seconds
+        click.echo(json.dumps(out))
+        return
+    w = tri.weight
+    click.echo(
+        f"n = {tri.n}   method = {tri.method}   weight = {tri.weight_name}   "
+        f"objective = {tri.objective}"
+    )
+    click.echo(f"optimal weight: {w!r}" if isinstance(w, tuple) else f"optimal weight: {w:.12g}")
+    click.echo(f"orientation: {tri.orientation}   seconds: {seconds:.4f}")
+    click.echo("diagonals: " + " ".join(f"{a}-{b}" for a, b in tri.diagonals.tolist()))
+    click.echo("triangles: " + " ".join(f"({a},{b},{c})" for a, b, c in tri.triangles.tolist()))
+    if show_table:
+        click.echo(format_table(tri))
+    if plot_path:
+        click.echo(f"plot written to {plot_path}")
+
+
+@main.command()
+@click.argument("dims", nargs=-1, type=int, required=True)
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def chain(dims: tuple[int, ...], as_json: bool) -> None:
+    """Cheapest matrix-chain order for dimensions D0 D1 ... Dn."""
+    order = matrix_chain(list(dims))
+    if as_json:
+        click.echo(json.dumps({"cost": order.cost, "parenthesization": order.parenthesization}))
+    else:
+        click.echo(f"cost: {order.cost}")
+        click.echo(f"order: {order.parenthesization}")
+
+
+__all__ = ["atomic_write", "chain", "solve"]

@@ -1,0 +1,118 @@
+"""Engine registry and the ``method="auto"`` choice.
+
+An engine is a module with ``solve(problem) -> Solution`` and, optionally,
+``unavailable() -> str | None`` (why it cannot run here) and
+``unsupported(problem) -> str | None`` (why it cannot take this problem).
+Modules load on first use, so importing optri never imports numba or CUDA.
+"""
+
+from __future__ import annotations
+
+import importlib
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass
+from types import ModuleType
+
+from ..errors import EngineUnavailableError
+from .problem import Problem, Solution
+
+__all__ = ["ENGINES", "AUTO_ORDER", "EngineSpec", "register_engine", "select_engine"]
+
+
+@dataclass(frozen=True)
+class EngineSpec:
+    """Where an engine lives and what it is."""
+
+    name: str
+    module: str
+    description: str
+
+    def load(self) -> ModuleType:
+        """Import the engine module."""
+        return importlib.import_module(self.module)
+
+
+ENGINES: dict[str, EngineSpec] = {}
+
+#: Engines tried in turn by ``method="auto"``; the first that can take the problem wins.
+AUTO_ORDER = ("gpu", "fast", "table")
+
+
+def register_engine(spec: EngineSpec) -> None:
+    """Add or replace an engine in the registry."""
+    ENGINES[spec.name] = spec
+
+
+for _spec in (
+    EngineSpec("memo", "optri.engines.memo", "top-down memoization (paper Alg. 3.1), pure Python"),
+    EngineSpec("table", "optri.engines.table", "bottom-up square-matrix tabulation, pure Python"),
+    EngineSpec(
+        "brute", "optri.engines.brute", "exhaustive search over all triangulations (oracle)"
+    ),
+    EngineSpec("fast", "optri.engines.jit", "numba-compiled, parallel, one n x n table"),
+    EngineSpec("gpu", "optri.engines.gpu", "numba-cuda tiled wavefront on one GPU"),
+):
+    register_engine(_spec)
+
+
+def _reason_unavailable(spec: EngineSpec) -> tuple[ModuleType | None, str | None]:
+    try:
+        module = spec.load()
+    except ImportError as exc:
+        return None, f"engine {spec.name!r} cannot be loaded ({exc})"
+    check = getattr(module, "unavailable", None)
+    reason = check() if check is not None else None
+    return module, reason
+
+
+def _reason_unsupported(module: ModuleType, problem: Problem) -> str | None:
+    check = getattr(module, "unsupported", None)
+    return check(problem) if check is not None else None
+
+
+def select_engine(method: str, problem: Problem) -> tuple[str, Callable[[Problem], Solution]]:
+    """Return ``(name, solve)`` for ``method`` on ``problem``.
+
+    ``"auto"`` tries :data:`AUTO_ORDER`; an engine that declines a problem it
+    would normally take (a plain Python weight for the compiled engine) is
+    skipped with a warning that says why.
+
+    Raises
+    ------
+    EngineUnavailableError
+        Unknown method, or the named engine cannot run here or take the problem.
+    """
+    if method == "auto":
+        for name in AUTO_ORDER:
+            spec = ENGINES.get(name)
+            if spec is None:
+                continue
+            module, reason = _reason_unavailable(spec)
+            if module is None or reason is not None:
+                continue
+            auto_ok = getattr(module, "auto_accepts", None)
+            if auto_ok is not None and not auto_ok(problem):
+                continue
+            reason = _reason_unsupported(module, problem)
+            if reason is not None:
+                if name == "fast":
+                    warnings.warn(
+                        f"{reason}; falling back to the pure-Python engine",
+                        RuntimeWarning,
+                        stacklevel=3,
+                    )
+                continue
+            return name, module.solve
+        raise EngineUnavailableError("no engine can take this problem")  # pragma: no cover
+    spec = ENGINES.get(method)
+    if spec is None:
+        known = ", ".join(["auto", *ENGINES])
+        raise EngineUnavailableError(f"unknown method {method!r}; choose one of: {known}")
+    module, reason = _reason_unavailable(spec)
+    if module is None or reason is not None:
+        raise EngineUnavailableError(reason or f"engine {method!r} is unavailable")
+    reason = _reason_unsupported(module, problem)
+    if reason is not None:
+        raise EngineUnavailableError(f"method={method!r} cannot take this problem: {reason}")
+    return method, module.solve

@@ -1,0 +1,145 @@
+"""What every engine receives (:class:`Problem`) and returns (:class:`Solution`)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import WeightError
+from ..geometry import Polygon
+from ..objective import Cost, Objective
+from ..weights import Weight
+
+__all__ = ["Problem", "ProgressFn", "Solution", "triangles_from_splits"]
+
+ProgressFn = Callable[[int, int], None]
+
+
+@dataclass
+class Problem:
+    """One optimal-triangulation instance in the engines' internal vertex order.
+
+    Attributes
+    ----------
+    polygon : Polygon
+        Validated input (internal order counter-clockwise).
+    weights : tuple of Weight
+        One weight per objective component.
+    objective : Objective
+    allowed : ndarray of bool or None
+        ``allowed[i, j]`` for ``i < j``: may chord (i, j) be used? None means
+        every chord (convex polygon). Polygon sides are always allowed.
+    progress : callable or None
+        ``progress(done, total)``, called now and then by long-running engines.
+    keep_table : bool
+        Ask the engine for the n x n table (costs above the diagonal, splits
+        below) where it can give one.
+    dtype : numpy dtype
+        Float type of compiled tables (float64 default).
+    options : dict
+        Engine-specific extras.
+    """
+
+    polygon: Polygon
+    weights: tuple[Weight, ...]
+    objective: Objective
+    allowed: NDArray[np.bool_] | None = None
+    progress: ProgressFn | None = None
+    keep_table: bool = True
+    dtype: Any = np.float64
+    options: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def n(self) -> int:
+        """Number of vertices."""
+        return self.polygon.n
+
+    def evaluator(self) -> Callable[[int, int, int], Cost]:
+        """Python ``w(i, k, j)`` giving a float (or tuple), raising on NaN."""
+        fns = [w.evaluator(self.polygon) for w in self.weights]
+        names = [w.name for w in self.weights]
+        order = self.polygon.order
+
+        def nan_error(i: int, k: int, j: int, name: str) -> WeightError:
+            tri = (int(order[i]), int(order[k]), int(order[j]))
+            return WeightError(f"weight {name!r} returned NaN for triangle {tri}")
+
+        if len(fns) == 1:
+            (f,), (name,) = fns, names
+
+            def w1(i: int, k: int, j: int) -> float:
+                v = f(i, k, j)
+                if v != v:
+                    raise nan_error(i, k, j, name)
+                return v
+
+            return w1
+
+        def wn(i: int, k: int, j: int) -> tuple[float, ...]:
+            vals = tuple(f(i, k, j) for f in fns)
+            for v, name in zip(vals, names):
+                if v != v:
+                    raise nan_error(i, k, j, name)
+            return vals
+
+        return wn
+
+    def allowed_rows(self) -> list[list[bool]] | None:
+        """``allowed`` as nested lists (fast to index from Python), sides set True."""
+        if self.allowed is None:
+            return None
+        ok = np.array(self.allowed, dtype=bool, copy=True)
+        idx = np.arange(self.n - 1)
+        ok[idx, idx + 1] = ok[idx + 1, idx] = True
+        ok[0, self.n - 1] = ok[self.n - 1, 0] = True
+        return ok.tolist()
+
+
+@dataclass
+class Solution:
+    """An engine's answer, in internal vertex indices.
+
+    Attributes
+    ----------
+    cost : float or tuple
+        Optimal objective value.
+    triangles : ndarray of int64, shape (n - 2, 3)
+        Triangles ``(i, k, j)`` with ``i < k < j`` (counter-clockwise).
+    table : ndarray or None
+        n x n table: costs above the diagonal (primary component), split
+        vertices below it, zeros on it.
+    stats : dict
+        Instrumentation (weight evaluations, look-ups, cells, ...).
+    """
+
+    cost: Cost
+    triangles: NDArray[np.int64]
+    table: NDArray[np.float64] | None = None
+    stats: dict[str, int] = field(default_factory=dict)
+
+
+def triangles_from_splits(split: Callable[[int, int], int], n: int) -> NDArray[np.int64]:
+    """Walk the optimal splits from chord (0, n-1) down; O(n) look-ups.
+
+    ``split(i, j)`` returns the apex k of the optimal triangle on chord (i, j).
+    """
+    tris = []
+    stack = [(0, n - 1)]
+    while stack:
+        i, j = stack.pop()
+        if j - i < 2:
+            continue
+        k = int(split(i, j))
+        if not i < k < j:
+            raise WeightError(
+                f"no valid triangulation of sub-polygon ({i}, {j}): every split has "
+                f"an infinite or invalid cost"
+            )
+        tris.append((i, k, j))
+        stack.append((k, j))
+        stack.append((i, k))
+    return np.array(tris, dtype=np.int64).reshape(-1, 3)
