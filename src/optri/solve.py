@@ -5,20 +5,21 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .engines import select_engine
-from .engines.problem import Problem, ProgressFn
+from .engines.problem import Problem, ProgressFn, Solution
 from .errors import WeightError
 from .geometry import Polygon, as_polygon, require_convex
 from .objective import Objective, ObjectiveLike, as_objective
 from .result import Triangulation, recompute_cost
 from .weights import Weight, WeightLike, get_weight
 
-__all__ = ["build_problem", "triangulate"]
+__all__ = ["allowed_chords", "build_problem", "solve_problem", "triangulate"]
 
 PolygonLike = ArrayLike | Polygon | str | os.PathLike[str]
 
@@ -117,15 +118,49 @@ def triangulate(
     problem = build_problem(
         polygon, weight, objective, progress=progress, keep_table=keep_table, dtype=dtype
     )
-    name, solve = select_engine(method, problem)
-    if problem.keep_table is None:
-        problem.keep_table = name in ("memo", "table")
     start = time.perf_counter()
-    solution = solve(problem)
+    name, solution = solve_problem(problem, method)
     seconds = time.perf_counter() - start
     return _to_result(
         problem, solution.cost, solution.triangles, name, seconds, solution.table, solution.stats
     )
+
+
+def solve_problem(problem: Problem, method: str = "auto") -> tuple[str, Solution]:
+    """Run an engine on ``problem``; returns ``(engine name, Solution)``.
+
+    A lexicographic objective whose primary component is ``"max"`` is not
+    monotone under the recurrence (a sub-polygon with a smaller maximum but a
+    larger secondary cost can lose later, once a larger maximum elsewhere
+    dominates), so it is solved exactly in two phases: first the bottleneck
+    value M* of the primary weight alone, then the secondary objective over the
+    triangulations whose triangles all have primary weight <= M*. A ``"sum"``
+    primary is monotone and runs as one lexicographic DP. The brute-force
+    oracle always evaluates the objective directly.
+    """
+    objective = problem.objective
+    if objective.is_lex and objective.components[0] == "max" and method != "brute":
+        first = replace(
+            problem, weights=problem.weights[:1], objective=Objective(("max",)), keep_table=False
+        )
+        _, bottleneck = solve_problem(first, method)
+        rest = replace(
+            problem,
+            weights=problem.weights[1:],
+            objective=Objective(objective.components[1:]),
+            gates=(*problem.gates, (problem.weights[0], bottleneck.cost)),
+        )
+        name, second = solve_problem(rest, method)
+        tail = second.cost if isinstance(second.cost, tuple) else (second.cost,)
+        stats = {
+            k: bottleneck.stats.get(k, 0) + second.stats.get(k, 0)
+            for k in {*bottleneck.stats, *second.stats}
+        }
+        return name, Solution((bottleneck.cost, *tail), second.triangles, second.table, stats)
+    name, solve = select_engine(method, problem)
+    if problem.keep_table is None:
+        problem.keep_table = name in ("memo", "table")
+    return name, solve(problem)
 
 
 def build_problem(
