@@ -172,7 +172,7 @@ def enumerate_triangulations(
     --------
     >>> ts = list(enumerate_triangulations([5, 1, 5, 1, 5], weight="product"))
     >>> len(ts), sorted(t.weight for t in ts)
-    (5, [35.0, 35.0, 51.0, 55.0, 155.0])
+    (5, [35.0, 35.0, 75.0, 75.0, 175.0])
     """
     polygon = as_enumerable(vertices_or_n)
     build = TriangulationBuilder(polygon, weight, objective, "enumerate")

@@ -14,12 +14,15 @@ import heapq
 from typing import Any
 
 from .enumerate import PolygonOrN, as_enumerable
-from .errors import InvalidPolygonError
+from .errors import InvalidPolygonError, WeightError
 from .objective import ObjectiveLike, as_objective
 from .result import Triangulation
 from .triangulations import TriangulationBuilder, usable_chords
 
 __all__ = ["best_triangulations"]
+
+#: Largest number of triangulations the fallback for non-monotone objectives enumerates.
+KBEST_ENUMERATION_LIMIT = 2_000_000
 
 Entry = tuple[Any, int, int, int]  # (cost, split, rank left, rank right)
 
@@ -49,8 +52,12 @@ def best_triangulations(
 
     Notes
     -----
+    For "sum", "max" and "sum"-led lexicographic pairs (monotone objectives):
     O(n^3 + n^2 k log(n + k)) time and O(n^2 k) space: each of the O(n^2)
     cells scans its O(n) splits once and pops k entries from a heap.
+    A "max"-led lexicographic pair is not monotone, so it falls back to a heap
+    over the full enumeration (exact; at most ``KBEST_ENUMERATION_LIMIT``
+    triangulations). Weights equal up to rounding may come in either order.
 
     Examples
     --------
@@ -62,11 +69,15 @@ def best_triangulations(
         raise ValueError(f"k must be at least 1, got {k}")
     polygon = as_enumerable(vertices)
     build = TriangulationBuilder(polygon, weight, objective, "kbest")
-    combine = as_objective(objective).combine
-    neutral = as_objective(objective).neutral
+    obj = as_objective(objective)
+    if not _monotone(obj.components):
+        return _by_enumeration(polygon, build, k)
+    combine, neutral = obj.combine, obj.neutral
     n = polygon.n
     ok = usable_chords(polygon)
-    best: dict[tuple[int, int], list[Entry]] = {(i, i + 1): [(neutral, -1, 0, 0)] for i in range(n - 1)}
+    best: dict[tuple[int, int], list[Entry]] = {
+        (i, i + 1): [(neutral, -1, 0, 0)] for i in range(n - 1)
+    }
     for d in range(2, n):
         for i in range(n - d):
             j = i + d
@@ -78,8 +89,36 @@ def best_triangulations(
     out = []
     for rank, entry in enumerate(top):
         tris = _expand(best, 0, n - 1, rank)
-        out.append(build(tris, as_objective(objective).finalize(entry[0])))
+        out.append(build(tris, obj.finalize(entry[0])))
     return out
+
+
+def _monotone(components: tuple[str, ...]) -> bool:
+    """True when combine preserves order in each half's cost (per-cell k best suffice).
+
+    "sum" and "max" are; a lexicographic pair is when its first component is
+    "sum". With "max" first it is not: (1, 100) < (2, 5), yet with a triangle
+    (3, 0) they give (3, 100) > (3, 5), so a cell's k best can miss the answer.
+    """
+    return len(components) == 1 or components[0] == "sum"
+
+
+def _by_enumeration(polygon, build, k):  # type: ignore[no-untyped-def]
+    """Exact k best of a non-monotone objective: every triangulation, kept in a heap."""
+    from .enumerate import count_triangulations, index_triangulations
+
+    total = count_triangulations(polygon)
+    if total > KBEST_ENUMERATION_LIMIT:
+        raise WeightError(
+            f"k-best for a lexicographic objective led by 'max' enumerates all {total} "
+            f"triangulations, above the limit {KBEST_ENUMERATION_LIMIT}; use a 'sum'-led "
+            "objective or fewer vertices"
+        )
+    scored = (
+        (build.cost(t), i, [list(x) for x in t])
+        for i, t in enumerate(index_triangulations(polygon))
+    )
+    return [build(tris, cost) for cost, _, tris in heapq.nsmallest(k, scored)]
 
 
 def _cell(i, j, k, best, ok, combine, w):  # type: ignore[no-untyped-def]

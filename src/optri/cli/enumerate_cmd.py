@@ -73,9 +73,7 @@ def best(source: str, k: int, weight: str, objective: str, as_json: bool) -> Non
     """The K cheapest triangulations of SOURCE, cheapest first."""
     if k < 1:
         raise click.BadParameter("must be at least 1", param_hint="--k")
-    for rank, tri in enumerate(
-        best_triangulations(_polygon_or_n(source), weight, k, objective), 1
-    ):
+    for rank, tri in enumerate(best_triangulations(_polygon_or_n(source), weight, k, objective), 1):
         if as_json:
             click.echo(json.dumps({"rank": rank, **tri.to_dict()}))
         else:

@@ -60,9 +60,7 @@ def _count_notes(counts: Sequence[Table3Row]) -> list[str]:
     hn_ok = all(r.hn_operations == r.eq5 for r in counts)
     same = all(r.sm_weight_evaluations == r.mm_weight_evaluations == r.eq6 for r in counts)
     cells = all(r.mm_cells == r.eq7 for r in counts)
-    shifted = all(
-        r.printed is None or r.printed[0] == r.eq5_shifted for r in counts if r.n >= 5
-    )
+    shifted = all(r.printed is None or r.printed[0] == r.eq5_shifted for r in counts if r.n >= 5)
     ns = f"n = {counts[0].n}..{counts[-1].n}"
     return [
         "**Table 3's HN column is Eq. 5 evaluated at n - 2** (shifted by two rows): "

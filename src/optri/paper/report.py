@@ -73,8 +73,9 @@ def write_report(
     Examples
     --------
     >>> import tempfile
-    >>> path = write_report(tempfile.mkdtemp(), PaperConfig.quick())
-    >>> "| 7 | 42 |" in path.read_text()
+    >>> tiny = PaperConfig((7,), (5,), lambda n: 1, enumerate_n=0, figures=False)
+    >>> path = write_report(tempfile.mkdtemp(), tiny)
+    >>> "| 7 | 42 | 588 | 588 | 45 | 45 |" in path.read_text()
     True
     """
     cfg = config or PaperConfig()
@@ -178,8 +179,10 @@ def _table2_section(product: Sequence[Table2Row], geometric: Sequence[Table2Row]
             else ""
         )
         rows.append([idx, _diags(diags), printed, paper_mark, r.weight, mark])
-    geo = [[r.index, _diags(r.diagonals), r.weight, "**optimal**" if r.optimal else ""]
-           for r in geometric]
+    geo = [
+        [r.index, _diags(r.diagonals), r.weight, "**optimal**" if r.optimal else ""]
+        for r in geometric
+    ]
     return [
         "## Table 2: all triangulations of the pentagon",
         "",
@@ -202,12 +205,26 @@ def _table3_section(counts: Sequence[Table3Row]) -> list[str]:
     rows = []
     for r in counts:
         p = r.printed or (None,) * 6
-        rows.append([
-            r.n, r.triangulations, r.hn_operations, r.eq5, r.eq5_shifted, p[0],
-            r.hn_weight_evaluations, r.hn_scratch_evaluations,
-            r.sm_weight_evaluations, r.eq6, p[1],
-            r.mm_weight_evaluations, r.mm_cells, r.eq7, p[2], r.mm_lookups,
-        ])
+        rows.append(
+            [
+                r.n,
+                r.triangulations,
+                r.hn_operations,
+                r.eq5,
+                r.eq5_shifted,
+                p[0],
+                r.hn_weight_evaluations,
+                r.hn_scratch_evaluations,
+                r.sm_weight_evaluations,
+                r.eq6,
+                p[1],
+                r.mm_weight_evaluations,
+                r.mm_cells,
+                r.eq7,
+                p[2],
+                r.mm_lookups,
+            ]
+        )
     return [
         "## Table 3: operation counts, measured by instrumenting the implementations",
         "",
@@ -219,9 +236,24 @@ def _table3_section(counts: Sequence[Table3Row]) -> list[str]:
         "the table.",
         "",
         markdown_table(
-            ["n", "T", "HN ops", "Eq.5(n)", "Eq.5(n-2)", "paper HN", "HN w-inc",
-             "HN w-scratch", "SM w-evals", "Eq.6", "paper SM", "MM w-evals", "MM cells",
-             "Eq.7", "paper MM", "MM look-ups"],
+            [
+                "n",
+                "T",
+                "HN ops",
+                "Eq.5(n)",
+                "Eq.5(n-2)",
+                "paper HN",
+                "HN w-inc",
+                "HN w-scratch",
+                "SM w-evals",
+                "Eq.6",
+                "paper SM",
+                "MM w-evals",
+                "MM cells",
+                "Eq.7",
+                "paper MM",
+                "MM look-ups",
+            ],
             rows,
         ),
         "",
@@ -236,11 +268,25 @@ def _table4_section(timings: Sequence[TimingRow]) -> list[str]:
     rows = []
     for r in timings:
         p = published.TABLE4.get(r.n, (None,) * 7)
-        rows.append([
-            r.n, _big(r.triangulations), r.square_a * 1e3, r.square_b * 1e3, r.memo_a * 1e3,
-            r.memo_b * 1e3, r.ratio_a, r.ratio_b, r.repeats,
-            p[1], p[2], p[3], p[4], p[5], p[6],
-        ])
+        rows.append(
+            [
+                r.n,
+                _big(r.triangulations),
+                r.square_a * 1e3,
+                r.square_b * 1e3,
+                r.memo_a * 1e3,
+                r.memo_b * 1e3,
+                r.ratio_a,
+                r.ratio_b,
+                r.repeats,
+                p[1],
+                p[2],
+                p[3],
+                p[4],
+                p[5],
+                p[6],
+            ]
+        )
     return [
         "## Table 4: timing, square matrix (S) vs memoization (M)",
         "",
@@ -251,9 +297,23 @@ def _table4_section(timings: Sequence[TimingRow]) -> list[str]:
         "(unit not stated).",
         "",
         markdown_table(
-            ["n", "T", "S(A) ms", "S(B) ms", "M(A) ms", "M(B) ms", "R(A)", "R(B)", "runs",
-             "paper S(A)", "paper S(B)", "paper M(A)", "paper M(B)", "paper R(A)",
-             "paper R(B)"],
+            [
+                "n",
+                "T",
+                "S(A) ms",
+                "S(B) ms",
+                "M(A) ms",
+                "M(B) ms",
+                "R(A)",
+                "R(B)",
+                "runs",
+                "paper S(A)",
+                "paper S(B)",
+                "paper M(A)",
+                "paper M(B)",
+                "paper R(A)",
+                "paper R(B)",
+            ],
             rows,
         ),
         "",

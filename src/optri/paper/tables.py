@@ -27,7 +27,7 @@ GEOMETRIC_PENTAGON = ((0.0, 0.0), (4.0, 0.0), (5.0, 3.0), (2.0, 5.0), (-1.0, 3.0
 
 @dataclass
 class Table2Row:
-    """One triangulation of a pentagon: 1-based diagonals, weight, optimal?"""
+    """One triangulation of a pentagon: 1-based diagonals, weight, optimal or not."""
 
     index: int
     diagonals: tuple[tuple[int, int], ...]
