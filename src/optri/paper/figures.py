@@ -29,7 +29,9 @@ def draw_all(out: Path, rows: Sequence[TimingRow]) -> list[str]:
     save_figure(plot_triangulation(octagon), str(out / "fig1_octagon.png"))
     pentagon = triangulate(list(published.PENTAGON_VALUES), "product", method="memo")
     save_figure(
-        plot_triangulation(pentagon, title="Table 1 pentagon p = 5,1,5,1,5: optimum 35"),
+        plot_triangulation(
+            pentagon, title="Table 1 pentagon p = 5,1,5,1,5 (0-based labels): optimum 35"
+        ),
         str(out / "fig4_pentagon.png"),
     )
     save_figure(plot_table(pentagon), str(out / "table1_pentagon.png"))

@@ -9,10 +9,10 @@ __all__ = ["machine_info"]
 
 
 def machine_info() -> dict[str, str]:
-    """CPU model, cores, OS, Python and library versions.
+    """CPU model, cores, load, OS, Python and library versions.
 
     >>> sorted(machine_info())[:3]
-    ['cores', 'cpu', 'matplotlib']
+    ['cores', 'cpu', 'load average (1, 5, 15 min)']
     """
     import matplotlib
     import numpy
@@ -30,8 +30,13 @@ def machine_info() -> dict[str, str]:
         usable = len(os.sched_getaffinity(0))
     except AttributeError:  # not on Linux
         usable = os.cpu_count() or 1
+    try:
+        load = ", ".join(f"{v:.2f}" for v in os.getloadavg())
+    except (AttributeError, OSError):
+        load = "unknown"
     return {
         "cpu": cpu,
+        "load average (1, 5, 15 min)": load,
         "cores": f"{usable} usable of {os.cpu_count()}",
         "os": platform.platform(),
         "python": platform.python_version(),
