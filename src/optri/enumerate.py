@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .engines.brute import all_index_triangulations
+from .engines.problem import triangles_from_splits
 from .errors import InvalidPolygonError
 from .geometry import Polygon, as_polygon
 from .hurtado_noy import hn_index_triangulations
@@ -231,19 +232,14 @@ def random_triangulation(
         def usable(i: int, k: int, j: int) -> bool:
             return ok[i][k] and ok[k][j]
 
-    tris = []
-    stack = [(0, n - 1)]
-    while stack:
-        i, j = stack.pop()
-        if j - i < 2:
-            continue
+    def pick(i: int, j: int) -> int:
         r = rng.randrange(cnt(i, j))
         for k in range(i + 1, j):
-            if not usable(i, k, j):
-                continue
-            r -= cnt(i, k) * cnt(k, j)
-            if r < 0:
-                break
-        tris.append([i, k, j])
-        stack += [(i, k), (k, j)]
+            if usable(i, k, j):
+                r -= cnt(i, k) * cnt(k, j)
+                if r < 0:
+                    return k
+        raise AssertionError("unreachable: the split weights add up to count(i, j)")
+
+    tris = triangles_from_splits(pick, n).tolist()
     return TriangulationBuilder(polygon, weight, objective, "random")(tris)
