@@ -75,3 +75,17 @@ def test_sampler_rejects_biased_split():
         for _ in range(5000)
     )
     assert 850 < fan0 < 1150
+
+
+def test_non_convex_polygon_uses_valid_diagonals():
+    pytest.importorskip("optri.simple")  # the simple-polygon support supplies the mask
+    poly = [[0, 0], [4, 0], [4, 1], [1, 1], [1, 3], [4, 3], [4, 4], [0, 4]]
+    items = list(optri.enumerate_triangulations(poly, "perimeter"))
+    assert len(items) == optri.count_triangulations(poly) == 8
+    for t in items:
+        t.check()
+    best = optri.triangulate(poly, "perimeter", method="memo").weight
+    assert math.isclose(min(t.weight for t in items), best)
+    kbest = [t.weight for t in optri.best_triangulations(poly, "perimeter", k=20)]
+    assert all(math.isclose(a, b) for a, b in zip(kbest, sorted(t.weight for t in items)))
+    optri.random_triangulation(poly, seed=0).check()
