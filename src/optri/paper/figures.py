@@ -49,6 +49,7 @@ def _lines(path: Path, rows: Sequence[TimingRow], which: str, label: str) -> Non
         ax.plot(ns, [getattr(r, f"{key}_{which}") for r in rows], marker="o", ms=3, label=name)
     ax.set_xlabel("n (vertices)")
     ax.set_ylabel("seconds (median)")
+    ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_title(f"{label}, measured on this machine")
     ax.grid(True, which="both", alpha=0.3)
