@@ -121,3 +121,30 @@ def test_cli_plot_write_failure_leaves_nothing(tmp_path):
     assert out.read_bytes() == b"old"
     assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
     json.loads(run_cli("solve", str(f), "--json").stdout)
+
+
+def test_atomic_write_gives_normal_permissions(tmp_path):
+    import os
+    import stat
+
+    from optri.io import atomic_write
+
+    out = tmp_path / "x.txt"
+    with atomic_write(out) as fh:
+        fh.write("x")
+    mask = os.umask(0)
+    os.umask(mask)
+    assert stat.S_IMODE(out.stat().st_mode) == 0o666 & ~mask
+
+
+def test_atomic_write_failure_keeps_old_file(tmp_path):
+    from optri.io import atomic_write
+
+    out = tmp_path / "x.txt"
+    out.write_text("old")
+    with pytest.raises(RuntimeError):
+        with atomic_write(out) as fh:
+            fh.write("new, half")
+            raise RuntimeError("interrupted")
+    assert out.read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir()] == ["x.txt"]
