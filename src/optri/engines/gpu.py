@@ -150,9 +150,8 @@ def solve(problem: Problem) -> Solution:
         if d >= 2:
             splits = min(d - 1, max(1, -(-config.GPU_MIN_BLOCKS // count)))
             total = count * splits
-            k.product[_blocks(total), threads](
-                tab, d_pts, dim, n, code, obj, eform, d, splits, total
-            )
+            product = k.product_minplus if eform else k.product
+            product[_blocks(total), threads](tab, d_pts, dim, n, code, obj, d, splits, total)
             launches += 1
         k.finish[_blocks(count), threads](
             tab, d_pts, d_mask, has_mask, dim, n, code, obj, eform, d, count

@@ -73,6 +73,8 @@ def build_kernels(tile: int, kchunk: int, threads: int, dtype: str) -> SimpleNam
     T, KC = tile, kchunk
     TX, TY, RH, CW = thread_layout(T, threads)
     NACT = TX * TY
+    KCP, TP = KC + 1, T + 1  # padded row lengths: shapes must be plain constants
+    RC = RH * CW
     ft = numba.from_dtype(np.dtype(dtype))
     f64, i64 = numba.float64, numba.int64
     inf = math.inf
@@ -94,58 +96,74 @@ def build_kernels(tile: int, kchunk: int, threads: int, dtype: str) -> SimpleNam
                 tab[i, j] = inf
                 tab[j, i] = inf
 
-    @cuda.jit
-    def product(tab, pts, dim, n, code, obj, eform, D, splits, total):
-        As = cuda.shared.array((T, KC + 1), ft)  # +1: no bank conflicts across rows
-        Bs = cuda.shared.array((T, KC + 1), ft)
-        best = cuda.local.array(RH * CW, ft)
-        av = cuda.local.array(RH, ft)
-        bv = cuda.local.array(CW, ft)
-        tid = cuda.threadIdx.x
-        nth = cuda.blockDim.x
-        tx = tid % TX
-        ty = tid // TX
-        for blk in range(cuda.blockIdx.x, total, cuda.gridDim.x):
-            ti = blk // splits
-            s = blk - ti * splits
-            i0 = ti * T
-            j0 = (ti + D) * T
-            k_lo = (ti + 1 + (s * (D - 1)) // splits) * T
-            k_hi = (ti + 1 + ((s + 1) * (D - 1)) // splits) * T
-            for c in range(RH * CW):
-                best[c] = inf
-            for k0 in range(k_lo, k_hi, KC):
-                for e in range(tid, T * KC, nth):
-                    r = e // KC
-                    c = e - r * KC
-                    As[r, c] = tab[i0 + r, k0 + c]  # (i, k), row-contiguous
-                    Bs[r, c] = tab[j0 + r, k0 + c]  # (k, j) from the transposed half
-                cuda.syncthreads()
+    def make_product(EFORM):
+        # EFORM is a compile-time constant, so each specialization keeps one inner
+        # loop: the min-plus one has no calls and its accumulators stay in registers
+        @cuda.jit
+        def product(tab, pts, dim, n, code, obj, D, splits, total):
+            As = cuda.shared.array((T, KCP), ft)  # +1: no bank conflicts across rows
+            Bs = cuda.shared.array((T, KCP), ft)
+            best = cuda.local.array(RC, ft)
+            tid = cuda.threadIdx.x
+            nth = cuda.blockDim.x
+            tx = tid % TX
+            ty = tid // TX
+            for blk in range(cuda.blockIdx.x, total, cuda.gridDim.x):
+                ti = blk // splits
+                s = blk - ti * splits
+                i0 = ti * T
+                j0 = (ti + D) * T
+                k_lo = (ti + 1 + (s * (D - 1)) // splits) * T
+                k_hi = (ti + 1 + ((s + 1) * (D - 1)) // splits) * T
+                for c in range(RH * CW):
+                    best[c] = inf
+                for k0 in range(k_lo, k_hi, KC):
+                    for e in range(tid, T * KC, nth):
+                        r = e // KC
+                        c = e - r * KC
+                        As[r, c] = tab[i0 + r, k0 + c]  # (i, k), row-contiguous
+                        Bs[r, c] = tab[j0 + r, k0 + c]  # (k, j) from the transposed half
+                    cuda.syncthreads()
+                    # min(), not compare-and-branch, and constant-trip loops: the
+                    # RH x CW accumulators then live in registers (checked in the PTX)
+                    if tid >= NACT:
+                        pass
+                    elif EFORM:
+                        for c in range(KC):
+                            for r in range(RH):
+                                a = As[ty + r * TY, c]
+                                for q in range(CW):
+                                    x = r * CW + q
+                                    best[x] = min(best[x], a + Bs[tx + q * TX, c])
+                    else:
+                        for c in range(KC):
+                            for r in range(RH):
+                                a = As[ty + r * TY, c]
+                                for q in range(CW):
+                                    x = r * CW + q
+                                    w = weight(
+                                        code,
+                                        dim,
+                                        n,
+                                        pts,
+                                        i0 + ty + r * TY,
+                                        k0 + c,
+                                        j0 + tx + q * TX,
+                                    )
+                                    best[x] = min(best[x], combine(obj, a, Bs[tx + q * TX, c], w))
+                    cuda.syncthreads()
                 if tid < NACT:
-                    for c in range(KC):
+                    for r in range(RH):
                         for q in range(CW):
-                            bv[q] = Bs[tx + q * TX, c]
-                        for r in range(RH):
-                            av[r] = As[ty + r * TY, c]
-                        for r in range(RH):
-                            for q in range(CW):
-                                if eform:
-                                    v = av[r] + bv[q]
-                                else:
-                                    w = weight(code, dim, n, pts, i0 + ty + r * TY, k0 + c,
-                                               j0 + tx + q * TX)  # fmt: skip
-                                    v = combine(obj, av[r], bv[q], w)
-                                if v < best[r * CW + q]:
-                                    best[r * CW + q] = v
-                cuda.syncthreads()
-            if tid < NACT:
-                for r in range(RH):
-                    for q in range(CW):
-                        cuda.atomic.min(tab, (i0 + ty + r * TY, j0 + tx + q * TX), best[r * CW + q])
+                            cuda.atomic.min(
+                                tab, (i0 + ty + r * TY, j0 + tx + q * TX), best[r * CW + q]
+                            )
+
+        return product
 
     @cuda.jit
     def finish(tab, pts, mask, has_mask, dim, n, code, obj, eform, D, count):
-        Cs = cuda.shared.array((T, T + 1), ft)
+        Cs = cuda.shared.array((T, TP), ft)
         tid = cuda.threadIdx.x
         nth = cuda.blockDim.x
         same = D == 0
@@ -286,5 +304,10 @@ def build_kernels(tile: int, kchunk: int, threads: int, dtype: str) -> SimpleNam
             out[j, i] = arg
 
     return SimpleNamespace(
-        init=init, product=product, finish=finish, rebuild=rebuild, export=export
+        init=init,
+        product_minplus=make_product(True),
+        product=make_product(False),
+        finish=finish,
+        rebuild=rebuild,
+        export=export,
     )
