@@ -17,10 +17,12 @@ Tile (I, J) (I <= J) is finished once every tile on an earlier tile diagonal is:
   in shared memory, one ``syncthreads`` per local diagonal.
 
 Kernels take the weight code and objective as arguments (one design for all
-weights); tile, slice depth, threads and dtype are compile-time constants of
-:func:`build_kernels`. ``eform`` selects the min-plus form of
-edge-decomposable weights under "sum": ``E = C + e`` and
+weights, computed in-kernel from coordinates); tile, slice depth, threads and
+dtype are compile-time constants of :func:`build_kernels`. ``eform`` selects
+the min-plus form of edge-decomposable weights under "sum": ``E = C + e`` and
 ``E(i, j) = min_k E(i, k) + E(k, j) + 2 e(i, j)`` (no weight in the inner loop).
+The product kernel is built twice from one source: ``product_minplus`` (E form,
+accumulators in registers) and ``product`` (weight computed per candidate).
 """
 
 from __future__ import annotations
