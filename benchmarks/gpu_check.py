@@ -20,12 +20,14 @@ import argparse
 import importlib.util
 import math
 import sys
+from collections.abc import Iterator
 
 import numpy as np
 
 from optri.engines import gpu, select_engine
+from optri.engines.problem import Problem
 from optri.errors import OptriError
-from optri.geometry import as_polygon
+from optri.geometry import Polygon, as_polygon
 from optri.result import chords_cross_free, diagonals_of
 from optri.solve import build_problem
 
@@ -37,7 +39,7 @@ def convex(n: int, rng: np.random.Generator) -> np.ndarray:
     return np.c_[1000.0 * np.cos(ang), 600.0 * np.sin(ang)]
 
 
-def star(n: int, rng: np.random.Generator):  # noqa: ANN201
+def star(n: int, rng: np.random.Generator) -> tuple[Polygon, np.ndarray]:
     """Star-shaped simple polygon and its usable chords (shapely brute force, O(n^3))."""
     from shapely.geometry import LineString
     from shapely.geometry import Polygon as ShapelyPolygon
@@ -53,7 +55,7 @@ def star(n: int, rng: np.random.Generator):  # noqa: ANN201
     return poly, ok
 
 
-def compare(problem, cpu_method: str, rtol: float) -> str | None:  # noqa: ANN001
+def compare(problem: Problem, cpu_method: str, rtol: float) -> str | None:
     """None when the GPU agrees with the CPU engine, else what went wrong."""
     try:
         got = gpu.solve(problem)
@@ -76,7 +78,9 @@ def compare(problem, cpu_method: str, rtol: float) -> str | None:  # noqa: ANN00
     return None
 
 
-def cases(sizes: list[int], rng: np.random.Generator, python_max_n: int):  # noqa: ANN201
+def cases(
+    sizes: list[int], rng: np.random.Generator, python_max_n: int
+) -> Iterator[tuple[str, Problem]]:
     for n in sizes:
         poly = as_polygon(convex(n, rng))
         for weight in POINT_WEIGHTS:

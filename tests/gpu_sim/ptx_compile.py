@@ -34,7 +34,7 @@ def _patch_for_offline_compile() -> None:
     nvrtc.get_supported_ccs = lambda: ((8, 0), (9, 0))  # nvrtc may be absent
     try:
         found = libs.get_libdevice()
-    except Exception:  # noqa: BLE001  (any failure: look for it ourselves)
+    except Exception:  # any failure: look for it ourselves
         found = None
     if not found or not os.path.exists(str(found)):
         roots = [os.environ.get("CUDA_HOME", ""), *sorted(glob.glob("/usr/local/cuda*"))]
@@ -62,7 +62,7 @@ def main() -> int:
             a[0] = 1.0
 
         cuda.compile_ptx(probe, (nt.float64[:],), cc=(9, 0))
-    except Exception as exc:  # noqa: BLE001
+    except Exception as exc:  # whatever stops a trivial compile: skip
         print(f"cannot compile PTX on this machine: {exc!r}")
         return SKIP
 
@@ -85,7 +85,7 @@ def main() -> int:
         for name, sig in sigs.items():
             try:
                 ptx, _ = cuda.compile_ptx(getattr(k, name).py_func, sig, cc=(9, 0))
-            except Exception:  # noqa: BLE001
+            except Exception:  # report every kernel, not just the first failure
                 failed += 1
                 print(f"FAIL {dtype} {name}\n{traceback.format_exc()}")
                 continue

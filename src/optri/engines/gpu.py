@@ -15,6 +15,7 @@ import functools
 import importlib.util
 import os
 import sys
+from typing import Any
 
 import numpy as np
 
@@ -63,7 +64,7 @@ def _probe(simulate: bool) -> str | None:
         return str(exc)
     try:
         ok = bool(cuda.is_available())
-    except Exception as exc:  # noqa: BLE001  (any driver failure means "no GPU")
+    except Exception as exc:  # any driver failure means "no usable GPU"
         return f"no usable CUDA GPU ({exc})"
     if not ok:
         return "no CUDA GPU found (numba.cuda.is_available() is False); method='gpu' needs one"
@@ -209,7 +210,19 @@ def _mask(problem: Problem, size: int) -> np.ndarray:
     return mask
 
 
-def _rebuild(k, cuda, tab, d_pts, dim, n, code, obj, eform, threads):  # noqa: ANN001, ANN202
+def _rebuild(
+    k: Any,
+    cuda: Any,
+    tab: Any,
+    d_pts: Any,
+    dim: int,
+    n: int,
+    code: int,
+    obj: int,
+    eform: int,
+    threads: int,
+) -> tuple[float, np.ndarray]:
+    """Run the one-block re-scan kernel; return the cost and the n - 2 triangles."""
     stack = cuda.device_array((n, 2), dtype=np.int64)
     tris = cuda.device_array((max(n - 2, 1), 3), dtype=np.int64)
     out = cuda.to_device(np.zeros(4, dtype=np.float64))
@@ -224,7 +237,7 @@ def _rebuild(k, cuda, tab, d_pts, dim, n, code, obj, eform, threads):  # noqa: A
     return float(res[0]), tris.copy_to_host()[: n - 2].astype(np.int64)
 
 
-def _require_device_memory(problem: Problem, cuda) -> None:  # noqa: ANN001
+def _require_device_memory(problem: Problem, cuda: Any) -> None:
     need = device_bytes(problem)
     hint = "use dtype=float32 (halves the table) or a GPU with more memory"
     if np.dtype(problem.dtype) == np.float32:
