@@ -1,7 +1,7 @@
 """Real-GPU correctness: method="gpu" against a CPU engine (a script, never run by pytest).
 
 Random convex polygons (every built-in weight, "sum" and "max", float64 and a
-float32 spot check) and random star-shaped simple polygons (chord mask built by
+float32 spot check) and random comb-shaped simple polygons (chord mask built by
 brute force with shapely) are solved on the GPU and by a CPU engine: the compiled
 one (method="fast") where this build has it, else the pure-Python "table" engine
 (then sizes stay small). Costs must agree to 1e-9 relative (1e-4 for float32)
@@ -39,18 +39,25 @@ def convex(n: int, rng: np.random.Generator) -> np.ndarray:
     return np.c_[1000.0 * np.cos(ang), 600.0 * np.sin(ang)]
 
 
-def star(n: int, rng: np.random.Generator) -> tuple[Polygon, np.ndarray]:
-    """Star-shaped simple polygon and its usable chords (shapely brute force, O(n^3))."""
+def comb(n: int, rng: np.random.Generator) -> tuple[Polygon, np.ndarray]:
+    """Comb-shaped simple polygon (tip-to-tip chords lie outside) and its usable chords.
+
+    The chord mask is found by brute force with shapely, O(n^2) containment tests.
+    """
     from shapely.geometry import LineString
     from shapely.geometry import Polygon as ShapelyPolygon
     from shapely.prepared import prep
 
-    ang = np.linspace(0.0, 2.0 * math.pi, n, endpoint=False) + rng.uniform(0, 0.5 / n, n)
-    poly = as_polygon(np.c_[np.cos(ang), np.sin(ang)] * rng.uniform(0.5, 2.0, (n, 1)))
-    pts, shape = poly.data, prep(ShapelyPolygon(poly.data))
-    ok = np.zeros((n, n), dtype=bool)
-    for a in range(n):
-        for b in range(a + 2, n):
+    teeth = max(1, (n - 2) // 2)
+    top = []
+    for t in range(teeth, 0, -1):
+        top.append((t + rng.uniform(-0.1, 0.1), 3.0 + rng.uniform(0.0, 0.5)))
+        top.append((t - 0.5 + rng.uniform(-0.1, 0.1), 0.5 + rng.uniform(0.0, 0.3)))
+    poly = as_polygon(np.array([(0.0, 0.0), (teeth + 0.5, 0.0), *top]))
+    m, pts, shape = poly.n, poly.data, prep(ShapelyPolygon(poly.data))
+    ok = np.zeros((m, m), dtype=bool)
+    for a in range(m):
+        for b in range(a + 2, m):
             ok[a, b] = ok[b, a] = shape.contains(LineString([pts[a], pts[b]]))
     return poly, ok
 
@@ -94,10 +101,10 @@ def cases(
             build_problem(poly, "perimeter", "sum", dtype=np.float32),
         )
         if n <= min(python_max_n, 400):
-            spoly, ok = star(n, rng)
+            spoly, ok = comb(n, rng)
             for weight, objective in (("perimeter", "sum"), ("min_angle", "max")):
                 yield (
-                    f"simple n={n} {weight}/{objective}",
+                    f"simple n={spoly.n} {weight}/{objective}",
                     build_problem(spoly, weight, objective, allowed=ok),
                 )
 
