@@ -108,6 +108,13 @@ def test_product_values(objective):
     check_against_memo(build_problem(as_polygon(dims), "product", objective))
 
 
+@pytest.mark.parametrize(("weight", "objective"), [("area", "max"), ("perimeter", "sum")])
+def test_3d_polygon(weight, objective):
+    flat = convex(15, seed=8).data
+    tilt = np.c_[flat[:, 0], 0.6 * flat[:, 1], 0.8 * flat[:, 1] + 0.3 * flat[:, 0]]
+    check_against_memo(build_problem(as_polygon(tilt), weight, objective))
+
+
 def test_convex_n40_many_tiles_and_splits():
     check_against_memo(build_problem(convex(40, seed=3), "perimeter", "sum"))
 
