@@ -47,7 +47,7 @@ def test_cli_method_gpu_exits_2_with_one_line(tmp_path):
     )
     assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("optri: error:") and "GPU" in lines[0]
+    assert len(lines) == 1 and lines[0].startswith("optri: error:") and "gpu" in lines[0].lower()
 
 
 @no_gpu
