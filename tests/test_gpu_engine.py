@@ -65,6 +65,16 @@ def test_unsupported_reasons():
     assert "lexicographic" in gpu.unsupported(lex)
 
 
+@pytest.mark.parametrize(
+    ("name", "value", "match"),
+    [("GPU_K_CHUNK", 24, "divide"), ("GPU_THREADS_PER_BLOCK", 2048, "1024"),
+     ("GPU_TILE", 128, "shared memory")],
+)  # fmt: skip
+def test_unsupported_kernel_settings(monkeypatch, name, value, match):
+    monkeypatch.setattr(config, name, value)
+    assert match in gpu.unsupported(problem())
+
+
 def test_auto_accepts_only_large_n(monkeypatch):
     monkeypatch.delenv("NUMBA_ENABLE_CUDASIM", raising=False)
     monkeypatch.setattr(config, "GPU_AUTO_MIN_N", 7)

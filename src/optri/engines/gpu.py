@@ -83,8 +83,22 @@ def unsupported(problem: Problem) -> str | None:
         )
     if np.dtype(problem.dtype).name not in _DTYPES:
         return f"dtype must be float32 or float64, got {np.dtype(problem.dtype)}"
-    if config.GPU_TILE % config.GPU_K_CHUNK:
+    return _bad_config(np.dtype(problem.dtype).itemsize)
+
+
+#: Static shared memory a CUDA block may declare.
+_SHARED_LIMIT = 48 * 1024
+
+
+def _bad_config(itemsize: int) -> str | None:
+    """Why the tile / slice / threads settings cannot compile or launch, or None."""
+    tile, chunk, threads = config.GPU_TILE, config.GPU_K_CHUNK, config.GPU_THREADS_PER_BLOCK
+    if tile < 1 or chunk < 1 or tile % chunk:
         return "config.GPU_K_CHUNK must divide config.GPU_TILE"
+    if not 1 <= threads <= 1024:
+        return "config.GPU_THREADS_PER_BLOCK must be between 1 and 1024"
+    if max(tile * (tile + 1), 2 * tile * (chunk + 1)) * itemsize > _SHARED_LIMIT:
+        return f"config.GPU_TILE = {tile} needs more than 48 KB of shared memory per block"
     return None
 
 
