@@ -190,3 +190,18 @@ def test_table_layout_upper_costs_lower_splits():
     assert tab[1, 3] == 5 and tab[1, 4] == 10 and tab[2, 4] == 25
     assert np.all(np.diag(tab) == 0)
     assert tab[4, 1] == 3  # chord (1, 4) splits at vertex 3
+
+
+def test_engine_without_gate_support_refuses_gated_problem(monkeypatch):
+    import types
+
+    from optri.engines import ENGINES, EngineSpec, register_engine
+
+    fake = types.ModuleType("fake_engine")
+    fake.solve = lambda problem: pytest.fail("a gated problem reached an engine without gates")
+    monkeypatch.setitem(__import__("sys").modules, "fake_engine", fake)
+    monkeypatch.setitem(ENGINES, "fake", ENGINES["memo"])
+    register_engine(EngineSpec("fake", "fake_engine", "test double"))
+    square = [[0, 0], [1, 0], [1, 1], [0, 1]]
+    with pytest.raises(optri.EngineUnavailableError, match="gates"):
+        optri.triangulate(square, ("max_angle", "area"), ("max", "sum"), method="fake")
