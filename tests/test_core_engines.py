@@ -198,7 +198,13 @@ def test_engine_without_gate_support_refuses_gated_problem(monkeypatch):
     from optri.engines import ENGINES, EngineSpec, register_engine
 
     fake = types.ModuleType("fake_engine")
-    fake.solve = lambda problem: pytest.fail("a gated problem reached an engine without gates")
+    from optri.engines import memo
+
+    def solve(problem):
+        assert not problem.gates, "a gated problem reached an engine without gate support"
+        return memo.solve(problem)
+
+    fake.solve = solve
     monkeypatch.setitem(__import__("sys").modules, "fake_engine", fake)
     monkeypatch.setitem(ENGINES, "fake", ENGINES["memo"])
     register_engine(EngineSpec("fake", "fake_engine", "test double"))
