@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["valid_mask"]
+__all__ = ["ear_clip", "valid_mask", "visibility_mask"]
 
 
 @njit(cache=True, inline="always")
@@ -98,4 +98,186 @@ def valid_mask(x, y, tol):  # type: ignore[no-untyped-def]
         _row(x, y, t, tol, out)
         if n - 1 - t != t:
             _row(x, y, n - 1 - t, tol, out)
+    return out
+
+
+@njit(cache=True)
+def _blocks_ear(x, y, p, v, q, w, tol):  # type: ignore[no-untyped-def]
+    """Is w in the closed triangle (p, v, q) (counter-clockwise)?"""
+    return (
+        _orient(x[p], y[p], x[v], y[v], x[w], y[w], tol) >= 0
+        and _orient(x[v], y[v], x[q], y[q], x[w], y[w], tol) >= 0
+        and _orient(x[q], y[q], x[p], y[p], x[w], y[w], tol) >= 0
+    )
+
+
+@njit(cache=True)
+def _is_ear(x, y, prv, nxt, v, tol):  # type: ignore[no-untyped-def]
+    p = prv[v]
+    q = nxt[v]
+    if _orient(x[p], y[p], x[v], y[v], x[q], y[q], tol) <= 0:
+        return False  # not strictly convex: the triangle would be flat or outside
+    w = nxt[q]
+    while w != p:
+        if _blocks_ear(x, y, p, v, q, w, tol):
+            return False
+        w = nxt[w]
+    return True
+
+
+@njit(cache=True)
+def ear_clip(x, y, tol):  # type: ignore[no-untyped-def]
+    """Some triangulation of a simple CCW polygon with no zero-area triangle.
+
+    Returns ``(triangles (n-2, 3) int64 CCW, ok)``; ``ok`` is False if no ear
+    was found (inconsistent floating-point predicates), then the caller falls
+    back to a method that needs no triangulation. O(n^2) for most polygons.
+    """
+    n = x.shape[0]
+    prv = np.empty(n, dtype=np.int64)
+    nxt = np.empty(n, dtype=np.int64)
+    for k in range(n):
+        prv[k] = (k - 1) % n
+        nxt[k] = (k + 1) % n
+    tris = np.empty((max(n - 2, 0), 3), dtype=np.int64)
+    left = n
+    v = 0
+    misses = 0
+    m = 0
+    while left > 3:
+        if _is_ear(x, y, prv, nxt, v, tol):
+            p = prv[v]
+            q = nxt[v]
+            tris[m, 0] = p
+            tris[m, 1] = v
+            tris[m, 2] = q
+            m += 1
+            nxt[p] = q
+            prv[q] = p
+            left -= 1
+            misses = 0
+            v = p  # the new corner at p may have become an ear
+        else:
+            misses += 1
+            if misses > left:
+                return tris, False
+            v = nxt[v]
+    p = prv[v]
+    q = nxt[v]
+    tris[m, 0] = p
+    tris[m, 1] = v
+    tris[m, 2] = q
+    return tris, True
+
+
+@njit(cache=True)
+def _left_triangle(tris, n):  # type: ignore[no-untyped-def]
+    """``left[a, b]``: the triangle lying left of the directed edge a -> b, or -1."""
+    left = np.full((n, n), -1, dtype=np.int32)
+    for t in range(tris.shape[0]):
+        a = tris[t, 0]
+        b = tris[t, 1]
+        c = tris[t, 2]
+        left[a, b] = t
+        left[b, c] = t
+        left[c, a] = t
+    return left
+
+
+@njit(cache=True)
+def _third(tris, t, a, b):  # type: ignore[no-untyped-def]
+    for m in range(3):
+        c = tris[t, m]
+        if c != a and c != b:
+            return c
+    return -1
+
+
+@njit(cache=True)
+def _see_from(x, y, tris, left, i, tol, row):  # type: ignore[no-untyped-def]
+    """Mark in ``row`` every vertex visible from vertex i through the polygon.
+
+    Walks the triangulation's dual tree from the fan of triangles around i,
+    carrying the open angular window (rays i->lo and i->hi) that still reaches
+    through the current edge; a vertex strictly inside the window is visible.
+    A vertex exactly on a window ray is hidden behind the vertex defining it.
+    """
+    n = x.shape[0]
+    ntri = tris.shape[0]
+    # stack entries: directed edge (a, b) with the unvisited triangle on the left of b -> a,
+    # and the window rays' vertices (lo on a's side, hi on b's side)
+    st_a = np.empty(ntri + 2, dtype=np.int64)
+    st_b = np.empty(ntri + 2, dtype=np.int64)
+    st_lo = np.empty(ntri + 2, dtype=np.int64)
+    st_hi = np.empty(ntri + 2, dtype=np.int64)
+    top = 0
+    a = (i + 1) % n
+    t = left[i, a]
+    while t >= 0:  # the fan around i, counter-clockwise from side (i, i+1)
+        b = _third(tris, t, i, a)
+        row[a] = True
+        row[b] = True
+        st_a[top] = a
+        st_b[top] = b
+        st_lo[top] = a
+        st_hi[top] = b
+        top += 1
+        a = b
+        t = left[i, a]
+    while top > 0:
+        top -= 1
+        a = st_a[top]
+        b = st_b[top]
+        lo = st_lo[top]
+        hi = st_hi[top]
+        t = left[b, a]
+        if t < 0:
+            continue  # a polygon side: the view stops here
+        c = _third(tris, t, a, b)
+        past_lo = _orient(x[i], y[i], x[lo], y[lo], x[c], y[c], tol) > 0
+        before_hi = _orient(x[i], y[i], x[hi], y[hi], x[c], y[c], tol) < 0
+        if past_lo and before_hi:
+            row[c] = True
+            st_a[top] = a
+            st_b[top] = c
+            st_lo[top] = lo
+            st_hi[top] = c
+            top += 1
+            st_a[top] = c
+            st_b[top] = b
+            st_lo[top] = c
+            st_hi[top] = hi
+            top += 1
+        elif past_lo:  # c at or beyond the hi ray: the window leaves through edge (a, c)
+            st_a[top] = a
+            st_b[top] = c
+            st_lo[top] = lo
+            st_hi[top] = hi
+            top += 1
+        else:  # c at or before the lo ray: the window leaves through edge (c, b)
+            st_a[top] = c
+            st_b[top] = b
+            st_lo[top] = lo
+            st_hi[top] = hi
+            top += 1
+
+
+@njit(cache=True, parallel=True)
+def visibility_mask(x, y, tris, tol):  # type: ignore[no-untyped-def]
+    """(n, n) bool vertex visibility from a triangulation ``tris``; O(n^2) in all.
+
+    ``out[i, j]`` iff the open segment (i, j) lies in the polygon's interior
+    (sides included, as they are seen too). Made symmetric by AND, so rounding
+    can only ever drop a chord, never admit an outside one.
+    """
+    n = x.shape[0]
+    left = _left_triangle(tris, n)
+    out = np.zeros((n, n), dtype=np.bool_)
+    for i in prange(n):
+        _see_from(x, y, tris, left, i, tol, out[i])
+    for i in prange(n):
+        for j in range(i + 1, n):
+            both = out[i, j] and out[j, i]
+            out[i, j] = both
+            out[j, i] = both
     return out

@@ -127,7 +127,7 @@ def as_polygon(data: ArrayLike | Polygon) -> Polygon:
     area = signed_area(planar)
     scale = float(np.ptp(planar, axis=0).max()) ** 2
     if abs(area) <= config.GEOMETRY_RTOL * scale * n:
-        raise InvalidPolygonError("all vertices are collinear: the polygon has no area")
+        _refuse_flat(planar)
     order = np.arange(n, dtype=np.int64)
     orientation = "ccw" if area > 0 else "cw"
     if orientation == "cw":
@@ -194,6 +194,20 @@ def _is_strictly_convex(ccw_points: NDArray[np.float64]) -> bool:
     ang = np.arctan2(edges[:, 1], edges[:, 0])
     turning = np.mod(np.diff(np.append(ang, ang[0])) + np.pi, 2 * np.pi) - np.pi
     return bool(abs(turning.sum() - 2 * np.pi) < 1e-6)
+
+
+def _refuse_flat(points: NDArray[np.float64]) -> None:
+    """Zero net area: name the crossing edges of a bow-tie, else report collinearity."""
+    from .simple import find_self_intersection  # simple builds on this module
+
+    hit = find_self_intersection(points)
+    if hit is not None:
+        e, f, how = hit
+        n = len(points)
+        raise InvalidPolygonError(
+            f"polygon is not simple: edges {e}-{(e + 1) % n} and {f}-{(f + 1) % n} {how}"
+        )
+    raise InvalidPolygonError("all vertices are collinear: the polygon has no area")
 
 
 def _require_finite(arr: NDArray[np.float64]) -> None:

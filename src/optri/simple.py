@@ -54,9 +54,11 @@ def require_simple(polygon: ArrayLike | Polygon) -> None:
     if hit is None:
         return
     e, f, how = hit
+    first, second = sorted((_edge_start(poly, e), _edge_start(poly, f)))
+    n = poly.n
     raise InvalidPolygonError(
-        f"polygon is not simple: edges {_edge_name(poly, e)} and {_edge_name(poly, f)} {how}; "
-        f"optri triangulates simple polygons only (untangle or split the boundary)"
+        f"polygon is not simple: edges {first}-{(first + 1) % n} and {second}-{(second + 1) % n} "
+        f"{how}; optri triangulates simple polygons only (untangle or split the boundary)"
     )
 
 
@@ -144,11 +146,12 @@ def valid_diagonals(polygon: ArrayLike | Polygon) -> NDArray[np.bool_]:
     x = np.ascontiguousarray(pts[:, 0])
     y = np.ascontiguousarray(pts[:, 1])
     try:
-        from .diagonals_jit import valid_mask
+        from .diagonals_jit import ear_clip, valid_mask, visibility_mask
     except ImportError:  # pragma: no cover - numba is a core dependency
         mask = valid_diagonals_numpy(pts)
     else:
-        mask = valid_mask(x, y, ORIENT_RTOL)
+        tris, ok = ear_clip(x, y, ORIENT_RTOL)
+        mask = visibility_mask(x, y, tris, ORIENT_RTOL) if ok else valid_mask(x, y, ORIENT_RTOL)
     _set_sides(mask)
     return mask
 
@@ -206,11 +209,11 @@ def zero_area_triangles(points: NDArray[np.float64], triangles: NDArray[np.int64
     return int(np.count_nonzero(_orient(a, b, c) == 0))
 
 
-def _edge_name(poly: Polygon, e: int) -> str:
-    """Input-index name ``"a-b"`` of internal edge ``e`` (e -> e+1), in input direction."""
+def _edge_start(poly: Polygon, e: int) -> int:
+    """Input index u of internal edge ``e`` (e -> e+1) named as input edge u -> u+1."""
     n = poly.n
     u, v = int(poly.order[e]), int(poly.order[(e + 1) % n])
-    return f"{u}-{v}" if (u + 1) % n == v else f"{v}-{u}"
+    return u if (u + 1) % n == v else v
 
 
 def _set_sides(mask: NDArray[np.bool_]) -> None:
