@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import shapely
@@ -90,7 +90,7 @@ def triangle_inside_fn(ccw: np.ndarray):
     """``inside(i, k, j)``: triangle of positive area covered by the polygon (shapely)."""
     poly = shapely.Polygon(ccw)
 
-    @lru_cache(maxsize=None)
+    @cache
     def inside(i: int, k: int, j: int) -> bool:
         tri = shapely.Polygon(ccw[[i, k, j]])
         return bool(tri.area > 0 and poly.covers(tri))

@@ -7,14 +7,6 @@ import pytest
 import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from simple_polys import (
-    ccw_of,
-    is_simple_polygon,
-    oracle_mask,
-    random_star,
-    simple_polygons,
-    star_polygons,
-)
 
 from optri import InvalidPolygonError, as_polygon
 from optri.diagonals_jit import valid_mask
@@ -27,6 +19,14 @@ from optri.simple import (
     valid_diagonals_numpy,
 )
 from optri.solve import allowed_chords
+from simple_polys import (
+    ccw_of,
+    is_simple_polygon,
+    oracle_mask,
+    random_star,
+    simple_polygons,
+    star_polygons,
+)
 
 polygons = st.one_of(star_polygons(4, 11), simple_polygons(4, 11))
 

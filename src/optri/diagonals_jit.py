@@ -1,4 +1,4 @@
-"""Compiled valid-diagonal kernel for simple polygons (numba, parallel over rows).
+"""Compiled valid-diagonal kernels for simple polygons (numba, serial: compiles fast).
 
 Imported lazily by :func:`optri.simple.valid_diagonals`, so ``import optri``
 never loads numba. Under ``NUMBA_DISABLE_JIT=1`` the same code runs as Python.
@@ -7,7 +7,7 @@ never loads numba. Under ``NUMBA_DISABLE_JIT=1`` the same code runs as Python.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 __all__ = ["ear_clip", "valid_mask", "visibility_mask"]
 
@@ -30,7 +30,7 @@ def _orient(ax, ay, bx, by, cx, cy, tol):  # type: ignore[no-untyped-def]
 
 @njit(cache=True)
 def _in_cone(x, y, i, j, tol):  # type: ignore[no-untyped-def]
-    """Does the chord from vertex i towards j start inside the polygon (CCW order)?"""
+    """Whether the chord from vertex i towards j starts inside the (CCW) polygon."""
     n = x.shape[0]
     p = (i - 1) % n
     q = (i + 1) % n
@@ -85,25 +85,23 @@ def _row(x, y, i, tol, out):  # type: ignore[no-untyped-def]
             out[j, i] = True
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def valid_mask(x, y, tol):  # type: ignore[no-untyped-def]
     """(n, n) bool: ``out[i, j]`` iff chord (i, j) is an internal diagonal.
 
-    Rows t and n-1-t go to the same task so every task checks about n chords.
-    Polygon sides and the main diagonal are left False.
+    The fallback when :func:`ear_clip` fails: O(n^2) to O(n^3). Polygon sides and
+    the main diagonal are left False.
     """
     n = x.shape[0]
     out = np.zeros((n, n), dtype=np.bool_)
-    for t in prange((n + 1) // 2):
-        _row(x, y, t, tol, out)
-        if n - 1 - t != t:
-            _row(x, y, n - 1 - t, tol, out)
+    for i in range(n):
+        _row(x, y, i, tol, out)
     return out
 
 
 @njit(cache=True)
 def _blocks_ear(x, y, p, v, q, w, tol):  # type: ignore[no-untyped-def]
-    """Is w in the closed triangle (p, v, q) (counter-clockwise)?"""
+    """Whether w lies in the closed counter-clockwise triangle (p, v, q)."""
     return (
         _orient(x[p], y[p], x[v], y[v], x[w], y[w], tol) >= 0
         and _orient(x[v], y[v], x[q], y[q], x[w], y[w], tol) >= 0
@@ -262,7 +260,7 @@ def _see_from(x, y, tris, left, i, tol, row):  # type: ignore[no-untyped-def]
             top += 1
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def visibility_mask(x, y, tris, tol):  # type: ignore[no-untyped-def]
     """(n, n) bool vertex visibility from a triangulation ``tris``; O(n^2) in all.
 
@@ -273,9 +271,9 @@ def visibility_mask(x, y, tris, tol):  # type: ignore[no-untyped-def]
     n = x.shape[0]
     left = _left_triangle(tris, n)
     out = np.zeros((n, n), dtype=np.bool_)
-    for i in prange(n):
+    for i in range(n):
         _see_from(x, y, tris, left, i, tol, out[i])
-    for i in prange(n):
+    for i in range(n):
         for j in range(i + 1, n):
             both = out[i, j] and out[j, i]
             out[i, j] = both

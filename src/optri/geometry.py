@@ -198,15 +198,11 @@ def _is_strictly_convex(ccw_points: NDArray[np.float64]) -> bool:
 
 def _refuse_flat(points: NDArray[np.float64]) -> None:
     """Zero net area: name the crossing edges of a bow-tie, else report collinearity."""
-    from .simple import find_self_intersection  # simple builds on this module
+    from .simple import find_self_intersection, not_simple_error  # simple builds on geometry
 
     hit = find_self_intersection(points)
     if hit is not None:
-        e, f, how = hit
-        n = len(points)
-        raise InvalidPolygonError(
-            f"polygon is not simple: edges {e}-{(e + 1) % n} and {f}-{(f + 1) % n} {how}"
-        )
+        raise not_simple_error(hit[0], hit[1], len(points), hit[2])  # input order kept here
     raise InvalidPolygonError("all vertices are collinear: the polygon has no area")
 
 

@@ -48,7 +48,8 @@ def geo_polygon_coords(obj: Any) -> NDArray[np.float64]:
     Examples
     --------
     >>> class P:
-    ...     __geo_interface__ = {"type": "Polygon", "coordinates": [[(0, 0), (1, 0), (0, 1), (0, 0)]]}
+    ...     ring = [(0, 0), (1, 0), (0, 1), (0, 0)]
+    ...     __geo_interface__ = {"type": "Polygon", "coordinates": [ring]}
     >>> geo_polygon_coords(P()).tolist()
     [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
     """

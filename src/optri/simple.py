@@ -20,6 +20,7 @@ from .geometry import Polygon, as_polygon
 __all__ = [
     "count_triangulations_mask",
     "find_self_intersection",
+    "not_simple_error",
     "require_simple",
     "valid_diagonals",
     "valid_diagonals_numpy",
@@ -54,11 +55,15 @@ def require_simple(polygon: ArrayLike | Polygon) -> None:
     if hit is None:
         return
     e, f, how = hit
-    first, second = sorted((_edge_start(poly, e), _edge_start(poly, f)))
-    n = poly.n
-    raise InvalidPolygonError(
-        f"polygon is not simple: edges {first}-{(first + 1) % n} and {second}-{(second + 1) % n} "
-        f"{how}; optri triangulates simple polygons only (untangle or split the boundary)"
+    raise not_simple_error(_edge_start(poly, e), _edge_start(poly, f), poly.n, how)
+
+
+def not_simple_error(e: int, f: int, n: int, how: str) -> InvalidPolygonError:
+    """The error for input edges ``e -> e+1`` and ``f -> f+1`` meeting (``how``)."""
+    e, f = sorted((e, f))
+    return InvalidPolygonError(
+        f"polygon is not simple: edges {e}-{(e + 1) % n} and {f}-{(f + 1) % n} {how}; "
+        f"optri triangulates simple polygons only (untangle or split the boundary)"
     )
 
 
@@ -74,12 +79,14 @@ def find_self_intersection(points: NDArray[np.float64]) -> tuple[int, int, str] 
     n = p.shape[0]
     q = np.roll(p, -1, axis=0)
     lo, hi = np.minimum(p, q), np.maximum(p, q)
+    lox, loy, hix, hiy = lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1]
     for start in range(0, n, _BLOCK):
         rows = np.arange(start, min(start + _BLOCK, n))
         # bounding boxes first: only overlapping pairs (few, for most polygons) get tested
-        near = np.all(
-            (lo[rows, None] <= hi[None, :]) & (lo[None, :] <= hi[rows, None]), axis=-1
-        )
+        near = lox[rows, None] <= hix
+        near &= lox <= hix[rows, None]
+        near &= loy[rows, None] <= hiy
+        near &= loy <= hiy[rows, None]
         r, f = np.nonzero(near)
         e = rows[r]
         keep = f > e
@@ -124,10 +131,12 @@ def valid_diagonals(polygon: ArrayLike | Polygon) -> NDArray[np.bool_]:
 
     Notes
     -----
-    Compiled with numba and parallel over rows: each chord is checked against
-    the edges outward from its first endpoint and stops at the first blocker,
-    so the cost is O(n^2) for chords blocked near an endpoint and O(n^3) in the
-    worst case (almost all chords valid, e.g. a nearly convex polygon).
+    Compiled with numba: the polygon is ear-clipped (O(n^2)) and each vertex
+    sees through that triangulation, narrowing an angular window from triangle to
+    triangle (O(n) per vertex, O(n^2) in all). Should ear clipping fail on
+    inconsistent rounding, a direct check is used instead: each chord against
+    the edges outward from its first endpoint, stopping at the first blocker
+    (O(n^3) in the worst case).
     Without numba, :func:`valid_diagonals_numpy` is used.
 
     Examples
@@ -233,7 +242,7 @@ def _orient(a: NDArray[np.float64], b: NDArray[np.float64], c: NDArray[np.float6
 
 
 def _inside(a: NDArray, b: NDArray, c: NDArray) -> NDArray[np.bool_]:
-    """For c collinear with segment ab: does c lie on it, other than at a or b?"""
+    """For c collinear with segment ab: c on the segment, other than at a or b."""
     lo, hi = np.minimum(a, b), np.maximum(a, b)
     on = np.all((c >= lo) & (c <= hi), axis=-1)
     return on & ~np.all(c == a, axis=-1) & ~np.all(c == b, axis=-1)
