@@ -16,6 +16,7 @@ from optri.simple import (
     count_triangulations_mask,
     require_simple,
     valid_diagonals,
+    valid_diagonals_compiled,
     valid_diagonals_numpy,
 )
 from optri.solve import allowed_chords
@@ -42,13 +43,14 @@ def test_mask_equals_shapely_oracle(coords, reverse):
     # internal order is CCW from input vertex 0: same as ccw_of
     assert np.array_equal(valid_diagonals(poly), expected)
     assert np.array_equal(valid_diagonals_numpy(poly.data), expected)
+    assert np.array_equal(valid_diagonals_compiled(poly.data), expected)
 
 
 @settings(max_examples=40, deadline=None)
 @given(polygons)
 def test_counts_equal_brute_force(coords):
     poly = as_polygon(coords)
-    ok = valid_diagonals(poly)
+    ok = valid_diagonals_compiled(poly.data)
     brute = sum(1 for _ in all_index_triangulations(poly.n, ok.tolist()))
     assert count_triangulations_mask(ok) == brute
     assert brute >= 1  # every simple polygon has a triangulation

@@ -18,6 +18,7 @@ from .errors import (
 from .geometry import Polygon, as_polygon
 from .papertable import format_table
 from .result import Triangulation
+from .simple import require_simple, valid_diagonals
 from .solve import triangulate
 from .weights import WEIGHTS, Weight, custom_weight
 
@@ -39,5 +40,7 @@ __all__ = [
     "custom_weight",
     "format_table",
     "matrix_chain",
+    "require_simple",
     "triangulate",
+    "valid_diagonals",
 ]

@@ -23,12 +23,15 @@ __all__ = [
     "not_simple_error",
     "require_simple",
     "valid_diagonals",
+    "valid_diagonals_compiled",
     "valid_diagonals_numpy",
     "zero_area_triangles",
 ]
 
 #: Relative tolerance of the orientation tests (same scale as geometry.turn_signs).
 ORIENT_RTOL = 16 * config.GEOMETRY_RTOL
+#: Up to this n the numpy O(n^3) mask is used: it is instant there and needs no numba.
+NUMPY_MAX_N = 48
 #: Edges per block in the O(n^2) simplicity check (memory ~ 100 * block * n bytes).
 _BLOCK = 256
 
@@ -137,7 +140,8 @@ def valid_diagonals(polygon: ArrayLike | Polygon) -> NDArray[np.bool_]:
     inconsistent rounding, a direct check is used instead: each chord against
     the edges outward from its first endpoint, stopping at the first blocker
     (O(n^3) in the worst case).
-    Without numba, :func:`valid_diagonals_numpy` is used.
+    Up to ``NUMPY_MAX_N`` vertices, and without numba,
+    :func:`valid_diagonals_numpy` is used.
 
     Examples
     --------
@@ -152,15 +156,22 @@ def valid_diagonals(polygon: ArrayLike | Polygon) -> NDArray[np.bool_]:
     pts = poly.planar_points
     if pts is None:
         raise InvalidPolygonError("valid diagonals need planar vertex coordinates")
-    x = np.ascontiguousarray(pts[:, 0])
-    y = np.ascontiguousarray(pts[:, 1])
+    if poly.n <= NUMPY_MAX_N:
+        return valid_diagonals_numpy(pts)
     try:
-        from .diagonals_jit import ear_clip, valid_mask, visibility_mask
+        return valid_diagonals_compiled(pts)
     except ImportError:  # pragma: no cover - numba is a core dependency
-        mask = valid_diagonals_numpy(pts)
-    else:
-        tris, ok = ear_clip(x, y, ORIENT_RTOL)
-        mask = visibility_mask(x, y, tris, ORIENT_RTOL) if ok else valid_mask(x, y, ORIENT_RTOL)
+        return valid_diagonals_numpy(pts)
+
+
+def valid_diagonals_compiled(points: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Compiled :func:`valid_diagonals` of CCW ``points``: ear clipping + visibility walk."""
+    from .diagonals_jit import ear_clip, valid_mask, visibility_mask
+
+    x = np.ascontiguousarray(points[:, 0], dtype=np.float64)
+    y = np.ascontiguousarray(points[:, 1], dtype=np.float64)
+    tris, ok = ear_clip(x, y, ORIENT_RTOL)
+    mask = visibility_mask(x, y, tris, ORIENT_RTOL) if ok else valid_mask(x, y, ORIENT_RTOL)
     _set_sides(mask)
     return mask
 
