@@ -201,13 +201,10 @@ def _see_from(x, y, tris, left, i, tol, row):  # type: ignore[no-untyped-def]
     A vertex exactly on a window ray is hidden behind the vertex defining it.
     """
     n = x.shape[0]
-    ntri = tris.shape[0]
-    # stack entries: directed edge (a, b) with the unvisited triangle on the left of b -> a,
-    # and the window rays' vertices (lo on a's side, hi on b's side)
-    st_a = np.empty(ntri + 2, dtype=np.int64)
-    st_b = np.empty(ntri + 2, dtype=np.int64)
-    st_lo = np.empty(ntri + 2, dtype=np.int64)
-    st_hi = np.empty(ntri + 2, dtype=np.int64)
+    # stack rows: directed edge (a, b) with the unvisited triangle on the left of b -> a,
+    # and the window rays' vertices (lo on a's side, hi on b's side); each triangulation
+    # edge is pushed at most once, so 2n rows always suffice
+    stack = np.empty((2 * n, 4), dtype=np.int64)
     top = 0
     a = (i + 1) % n
     t = left[i, a]
@@ -215,19 +212,12 @@ def _see_from(x, y, tris, left, i, tol, row):  # type: ignore[no-untyped-def]
         b = _third(tris, t, i, a)
         row[a] = True
         row[b] = True
-        st_a[top] = a
-        st_b[top] = b
-        st_lo[top] = a
-        st_hi[top] = b
-        top += 1
+        top = _push(stack, top, a, b, a, b)
         a = b
         t = left[i, a]
     while top > 0:
         top -= 1
-        a = st_a[top]
-        b = st_b[top]
-        lo = st_lo[top]
-        hi = st_hi[top]
+        a, b, lo, hi = stack[top, 0], stack[top, 1], stack[top, 2], stack[top, 3]
         t = left[b, a]
         if t < 0:
             continue  # a polygon side: the view stops here
@@ -236,28 +226,21 @@ def _see_from(x, y, tris, left, i, tol, row):  # type: ignore[no-untyped-def]
         before_hi = _orient(x[i], y[i], x[hi], y[hi], x[c], y[c], tol) < 0
         if past_lo and before_hi:
             row[c] = True
-            st_a[top] = a
-            st_b[top] = c
-            st_lo[top] = lo
-            st_hi[top] = c
-            top += 1
-            st_a[top] = c
-            st_b[top] = b
-            st_lo[top] = c
-            st_hi[top] = hi
-            top += 1
+            top = _push(stack, top, a, c, lo, c)
+            top = _push(stack, top, c, b, c, hi)
         elif past_lo:  # c at or beyond the hi ray: the window leaves through edge (a, c)
-            st_a[top] = a
-            st_b[top] = c
-            st_lo[top] = lo
-            st_hi[top] = hi
-            top += 1
+            top = _push(stack, top, a, c, lo, hi)
         else:  # c at or before the lo ray: the window leaves through edge (c, b)
-            st_a[top] = c
-            st_b[top] = b
-            st_lo[top] = lo
-            st_hi[top] = hi
-            top += 1
+            top = _push(stack, top, c, b, lo, hi)
+
+
+@njit(cache=True, inline="always")
+def _push(stack, top, a, b, lo, hi):  # type: ignore[no-untyped-def]
+    stack[top, 0] = a
+    stack[top, 1] = b
+    stack[top, 2] = lo
+    stack[top, 3] = hi
+    return top + 1
 
 
 @njit(cache=True)
