@@ -37,7 +37,7 @@ def star(n: int, rng: np.random.Generator) -> np.ndarray:
 
 
 def comb(teeth: int, rng: np.random.Generator) -> np.ndarray:
-    """A comb: a base bar with ``teeth`` jittered teeth pointing up (4 * teeth + 2 vertices)."""
+    """A comb: a base bar with ``teeth`` jittered teeth pointing up (4 * teeth + 3 vertices)."""
     top = []
     for t in range(teeth):
         x0 = t * 2.0
@@ -248,7 +248,7 @@ def main() -> None:
         ("star", 40, lambda r: star(40, r)),
         ("star", 100, lambda r: star(100, r)),
         ("2-opt", 40, lambda r: two_opt(40, r)),
-        ("comb", 42, lambda r: comb(10, r)),
+        ("comb", 43, lambda r: comb(10, r)),
     ]
     optri.triangulate(star(8, np.random.default_rng(0)))  # load the compiled mask kernel once
     rows = compare(families, args.seeds)
