@@ -106,6 +106,7 @@ def test_dart_has_one_triangulation():
     tri = optri.triangulate(dart, method="memo")
     assert tri.diagonals.tolist() == [[0, 2]]
     assert tri.triangles.tolist() == [[0, 2, 3], [0, 1, 2]]
+    assert tri.stats["valid_diagonals"] == 1 and tri.stats["mask_seconds"] >= 0
 
 
 def test_straight_vertices_give_no_flat_triangles():

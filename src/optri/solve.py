@@ -150,8 +150,12 @@ def build_problem(
     """Resolve weights and objective and decide which chords are allowed."""
     obj = as_objective(objective)
     weights = _weights_for(weight, obj)
+    options: dict[str, Any] = {}
     if allowed is None:
+        start = time.perf_counter()
         allowed = allowed_chords(polygon)
+        if allowed is not None:
+            options["mask_seconds"] = time.perf_counter() - start
     return Problem(
         polygon,
         weights,
@@ -160,6 +164,7 @@ def build_problem(
         progress,
         keep_table,  # type: ignore[arg-type]
         np.dtype(dtype),
+        options,
     )
 
 
@@ -208,13 +213,16 @@ def _load(vertices: PolygonLike) -> Polygon:
 
 
 def _report_degenerate(problem: Problem, triangles: NDArray[np.int64], stats: Any) -> None:
-    """Count zero-area triangles (none for a simple polygon) and warn if any."""
+    """Record the mask's size and time and zero-area triangles (none for a simple polygon)."""
     from .simple import zero_area_triangles
 
     pts = problem.polygon.planar_points
     count = zero_area_triangles(pts, triangles) if pts is not None else 0
     if isinstance(stats, dict):
         stats["zero_area_triangles"] = count
+        stats["valid_diagonals"] = int(np.count_nonzero(problem.allowed)) // 2 - problem.n
+        if "mask_seconds" in problem.options:
+            stats["mask_seconds"] = problem.options["mask_seconds"]
     if count:
         warnings.warn(
             f"{count} zero-area triangle(s) in the optimal triangulation: collinear "
