@@ -143,3 +143,12 @@ def test_simplicity_agrees_with_shapely(pts):
     except InvalidPolygonError:
         ours = False
     assert ours == bool(shapely.LinearRing(coords).is_simple)
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_float_stars_match_oracle(seed):
+    pts = random_star(5 + seed % 7, seed)
+    poly = as_polygon(pts)
+    expected = oracle_mask(ccw_of(pts))
+    assert np.array_equal(valid_diagonals(poly), expected)
+    assert np.array_equal(valid_diagonals_compiled(poly.data), expected)
