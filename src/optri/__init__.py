@@ -20,6 +20,7 @@ from .geometry import Polygon, as_polygon
 from .kbest import best_triangulations
 from .papertable import format_table
 from .result import Triangulation
+from .simple import require_simple, valid_diagonals
 from .solve import triangulate
 from .weights import WEIGHTS, Weight, custom_weight
 
@@ -45,5 +46,7 @@ __all__ = [
     "format_table",
     "matrix_chain",
     "random_triangulation",
+    "require_simple",
     "triangulate",
+    "valid_diagonals",
 ]
