@@ -1,0 +1,404 @@
+"""Compiled kernels for filling 3-D polylines (numba, ``cache=True``).
+
+Vertex array ``Q`` holds the ``n`` polyline points, followed (when the mesh
+around the hole is known) by the ``n`` third points: ``Q[n + s]`` is the third
+vertex of the mesh triangle on boundary edge ``(s, s + 1)``. Every triangle
+normal is computed by :func:`unit_normal` from its *sorted* vertex indices, so
+the kernels and the evaluator (:func:`triangle_normals`) see bit-identical
+values and their max-dihedral comparisons agree exactly.
+
+The dihedral "key" of two adjacent, consistently oriented triangles is
+``1 - cos(angle between their normals)`` in [0, 2]: monotone in the angle, so
+comparing keys compares angles without an ``acos`` in the inner loops. A
+degenerate (zero-area) triangle gets the worst key, 2 (a fold of pi).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "DEGENERATE_KEY",
+    "exact_liepa",
+    "exact_table_bytes",
+    "liepa_recurrence",
+    "mesh_normals",
+    "sum_dp",
+    "triangle_normals",
+    "unit_normal",
+]
+
+#: Key given to any pair involving a zero-area triangle (angle pi).
+DEGENERATE_KEY = 2.0
+#: A triangle whose sine of angle at its first vertex is below this is degenerate.
+_DEGENERATE_SINE = 1e-12
+
+_CODE_PERIMETER = 0
+_CODE_AREA = 2
+
+
+@njit(cache=True)
+def unit_normal(Q, a, b, c):
+    """Unit normal of triangle a->b->c, a degenerate flag and the area."""
+    ux = Q[b, 0] - Q[a, 0]
+    uy = Q[b, 1] - Q[a, 1]
+    uz = Q[b, 2] - Q[a, 2]
+    vx = Q[c, 0] - Q[a, 0]
+    vy = Q[c, 1] - Q[a, 1]
+    vz = Q[c, 2] - Q[a, 2]
+    nx = uy * vz - uz * vy
+    ny = uz * vx - ux * vz
+    nz = ux * vy - uy * vx
+    nn = math.sqrt(nx * nx + ny * ny + nz * nz)
+    scale = math.sqrt((ux * ux + uy * uy + uz * uz) * (vx * vx + vy * vy + vz * vz))
+    if nn <= _DEGENERATE_SINE * scale or nn == 0.0:
+        return 0.0, 0.0, 0.0, True, 0.5 * nn
+    return nx / nn, ny / nn, nz / nn, False, 0.5 * nn
+
+
+@njit(cache=True)
+def _sorted_normal(Q, a, b, c):
+    # the same triangle always gets the same rounding: compute from sorted indices
+    if a > b:
+        a, b = b, a
+    if b > c:
+        b, c = c, b
+    if a > b:
+        a, b = b, a
+    return unit_normal(Q, a, b, c)
+
+
+@njit(cache=True)
+def _key(x1, y1, z1, d1, x2, y2, z2, d2):
+    if d1 or d2:
+        return DEGENERATE_KEY
+    k = 1.0 - (x1 * x2 + y1 * y2 + z1 * z2)
+    if k < 0.0:
+        return 0.0
+    if k > 2.0:
+        return 2.0
+    return k
+
+
+@njit(cache=True)
+def mesh_normals(Q, n):
+    """(n, 4) rows (x, y, z, degenerate) of the mesh triangles (p[s+1], p[s], t[s])."""
+    out = np.zeros((n, 4))
+    for s in range(n):
+        x, y, z, d, _ = unit_normal(Q, (s + 1) % n, s, n + s)
+        out[s, 0] = x
+        out[s, 1] = y
+        out[s, 2] = z
+        out[s, 3] = 1.0 if d else 0.0
+    return out
+
+
+@njit(cache=True)
+def triangle_normals(Q, tris):
+    """(m, 5) rows (x, y, z, degenerate, area) of index triangles (sorted first)."""
+    m = tris.shape[0]
+    out = np.zeros((m, 5))
+    for t in range(m):
+        x, y, z, d, area = _sorted_normal(Q, tris[t, 0], tris[t, 1], tris[t, 2])
+        out[t, 0] = x
+        out[t, 1] = y
+        out[t, 2] = z
+        out[t, 3] = 1.0 if d else 0.0
+        out[t, 4] = area
+    return out
+
+
+@njit(cache=True)
+def _mesh_key(MN, s, x, y, z, d, has_third):
+    if not has_third:
+        return 0.0
+    return _key(x, y, z, d, MN[s, 0], MN[s, 1], MN[s, 2], MN[s, 3] != 0.0)
+
+
+@njit(cache=True)
+def _leaf_table(Q, n, MN, has_third):
+    # LEAF[s, m]: key of side (s, s+1) between patch triangle (s, s+1, m) and the mesh
+    leaf = np.zeros((n, n))
+    if not has_third:
+        return leaf
+    for s in range(n - 1):
+        for m in range(n):
+            if m == s or m == s + 1:
+                continue
+            x, y, z, d, _ = _sorted_normal(Q, s, s + 1, m)
+            leaf[s, m] = _mesh_key(MN, s, x, y, z, d, has_third)
+    return leaf
+
+
+@njit(cache=True)
+def _span(ptr, i, j, n):
+    # candidate apexes of chord (i, j): ks[lo:hi] from the CSR lists, or every
+    # k in (i, j) when unrestricted (lo = -1; the apex is then i + 1 + t)
+    if ptr.shape[0] == 0:
+        return -1, j - i - 1
+    c = i * n + j
+    return ptr[c], ptr[c + 1] - ptr[c]
+
+
+@njit(cache=True)
+def _apex(ks, lo, i, t):
+    return i + 1 + t if lo < 0 else ks[lo + t]
+
+
+@njit(cache=True)
+def liepa_recurrence(Q, n, has_third, ptr, ks):
+    """Liepa's O(n^3) recurrence: (max dihedral key, area), lexicographic.
+
+    The dihedral across chord (i, k) is measured against the *optimal* top
+    triangle of sub-polygon (i, k) (its apex from the split table), so this is
+    a heuristic for the max-dihedral objective (exact for the area part only
+    given the chosen shape). Returns (key, area, split table); split[0, n-1] < 0
+    when the candidate set admits no triangulation.
+    """
+    MN = mesh_normals(Q, n) if has_third else np.zeros((1, 4))
+    # per chord (i, j): best (key, area) and the unit normal of its top triangle,
+    # stored at [i, j] and transposed at [j, i] so both halves of a split read
+    # rows; a key of infinity marks a sub-polygon with no candidate triangulation
+    O1 = np.full((n, n), np.inf)
+    O2 = np.zeros((n, n))
+    TN = np.zeros((n, n, 4))
+    K = np.full((n, n), -1, dtype=np.int32)
+    for i in range(n - 1):
+        O1[i, i + 1] = O1[i + 1, i] = 0.0
+        K[i, i + 1] = i
+    for L in range(2, n):
+        for i in range(n - L):
+            j = i + L
+            root = i == 0 and j == n - 1
+            best1 = np.inf
+            best2 = np.inf
+            bestk = -1
+            bx = by = bz = 0.0
+            bd = False
+            lo, cnt = _span(ptr, i, j, n)
+            for t in range(cnt):
+                k = _apex(ks, lo, i, t)
+                if O1[i, k] == np.inf or O1[j, k] == np.inf:
+                    continue
+                x, y, z, d, area = unit_normal(Q, i, k, j)
+                if k - i == 1:
+                    c1 = _mesh_key(MN, i, x, y, z, d, has_third)
+                else:
+                    tn = TN[i, k]
+                    c1 = max(O1[i, k], _key(x, y, z, d, tn[0], tn[1], tn[2], tn[3] != 0.0))
+                if j - k == 1:
+                    c1 = max(c1, _mesh_key(MN, k, x, y, z, d, has_third))
+                else:
+                    tn = TN[j, k]
+                    c1 = max(c1, O1[j, k], _key(x, y, z, d, tn[0], tn[1], tn[2], tn[3] != 0.0))
+                if root:
+                    c1 = max(c1, _mesh_key(MN, n - 1, x, y, z, d, has_third))
+                if c1 > best1:
+                    continue
+                c2 = O2[i, k] + O2[j, k] + area
+                if c1 < best1 or c2 < best2:
+                    best1, best2, bestk = c1, c2, k
+                    bx, by, bz, bd = x, y, z, d
+            K[i, j] = bestk
+            O1[i, j] = O1[j, i] = best1
+            O2[i, j] = O2[j, i] = best2
+            for r, c in ((i, j), (j, i)):
+                TN[r, c, 0] = bx
+                TN[r, c, 1] = by
+                TN[r, c, 2] = bz
+                TN[r, c, 3] = 1.0 if bd else 0.0
+    return O1[0, n - 1], O2[0, n - 1], K
+
+
+@njit(cache=True)
+def _chord_inputs(Q, n, i, j, B, LEAF, has_third):
+    # per apex k of chord (i, j): normal of (i, k, j), its area, and the worse key
+    # of its two halves (sub-polygon (i, k) seen from apex j, (k, j) from apex i)
+    L = j - i
+    nk = np.zeros((L - 1, 4))
+    area = np.zeros(L - 1)
+    base = np.zeros(L - 1)
+    for t in range(L - 1):
+        k = i + 1 + t
+        x, y, z, d, a = unit_normal(Q, i, k, j)
+        nk[t, 0] = x
+        nk[t, 1] = y
+        nk[t, 2] = z
+        nk[t, 3] = 1.0 if d else 0.0
+        area[t] = a
+        left = LEAF[i, j] if k - i == 1 else B[i, k, j]
+        right = LEAF[k, i] if j - k == 1 else B[k, j, i]
+        base[t] = max(left, right)
+    return nk, area, base
+
+
+@njit(cache=True)
+def _outer_normal(Q, n, i, j, m, MN, has_third):
+    # the triangle across chord (i, j): (i, j, m), or the mesh triangle at the root
+    if m == n:
+        if has_third:
+            return MN[n - 1, 0], MN[n - 1, 1], MN[n - 1, 2], MN[n - 1, 3] != 0.0, True
+        return 0.0, 0.0, 0.0, False, False
+    x, y, z, d, _ = _sorted_normal(Q, i, j, m)
+    return x, y, z, d, True
+
+
+@njit(cache=True)
+def _outside(n, i, j):
+    if i == 0 and j == n - 1:
+        out = np.empty(1, dtype=np.int64)
+        out[0] = n
+        return out
+    out = np.empty(n - (j - i + 1), dtype=np.int64)
+    t = 0
+    for m in range(n):
+        if m < i or m > j:
+            out[t] = m
+            t += 1
+    return out
+
+
+@njit(cache=True)
+def _bottleneck_pass(Q, n, has_third, MN, LEAF, B):
+    # B[i, j, m]: least possible max key inside sub-polygon (i..j) and across
+    # chord (i, j) to the outer triangle (i, j, m); m == n is the root's mesh side
+    for L in range(2, n):
+        for i in range(n - L):
+            j = i + L
+            nk, _, base = _chord_inputs(Q, n, i, j, B, LEAF, has_third)
+            for m in _outside(n, i, j):
+                ox, oy, oz, od, has = _outer_normal(Q, n, i, j, m, MN, has_third)
+                best = np.inf
+                for t in range(L - 1):
+                    c = base[t]
+                    if has:
+                        c = max(c, _key(nk[t, 0], nk[t, 1], nk[t, 2], nk[t, 3] != 0, ox, oy, oz, od))
+                    if c < best:
+                        best = c
+                B[i, j, m] = best
+    return B[0, n - 1, n]
+
+
+@njit(cache=True)
+def _area_pass(Q, n, has_third, MN, LEAF, M, A, S):
+    # A[i, j, m]: least area of sub-polygon (i..j) using only pairs with key <= M;
+    # S[i, j, m]: its apex
+    for L in range(2, n):
+        for i in range(n - L):
+            j = i + L
+            nk = np.zeros((L - 1, 4))
+            area = np.zeros(L - 1)
+            sub = np.full(L - 1, np.inf)
+            for t in range(L - 1):
+                k = i + 1 + t
+                x, y, z, d, a = unit_normal(Q, i, k, j)
+                nk[t, 0] = x
+                nk[t, 1] = y
+                nk[t, 2] = z
+                nk[t, 3] = 1.0 if d else 0.0
+                left = (0.0 if LEAF[i, j] <= M else np.inf) if k - i == 1 else A[i, k, j]
+                right = (0.0 if LEAF[k, i] <= M else np.inf) if j - k == 1 else A[k, j, i]
+                sub[t] = left + right + a
+            for m in _outside(n, i, j):
+                ox, oy, oz, od, has = _outer_normal(Q, n, i, j, m, MN, has_third)
+                best = np.inf
+                arg = -1
+                for t in range(L - 1):
+                    c = sub[t]
+                    if c < best:
+                        if has and _key(nk[t, 0], nk[t, 1], nk[t, 2], nk[t, 3] != 0, ox, oy, oz, od) > M:
+                            continue
+                        best = c
+                        arg = i + 1 + t
+                A[i, j, m] = best
+                S[i, j, m] = arg
+    return A[0, n - 1, n]
+
+
+def exact_liepa(Q: np.ndarray, n: int, has_third: bool) -> tuple[float, float, np.ndarray]:
+    """Exact (max dihedral key, area) optimum over all triangulations; O(n^4).
+
+    State (i, j, m): sub-polygon i..j with the triangle (i, j, m) across its
+    chord, so every dihedral is known when its two triangles meet
+    (Barequet-Dickerson-Eppstein 1996). Two passes make the lexicographic pair
+    exact: the first finds the least max key M (bottleneck: monotone), the
+    second minimizes area over triangulations whose keys are all <= M.
+    Returns (M, area, S) with S[i, j, m] the optimal apex.
+    """
+    MN = mesh_normals(Q, n) if has_third else np.zeros((1, 4))
+    LEAF = _leaf_table(Q, n, MN, has_third)
+    B = np.full((n, n, n + 1), np.inf)
+    M = _bottleneck_pass(Q, n, has_third, MN, LEAF, B)
+    del B  # the second pass needs only M: free the table before the next two
+    A = np.full((n, n, n + 1), np.inf)
+    S = np.full((n, n, n + 1), -1, dtype=np.int16)
+    area = _area_pass(Q, n, has_third, MN, LEAF, M, A, S)
+    return float(M), float(area), S
+
+
+def exact_table_bytes(n: int) -> int:
+    """Peak bytes of :func:`exact_liepa`'s tables (float64 + int16 per state)."""
+    return n * n * (n + 1) * 10
+
+
+@njit(cache=True)
+def _weight(Q, code, i, k, j):
+    if code == _CODE_AREA:
+        ux = Q[k, 0] - Q[i, 0]
+        uy = Q[k, 1] - Q[i, 1]
+        uz = Q[k, 2] - Q[i, 2]
+        vx = Q[j, 0] - Q[i, 0]
+        vy = Q[j, 1] - Q[i, 1]
+        vz = Q[j, 2] - Q[i, 2]
+        nx = uy * vz - uz * vy
+        ny = uz * vx - ux * vz
+        nz = ux * vy - uy * vx
+        return 0.5 * math.sqrt(nx * nx + ny * ny + nz * nz)
+    a = math.sqrt(
+        (Q[i, 0] - Q[k, 0]) ** 2 + (Q[i, 1] - Q[k, 1]) ** 2 + (Q[i, 2] - Q[k, 2]) ** 2
+    )
+    b = math.sqrt(
+        (Q[k, 0] - Q[j, 0]) ** 2 + (Q[k, 1] - Q[j, 1]) ** 2 + (Q[k, 2] - Q[j, 2]) ** 2
+    )
+    c = math.sqrt(
+        (Q[i, 0] - Q[j, 0]) ** 2 + (Q[i, 1] - Q[j, 1]) ** 2 + (Q[i, 2] - Q[j, 2]) ** 2
+    )
+    return a + b + c
+
+
+@njit(cache=True)
+def sum_dp(Q, n, code, ptr, ks):
+    """Min-sum DP of a built-in 3-D weight (area or perimeter); O(n^3).
+
+    Candidate apexes come from the CSR lists ``ptr``/``ks`` (empty ``ptr``: all).
+    Returns (cost, split table); split[0, n-1] < 0 when infeasible.
+    """
+    # C[i, j] and its transpose Ct[j, i]: both halves of a split read contiguously;
+    # infinity marks a sub-polygon with no triangulation from the candidates
+    C = np.full((n, n), np.inf)
+    Ct = np.full((n, n), np.inf)
+    K = np.full((n, n), -1, dtype=np.int32)
+    for i in range(n - 1):
+        C[i, i + 1] = Ct[i + 1, i] = 0.0
+        K[i, i + 1] = i
+    for L in range(2, n):
+        for i in range(n - L):
+            j = i + L
+            best = np.inf
+            arg = -1
+            lo, cnt = _span(ptr, i, j, n)
+            for t in range(cnt):
+                k = _apex(ks, lo, i, t)
+                h = C[i, k] + Ct[j, k]
+                if h == np.inf:
+                    continue
+                c = h + _weight(Q, code, i, k, j)
+                if c < best:
+                    best = c
+                    arg = k
+            C[i, j] = Ct[j, i] = best
+            K[i, j] = arg
+    return C[0, n - 1], K
