@@ -16,6 +16,8 @@ from .errors import (
     WeightError,
 )
 from .geometry import Polygon, as_polygon
+from .holes import fill_polyline
+from .mesh import fill_holes
 from .papertable import format_table
 from .result import Triangulation
 from .solve import triangulate
@@ -37,6 +39,8 @@ __all__ = [
     "__version__",
     "as_polygon",
     "custom_weight",
+    "fill_holes",
+    "fill_polyline",
     "format_table",
     "matrix_chain",
     "triangulate",

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from . import config
 from .engines.memory import require_memory
 from .engines.problem import triangles_from_splits
 from .errors import InvalidPolygonError, WeightError
@@ -68,7 +69,8 @@ def fill_polyline(
         with Liepa's recurrence for ``"liepa"`` and exactly otherwise; if
         those faces hold no triangulation it falls back to ``"auto"`` over all
         triangles (``stats["fallback"] == 1``). ``"auto"``: ``"exact"`` up to
-        :data:`EXACT_MAX_N` vertices, else ``"liepa"``.
+        :data:`EXACT_MAX_N` vertices (when its table fits in memory), else
+        ``"liepa"``.
     third_points : array_like, shape (n, 3), optional
         ``third_points[i]`` is the third vertex of the mesh triangle on
         boundary edge ``(i, i + 1)``; that triangle is taken to run
@@ -216,7 +218,8 @@ def _fill_all(
     ptr = empty if ptr is None else ptr
     ks = empty if ks is None else ks
     if liepa:
-        if method == "exact" or (method == "auto" and n <= EXACT_MAX_N):
+        fits = hk.exact_table_bytes(n) <= config.available_memory_bytes()
+        if method == "exact" or (method == "auto" and n <= EXACT_MAX_N and fits):
             require_memory(
                 hk.exact_table_bytes(n),
                 f"the exact Liepa search of a {n}-vertex hole (O(n^3) states)",
@@ -226,7 +229,11 @@ def _fill_all(
             return _walk_exact(S, n), "exact"
         _, _, K = hk.liepa_recurrence(Q, n, has_third, ptr, ks)
         return _walk(K, n), "liepa"
-    if isinstance(weight, str) and weight in _KERNEL_WEIGHTS and as_objective(objective).name == "sum":
+    if (
+        isinstance(weight, str)
+        and weight in _KERNEL_WEIGHTS
+        and as_objective(objective).name == "sum"
+    ):
         _, K = hk.sum_dp(Q[:n], n, _KERNEL_WEIGHTS[weight], ptr, ks)
         return _walk(K, n), "exact"
     if len(ptr):

@@ -275,7 +275,9 @@ def _bottleneck_pass(Q, n, has_third, MN, LEAF, B):
                 for t in range(L - 1):
                     c = base[t]
                     if has:
-                        c = max(c, _key(nk[t, 0], nk[t, 1], nk[t, 2], nk[t, 3] != 0, ox, oy, oz, od))
+                        c = max(
+                            c, _key(nk[t, 0], nk[t, 1], nk[t, 2], nk[t, 3] != 0, ox, oy, oz, od)
+                        )
                     if c < best:
                         best = c
                 B[i, j, m] = best
@@ -290,7 +292,6 @@ def _area_pass(Q, n, has_third, MN, LEAF, M, A, S):
         for i in range(n - L):
             j = i + L
             nk = np.zeros((L - 1, 4))
-            area = np.zeros(L - 1)
             sub = np.full(L - 1, np.inf)
             for t in range(L - 1):
                 k = i + 1 + t
@@ -309,7 +310,11 @@ def _area_pass(Q, n, has_third, MN, LEAF, M, A, S):
                 for t in range(L - 1):
                     c = sub[t]
                     if c < best:
-                        if has and _key(nk[t, 0], nk[t, 1], nk[t, 2], nk[t, 3] != 0, ox, oy, oz, od) > M:
+                        if (
+                            has
+                            and _key(nk[t, 0], nk[t, 1], nk[t, 2], nk[t, 3] != 0, ox, oy, oz, od)
+                            > M
+                        ):
                             continue
                         best = c
                         arg = i + 1 + t
@@ -357,15 +362,9 @@ def _weight(Q, code, i, k, j):
         ny = uz * vx - ux * vz
         nz = ux * vy - uy * vx
         return 0.5 * math.sqrt(nx * nx + ny * ny + nz * nz)
-    a = math.sqrt(
-        (Q[i, 0] - Q[k, 0]) ** 2 + (Q[i, 1] - Q[k, 1]) ** 2 + (Q[i, 2] - Q[k, 2]) ** 2
-    )
-    b = math.sqrt(
-        (Q[k, 0] - Q[j, 0]) ** 2 + (Q[k, 1] - Q[j, 1]) ** 2 + (Q[k, 2] - Q[j, 2]) ** 2
-    )
-    c = math.sqrt(
-        (Q[i, 0] - Q[j, 0]) ** 2 + (Q[i, 1] - Q[j, 1]) ** 2 + (Q[i, 2] - Q[j, 2]) ** 2
-    )
+    a = math.sqrt((Q[i, 0] - Q[k, 0]) ** 2 + (Q[i, 1] - Q[k, 1]) ** 2 + (Q[i, 2] - Q[k, 2]) ** 2)
+    b = math.sqrt((Q[k, 0] - Q[j, 0]) ** 2 + (Q[k, 1] - Q[j, 1]) ** 2 + (Q[k, 2] - Q[j, 2]) ** 2)
+    c = math.sqrt((Q[i, 0] - Q[j, 0]) ** 2 + (Q[i, 1] - Q[j, 1]) ** 2 + (Q[i, 2] - Q[j, 2]) ** 2)
     return a + b + c
 
 

@@ -46,7 +46,10 @@ def main() -> None:
 
 
 def _register() -> None:
-    from . import solve_cmd  # noqa: F401  (each module adds its commands to main)
+    from . import (
+        fill_cmd,  # noqa: F401
+        solve_cmd,  # noqa: F401  (each module adds its commands to main)
+    )
 
 
 _register()
