@@ -33,8 +33,9 @@ __all__ = [
 
 #: Key given to any pair involving a zero-area triangle (angle pi).
 DEGENERATE_KEY = 2.0
-#: A triangle whose sine of angle at its first vertex is below this is degenerate.
-_DEGENERATE_SINE = 1e-12
+#: A triangle whose squared sine of the angle at its first vertex is at most this
+#: is degenerate (sine <= 1e-12).
+_DEGENERATE_SINE2 = 1e-24
 
 _CODE_PERIMETER = 0
 _CODE_AREA = 2
@@ -52,11 +53,14 @@ def unit_normal(Q, a, b, c):
     nx = uy * vz - uz * vy
     ny = uz * vx - ux * vz
     nz = ux * vy - uy * vx
-    nn = math.sqrt(nx * nx + ny * ny + nz * nz)
-    scale = math.sqrt((ux * ux + uy * uy + uz * uz) * (vx * vx + vy * vy + vz * vz))
-    if nn <= _DEGENERATE_SINE * scale or nn == 0.0:
+    n2 = nx * nx + ny * ny + nz * nz
+    nn = math.sqrt(n2)
+    uu = ux * ux + uy * uy + uz * uz
+    vv = vx * vx + vy * vy + vz * vz
+    if n2 <= _DEGENERATE_SINE2 * (uu * vv):
         return 0.0, 0.0, 0.0, True, 0.5 * nn
-    return nx / nn, ny / nn, nz / nn, False, 0.5 * nn
+    inv = 1.0 / nn
+    return nx * inv, ny * inv, nz * inv, False, 0.5 * nn
 
 
 @njit(cache=True)
@@ -154,6 +158,21 @@ def liepa_recurrence(Q, n, has_third, ptr, ks):
 
     The dihedral across chord (i, k) is measured against the *optimal* top
     triangle of sub-polygon (i, k) (its apex from the split table), so this is
+    a heuristic for the max-dihedral objective. ``ptr``/``ks``: CSR candidate
+    apexes per chord (empty ``ptr``: all). Returns (key, area, split table);
+    split[0, n-1] < 0 when the candidates admit no triangulation.
+    """
+    if ptr.shape[0] == 0:
+        return _liepa_dense(Q, n, has_third)
+    return _liepa_sparse(Q, n, has_third, ptr, ks)
+
+
+@njit(cache=True)
+def _liepa_sparse(Q, n, has_third, ptr, ks):
+    """Liepa's O(n^3) recurrence: (max dihedral key, area), lexicographic.
+
+    The dihedral across chord (i, k) is measured against the *optimal* top
+    triangle of sub-polygon (i, k) (its apex from the split table), so this is
     a heuristic for the max-dihedral objective (exact for the area part only
     given the chosen shape). Returns (key, area, split table); split[0, n-1] < 0
     when the candidate set admits no triangulation.
@@ -211,6 +230,114 @@ def liepa_recurrence(Q, n, has_third, ptr, ks):
                 TN[r, c, 2] = bz
                 TN[r, c, 3] = 1.0 if bd else 0.0
     return O1[0, n - 1], O2[0, n - 1], K
+
+
+@njit(cache=True)
+def _liepa_dense(Q, n, has_third):
+    # every apex is a candidate: the per-chord loop runs branch-free over
+    # contiguous rows (coordinates split by axis, tables stored at [i, j] and
+    # transposed at [j, i]) so the compiler vectorizes it; sides and the root
+    # are then corrected in scalar code
+    MN = mesh_normals(Q, n) if has_third else np.zeros((1, 4))
+    X = Q[:n, 0].copy()
+    Y = Q[:n, 1].copy()
+    Z = Q[:n, 2].copy()
+    O1 = np.zeros((n, n))
+    O2 = np.zeros((n, n))
+    NX = np.zeros((n, n))
+    NY = np.zeros((n, n))
+    NZ = np.zeros((n, n))
+    ND = np.zeros((n, n))
+    K = np.full((n, n), -1, dtype=np.int32)
+    c1b = np.empty(n)
+    c2b = np.empty(n)
+    for i in range(n - 1):
+        K[i, i + 1] = i
+    for L in range(2, n):
+        for i in range(n - L):
+            j = i + L
+            vx = X[j] - X[i]
+            vy = Y[j] - Y[i]
+            vz = Z[j] - Z[i]
+            vv = vx * vx + vy * vy + vz * vz
+            xi, yi, zi = X[i], Y[i], Z[i]
+            Ri1, Ri2, Rix, Riy, Riz, Rid = O1[i], O2[i], NX[i], NY[i], NZ[i], ND[i]
+            Rj1, Rj2, Rjx, Rjy, Rjz, Rjd = O1[j], O2[j], NX[j], NY[j], NZ[j], ND[j]
+            for k in range(i + 1, j):
+                c1b[k] = max(Ri1[k], Rj1[k])  # the halves' keys: a lower bound
+            bound = np.inf
+            for k in range(i + 1, j):
+                # a half already worse than the best full candidate so far cannot win
+                if c1b[k] > bound:
+                    c2b[k] = np.inf
+                    continue
+                ux = X[k] - xi
+                uy = Y[k] - yi
+                uz = Z[k] - zi
+                nx = uy * vz - uz * vy
+                ny = uz * vx - ux * vz
+                nz = ux * vy - uy * vx
+                n2 = nx * nx + ny * ny + nz * nz
+                nn = math.sqrt(n2)
+                uu = ux * ux + uy * uy + uz * uz
+                c2b[k] = Ri2[k] + Rj2[k] + 0.5 * nn
+                if n2 <= _DEGENERATE_SINE2 * (uu * vv) or Rid[k] != 0.0 or Rjd[k] != 0.0:
+                    c1b[k] = DEGENERATE_KEY
+                else:
+                    inv = 1.0 / nn
+                    ax = nx * inv
+                    ay = ny * inv
+                    az = nz * inv
+                    kl = 1.0 - (ax * Rix[k] + ay * Riy[k] + az * Riz[k])
+                    kr = 1.0 - (ax * Rjx[k] + ay * Rjy[k] + az * Rjz[k])
+                    kl = min(max(kl, 0.0), 2.0)
+                    kr = min(max(kr, 0.0), 2.0)
+                    c1b[k] = max(c1b[k], max(kl, kr))
+                if k > i + 1 and k < j - 1 and c1b[k] < bound:
+                    bound = c1b[k]
+            _fix_ends(Q, n, i, j, has_third, MN, O1, NX, NY, NZ, ND, c1b)
+            best1 = np.inf
+            best2 = np.inf
+            bestk = -1
+            for k in range(i + 1, j):
+                c1 = c1b[k]
+                if c1 < best1 or (c1 == best1 and c2b[k] < best2):
+                    best1 = c1
+                    best2 = c2b[k]
+                    bestk = k
+            x, y, z, d, _ = unit_normal(Q, i, bestk, j)
+            K[i, j] = bestk
+            O1[i, j] = O1[j, i] = best1
+            O2[i, j] = O2[j, i] = best2
+            NX[i, j] = NX[j, i] = x
+            NY[i, j] = NY[j, i] = y
+            NZ[i, j] = NZ[j, i] = z
+            ND[i, j] = ND[j, i] = 1.0 if d else 0.0
+    return O1[0, n - 1], O2[0, n - 1], K
+
+
+@njit(cache=True)
+def _fix_ends(Q, n, i, j, has_third, MN, O1, NX, NY, NZ, ND, c1b):
+    # apex k = i + 1 or j - 1 puts a polygon side in the triangle: its key is
+    # against the mesh (or nothing), not a sub-polygon's top; the root also
+    # meets the mesh across side (n - 1, 0)
+    ks = (i + 1, j - 1) if j - i > 2 else (i + 1, i + 1)
+    for e in range(2 if j - i > 2 else 1):
+        k = ks[e]
+        x, y, z, d, _ = unit_normal(Q, i, k, j)
+        if k - i == 1:
+            c1 = _mesh_key(MN, i, x, y, z, d, has_third)
+        else:
+            c1 = max(O1[i, k], _key(x, y, z, d, NX[i, k], NY[i, k], NZ[i, k], ND[i, k] != 0.0))
+        if j - k == 1:
+            c1 = max(c1, _mesh_key(MN, k, x, y, z, d, has_third))
+        else:
+            c1 = max(c1, O1[j, k], _key(x, y, z, d, NX[j, k], NY[j, k], NZ[j, k], ND[j, k] != 0.0))
+        c1b[k] = c1
+    if i == 0 and j == n - 1 and has_third:
+        for k in range(i + 1, j):
+            x, y, z, d, _ = unit_normal(Q, i, k, j)
+            c1b[k] = max(c1b[k], _mesh_key(MN, n - 1, x, y, z, d, has_third))
 
 
 @njit(cache=True)
