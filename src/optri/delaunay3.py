@@ -18,7 +18,9 @@ __all__ = ["candidate_lists", "delaunay_faces"]
 
 
 def delaunay_faces(points: NDArray[np.float64]) -> NDArray[np.int64]:
-    """Sorted unique vertex triples that are Delaunay faces of ``points`` (n, 3).
+    """Unique sorted vertex triples that are Delaunay faces of ``points`` (n, 3).
+
+    Rows ``(a, b, c)``, ``a < b < c``, ordered by ``(a, c)`` and then ``b``.
 
     Examples
     --------
@@ -39,8 +41,13 @@ def delaunay_faces(points: NDArray[np.float64]) -> NDArray[np.int64]:
         except (spatial.QhullError, ValueError):
             return np.zeros((0, 3), dtype=np.int64)
         combos = ((0, 1, 2),)
-    faces = np.concatenate([simplices[:, list(c)] for c in combos])
-    return np.unique(np.sort(faces, axis=1), axis=0).astype(np.int64)
+    faces = np.sort(np.concatenate([simplices[:, list(c)] for c in combos]), axis=1)
+    n = len(points)
+    # one int64 key per triple, ordered (first, last, middle): chord then apex
+    keys = np.unique((faces[:, 0].astype(np.int64) * n + faces[:, 2]) * n + faces[:, 1])
+    chord, mid = np.divmod(keys, n)
+    first, last = np.divmod(chord, n)
+    return np.column_stack((first, mid, last)).astype(np.int64)
 
 
 def candidate_lists(
@@ -51,10 +58,9 @@ def candidate_lists(
     Returns ``(ptr, ks, number_of_faces)``; apexes of a chord are increasing.
     """
     n = len(points)
-    faces = delaunay_faces(points)
+    faces = delaunay_faces(points)  # ordered by chord (first, last), then apex
     keys = faces[:, 0] * n + faces[:, 2]
-    order = np.lexsort((faces[:, 1], keys))
-    ks = np.ascontiguousarray(faces[order, 1])
+    ks = np.ascontiguousarray(faces[:, 1])
     counts = np.bincount(keys, minlength=n * n)
     ptr = np.zeros(n * n + 1, dtype=np.int64)
     np.cumsum(counts, out=ptr[1:])
