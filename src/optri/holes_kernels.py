@@ -232,28 +232,26 @@ def _liepa_sparse(Q, n, has_third, ptr, ks):
     return O1[0, n - 1], O2[0, n - 1], K
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _liepa_dense(Q, n, has_third):
-    # every apex is a candidate: the per-chord loop runs branch-free over
-    # contiguous rows (coordinates split by axis, tables stored at [i, j] and
-    # transposed at [j, i]) so the compiler vectorizes it; sides and the root
-    # are then corrected in scalar code
+    # every apex is a candidate. Per chord, two simple loops over contiguous,
+    # interleaved buffers (few pointers, no branches) that the compiler
+    # vectorizes: W[t] = (unit normal, area, degenerate) of triangle (i, i+1+t, j);
+    # C[t] = its (key, area) candidate. T[a, b] = (key, area, top normal,
+    # degenerate) of chord (a, b), stored at [i, j] and at [j, i] so both
+    # halves of a split read rows. Sides and the root are fixed up in scalar code.
     MN = mesh_normals(Q, n) if has_third else np.zeros((1, 4))
     X = Q[:n, 0].copy()
     Y = Q[:n, 1].copy()
     Z = Q[:n, 2].copy()
-    O1 = np.zeros((n, n))
-    O2 = np.zeros((n, n))
-    NX = np.zeros((n, n))
-    NY = np.zeros((n, n))
-    NZ = np.zeros((n, n))
-    ND = np.zeros((n, n))
+    T = np.zeros((n, n, 8))
     K = np.full((n, n), -1, dtype=np.int32)
-    c1b = np.empty(n)
-    c2b = np.empty(n)
+    W = np.empty((n, 5))
+    C = np.empty((n, 2))
     for i in range(n - 1):
         K[i, i + 1] = i
     for L in range(2, n):
+        m = L - 1
         for i in range(n - L):
             j = i + L
             vx = X[j] - X[i]
@@ -261,83 +259,84 @@ def _liepa_dense(Q, n, has_third):
             vz = Z[j] - Z[i]
             vv = vx * vx + vy * vy + vz * vz
             xi, yi, zi = X[i], Y[i], Z[i]
-            Ri1, Ri2, Rix, Riy, Riz, Rid = O1[i], O2[i], NX[i], NY[i], NZ[i], ND[i]
-            Rj1, Rj2, Rjx, Rjy, Rjz, Rjd = O1[j], O2[j], NX[j], NY[j], NZ[j], ND[j]
-            for k in range(i + 1, j):
-                c1b[k] = max(Ri1[k], Rj1[k])  # the halves' keys: a lower bound
-            bound = np.inf
-            for k in range(i + 1, j):
-                # a half already worse than the best full candidate so far cannot win
-                if c1b[k] > bound:
-                    c2b[k] = np.inf
-                    continue
-                ux = X[k] - xi
-                uy = Y[k] - yi
-                uz = Z[k] - zi
+            Xs, Ys, Zs = X[i + 1 : j], Y[i + 1 : j], Z[i + 1 : j]
+            for t in range(m):
+                ux = Xs[t] - xi
+                uy = Ys[t] - yi
+                uz = Zs[t] - zi
                 nx = uy * vz - uz * vy
                 ny = uz * vx - ux * vz
                 nz = ux * vy - uy * vx
                 n2 = nx * nx + ny * ny + nz * nz
                 nn = math.sqrt(n2)
+                inv = 1.0 / nn
                 uu = ux * ux + uy * uy + uz * uz
-                c2b[k] = Ri2[k] + Rj2[k] + 0.5 * nn
-                if n2 <= _DEGENERATE_SINE2 * (uu * vv) or Rid[k] != 0.0 or Rjd[k] != 0.0:
-                    c1b[k] = DEGENERATE_KEY
-                else:
-                    inv = 1.0 / nn
-                    ax = nx * inv
-                    ay = ny * inv
-                    az = nz * inv
-                    kl = 1.0 - (ax * Rix[k] + ay * Riy[k] + az * Riz[k])
-                    kr = 1.0 - (ax * Rjx[k] + ay * Rjy[k] + az * Rjz[k])
-                    kl = min(max(kl, 0.0), 2.0)
-                    kr = min(max(kr, 0.0), 2.0)
-                    c1b[k] = max(c1b[k], max(kl, kr))
-                if k > i + 1 and k < j - 1 and c1b[k] < bound:
-                    bound = c1b[k]
-            _fix_ends(Q, n, i, j, has_third, MN, O1, NX, NY, NZ, ND, c1b)
+                W[t, 0] = nx * inv
+                W[t, 1] = ny * inv
+                W[t, 2] = nz * inv
+                W[t, 3] = 0.5 * nn
+                W[t, 4] = 1.0 if n2 <= _DEGENERATE_SINE2 * (uu * vv) else 0.0
+            Ti = T[i, i + 1 : j]
+            Tj = T[j, i + 1 : j]
+            for t in range(m):
+                ax, ay, az = W[t, 0], W[t, 1], W[t, 2]
+                kl = 1.0 - (ax * Ti[t, 2] + ay * Ti[t, 3] + az * Ti[t, 4])
+                kr = 1.0 - (ax * Tj[t, 2] + ay * Tj[t, 3] + az * Tj[t, 4])
+                kl = min(max(kl, 0.0), 2.0)
+                kr = min(max(kr, 0.0), 2.0)
+                kl = DEGENERATE_KEY if W[t, 4] + Ti[t, 5] > 0.0 else kl
+                kr = DEGENERATE_KEY if W[t, 4] + Tj[t, 5] > 0.0 else kr
+                C[t, 0] = max(max(Ti[t, 0], Tj[t, 0]), max(kl, kr))
+                C[t, 1] = Ti[t, 1] + Tj[t, 1] + W[t, 3]
+            _fix_ends(Q, n, i, j, has_third, MN, T, C)
             best1 = np.inf
             best2 = np.inf
-            bestk = -1
-            for k in range(i + 1, j):
-                c1 = c1b[k]
-                if c1 < best1 or (c1 == best1 and c2b[k] < best2):
+            bt = 0
+            for t in range(m):
+                c1 = C[t, 0]
+                if c1 < best1 or (c1 == best1 and C[t, 1] < best2):
                     best1 = c1
-                    best2 = c2b[k]
-                    bestk = k
-            x, y, z, d, _ = unit_normal(Q, i, bestk, j)
-            K[i, j] = bestk
-            O1[i, j] = O1[j, i] = best1
-            O2[i, j] = O2[j, i] = best2
-            NX[i, j] = NX[j, i] = x
-            NY[i, j] = NY[j, i] = y
-            NZ[i, j] = NZ[j, i] = z
-            ND[i, j] = ND[j, i] = 1.0 if d else 0.0
-    return O1[0, n - 1], O2[0, n - 1], K
+                    best2 = C[t, 1]
+                    bt = t
+            K[i, j] = i + 1 + bt
+            for r, c in ((i, j), (j, i)):
+                T[r, c, 0] = best1
+                T[r, c, 1] = best2
+                T[r, c, 2] = W[bt, 0]
+                T[r, c, 3] = W[bt, 1]
+                T[r, c, 4] = W[bt, 2]
+                T[r, c, 5] = W[bt, 4]
+    return T[0, n - 1, 0], T[0, n - 1, 1], K
 
 
 @njit(cache=True)
-def _fix_ends(Q, n, i, j, has_third, MN, O1, NX, NY, NZ, ND, c1b):
+def _fix_ends(Q, n, i, j, has_third, MN, T, C):
     # apex k = i + 1 or j - 1 puts a polygon side in the triangle: its key is
     # against the mesh (or nothing), not a sub-polygon's top; the root also
-    # meets the mesh across side (n - 1, 0)
-    ks = (i + 1, j - 1) if j - i > 2 else (i + 1, i + 1)
+    # meets the mesh across side (n - 1, 0). C is indexed by t = k - i - 1.
+    ends = (i + 1, j - 1)
     for e in range(2 if j - i > 2 else 1):
-        k = ks[e]
+        k = ends[e]
         x, y, z, d, _ = unit_normal(Q, i, k, j)
         if k - i == 1:
             c1 = _mesh_key(MN, i, x, y, z, d, has_third)
         else:
-            c1 = max(O1[i, k], _key(x, y, z, d, NX[i, k], NY[i, k], NZ[i, k], ND[i, k] != 0.0))
+            c1 = max(
+                T[i, k, 0], _key(x, y, z, d, T[i, k, 2], T[i, k, 3], T[i, k, 4], T[i, k, 5] != 0)
+            )
         if j - k == 1:
             c1 = max(c1, _mesh_key(MN, k, x, y, z, d, has_third))
         else:
-            c1 = max(c1, O1[j, k], _key(x, y, z, d, NX[j, k], NY[j, k], NZ[j, k], ND[j, k] != 0.0))
-        c1b[k] = c1
+            c1 = max(
+                c1,
+                T[j, k, 0],
+                _key(x, y, z, d, T[j, k, 2], T[j, k, 3], T[j, k, 4], T[j, k, 5] != 0),
+            )
+        C[k - i - 1, 0] = c1
     if i == 0 and j == n - 1 and has_third:
         for k in range(i + 1, j):
             x, y, z, d, _ = unit_normal(Q, i, k, j)
-            c1b[k] = max(c1b[k], _mesh_key(MN, n - 1, x, y, z, d, has_third))
+            C[k - 1, 0] = max(C[k - 1, 0], _mesh_key(MN, n - 1, x, y, z, d, has_third))
 
 
 @njit(cache=True)
