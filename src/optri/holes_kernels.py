@@ -237,23 +237,25 @@ def _liepa_dense(Q, n, has_third):
     # every apex is a candidate. Per chord, two simple loops over contiguous,
     # interleaved buffers (few pointers, no branches) that the compiler
     # vectorizes: W[t] = (unit normal, area, degenerate) of triangle (i, i+1+t, j);
-    # C[t] = its (key, area) candidate. T[a, b] = (key, area, top normal,
-    # degenerate) of chord (a, b), stored at [i, j] and at [j, i] so both
+    # C[t] = its (key, area) candidate. T[a, b] = (key, area, top normal) of
+    # chord (a, b), stored at [i, j] and at [j, i] so both
     # halves of a split read rows. Sides and the root are fixed up in scalar code.
     MN = mesh_normals(Q, n) if has_third else np.zeros((1, 4))
     X = Q[:n, 0].copy()
     Y = Q[:n, 1].copy()
     Z = Q[:n, 2].copy()
-    T = np.zeros((n, n, 8))
+    T = np.zeros((n, n, 5))
     K = np.full((n, n), -1, dtype=np.int32)
     W = np.empty((n, 5))
     C = np.empty((n, 2))
     for i in range(n - 1):
         K[i, i + 1] = i
-    for L in range(2, n):
-        m = L - 1
-        for i in range(n - L):
-            j = i + L
+    # row i of T stays in cache while j grows: i descending, j ascending
+    # (both halves of (i, j) are ready: (i, k) earlier in this row, (k, j) in
+    # rows already done)
+    for i in range(n - 3, -1, -1):
+        for j in range(i + 2, n):
+            m = j - i - 1
             vx = X[j] - X[i]
             vy = Y[j] - Y[i]
             vz = Z[j] - Z[i]
@@ -269,13 +271,14 @@ def _liepa_dense(Q, n, has_third):
                 nz = ux * vy - uy * vx
                 n2 = nx * nx + ny * ny + nz * nz
                 nn = math.sqrt(n2)
-                inv = 1.0 / nn
                 uu = ux * ux + uy * uy + uz * uz
+                deg = n2 <= _DEGENERATE_SINE2 * (uu * vv)
+                inv = 0.0 if deg else 1.0 / nn  # a zero normal, never NaN
                 W[t, 0] = nx * inv
                 W[t, 1] = ny * inv
                 W[t, 2] = nz * inv
                 W[t, 3] = 0.5 * nn
-                W[t, 4] = 1.0 if n2 <= _DEGENERATE_SINE2 * (uu * vv) else 0.0
+                W[t, 4] = 1.0 if deg else 0.0
             Ti = T[i, i + 1 : j]
             Tj = T[j, i + 1 : j]
             for t in range(m):
@@ -284,8 +287,8 @@ def _liepa_dense(Q, n, has_third):
                 kr = 1.0 - (ax * Tj[t, 2] + ay * Tj[t, 3] + az * Tj[t, 4])
                 kl = min(max(kl, 0.0), 2.0)
                 kr = min(max(kr, 0.0), 2.0)
-                kl = DEGENERATE_KEY if W[t, 4] + Ti[t, 5] > 0.0 else kl
-                kr = DEGENERATE_KEY if W[t, 4] + Tj[t, 5] > 0.0 else kr
+                kl = DEGENERATE_KEY if W[t, 4] > 0.0 else kl
+                kr = DEGENERATE_KEY if W[t, 4] > 0.0 else kr
                 C[t, 0] = max(max(Ti[t, 0], Tj[t, 0]), max(kl, kr))
                 C[t, 1] = Ti[t, 1] + Tj[t, 1] + W[t, 3]
             _fix_ends(Q, n, i, j, has_third, MN, T, C)
@@ -300,13 +303,14 @@ def _liepa_dense(Q, n, has_third):
                     bt = t
             K[i, j] = i + 1 + bt
             for r, c in ((i, j), (j, i)):
-                T[r, c, 0] = best1
+                # a degenerate top folds against anything above it: its parents'
+                # key is then the worst, DEGENERATE_KEY, whatever their normal
+                T[r, c, 0] = DEGENERATE_KEY if W[bt, 4] > 0.0 else best1
                 T[r, c, 1] = best2
                 T[r, c, 2] = W[bt, 0]
                 T[r, c, 3] = W[bt, 1]
                 T[r, c, 4] = W[bt, 2]
-                T[r, c, 5] = W[bt, 4]
-    return T[0, n - 1, 0], T[0, n - 1, 1], K
+    return best1, T[0, n - 1, 1], K
 
 
 @njit(cache=True)
@@ -321,17 +325,11 @@ def _fix_ends(Q, n, i, j, has_third, MN, T, C):
         if k - i == 1:
             c1 = _mesh_key(MN, i, x, y, z, d, has_third)
         else:
-            c1 = max(
-                T[i, k, 0], _key(x, y, z, d, T[i, k, 2], T[i, k, 3], T[i, k, 4], T[i, k, 5] != 0)
-            )
+            c1 = max(T[i, k, 0], _key(x, y, z, d, T[i, k, 2], T[i, k, 3], T[i, k, 4], False))
         if j - k == 1:
             c1 = max(c1, _mesh_key(MN, k, x, y, z, d, has_third))
         else:
-            c1 = max(
-                c1,
-                T[j, k, 0],
-                _key(x, y, z, d, T[j, k, 2], T[j, k, 3], T[j, k, 4], T[j, k, 5] != 0),
-            )
+            c1 = max(c1, T[j, k, 0], _key(x, y, z, d, T[j, k, 2], T[j, k, 3], T[j, k, 4], False))
         C[k - i - 1, 0] = c1
     if i == 0 and j == n - 1 and has_third:
         for k in range(i + 1, j):
