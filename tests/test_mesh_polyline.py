@@ -204,3 +204,13 @@ def test_exact_refuses_tables_that_do_not_fit(monkeypatch):
     with pytest.raises(TableTooLargeError, match="method='liepa'"):
         fill_polyline(_regular(60), "liepa", "exact")
     assert fill_polyline(_regular(60), "liepa", "auto").method in ("liepa", "exact")
+
+
+@pytest.mark.parametrize("method", ["exact", "liepa", "delaunay"])
+def test_collinear_runs_avoid_degenerate_triangles(method):
+    # a square with its edge midpoints: three collinear points on every side
+    sq = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [2, 2], [1, 2], [0, 2], [0, 1]], float)
+    t = fill_polyline(sq, "liepa", method)
+    t.check()
+    assert t.weight[0] < 1e-6  # flat, and no zero-area triangle (that would be pi)
+    assert math.isclose(t.weight[1], 4.0, rel_tol=1e-12)

@@ -182,22 +182,24 @@ def _liepa_sparse(Q, n, has_third, ptr, ks):
     # stored at [i, j] and transposed at [j, i] so both halves of a split read
     # rows; a key of infinity marks a sub-polygon with no candidate triangulation
     O1 = np.full((n, n), np.inf)
-    O2 = np.zeros((n, n))
-    TN = np.zeros((n, n, 4))
+    O2 = np.empty((n, n))  # read only where O1 is finite
+    TN = np.empty((n, n, 4))
     K = np.full((n, n), -1, dtype=np.int32)
     for i in range(n - 1):
         O1[i, i + 1] = O1[i + 1, i] = 0.0
+        O2[i, i + 1] = O2[i + 1, i] = 0.0
         K[i, i + 1] = i
-    for L in range(2, n):
-        for i in range(n - L):
-            j = i + L
+    for i in range(n - 3, -1, -1):  # (i, k) earlier in this row, (k, j) in done rows
+        for j in range(i + 2, n):
+            lo, cnt = _span(ptr, i, j, n)
+            if cnt == 0:
+                continue
             root = i == 0 and j == n - 1
             best1 = np.inf
             best2 = np.inf
             bestk = -1
             bx = by = bz = 0.0
             bd = False
-            lo, cnt = _span(ptr, i, j, n)
             for t in range(cnt):
                 k = _apex(ks, lo, i, t)
                 if O1[i, k] == np.inf or O1[j, k] == np.inf:
