@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -145,10 +145,11 @@ def fill_polyline(
     liepa = isinstance(weight, str) and weight == "liepa"
     start = time.perf_counter()
     stats: dict[str, Any] = {}
+    hole = _Hole(Q, n, has_third, weight, objective, liepa)
     if method == "delaunay":
-        tris, used = _fill_delaunay(Q, n, has_third, weight, objective, liepa, stats)
+        tris, used = _fill_delaunay(hole, stats)
     else:
-        tris, used = _fill_all(Q, n, has_third, weight, objective, liepa, method)
+        tris, used = _fill_all(hole, method)
     seconds = time.perf_counter() - start
     return _result(P, Q, has_third, tris, weight, objective, liepa, used, stats, seconds)
 
@@ -214,13 +215,19 @@ def _with_third(
 # --- search -------------------------------------------------------------------
 
 
+class _Hole(NamedTuple):
+    """One fill request: points (+ third points) and what to minimize."""
+
+    Q: NDArray[np.float64]
+    n: int
+    has_third: bool
+    weight: Any
+    objective: ObjectiveLike
+    liepa: bool
+
+
 def _fill_all(
-    Q: NDArray[np.float64],
-    n: int,
-    has_third: bool,
-    weight: Any,
-    objective: ObjectiveLike,
-    liepa: bool,
+    hole: _Hole,
     method: str,
     ptr: NDArray[np.int64] | None = None,
     ks: NDArray[np.int64] | None = None,
@@ -228,6 +235,7 @@ def _fill_all(
     """Triangles of the best patch (None if the candidates admit none) and the mode."""
     from . import holes_kernels as hk
 
+    Q, n, has_third, weight, objective, liepa = hole
     empty = np.zeros(0, dtype=np.int64)
     ptr = empty if ptr is None else ptr
     ks = empty if ks is None else ks
@@ -255,25 +263,17 @@ def _fill_all(
     return _engine_dp(Q[:n], weight, objective), "exact"
 
 
-def _fill_delaunay(
-    Q: NDArray[np.float64],
-    n: int,
-    has_third: bool,
-    weight: Any,
-    objective: ObjectiveLike,
-    liepa: bool,
-    stats: dict[str, Any],
-) -> tuple[NDArray[np.int64], str]:
+def _fill_delaunay(hole: _Hole, stats: dict[str, Any]) -> tuple[NDArray[np.int64], str]:
     from .delaunay3 import candidate_lists
 
-    ptr, ks, faces = candidate_lists(Q[:n])
+    ptr, ks, faces = candidate_lists(hole.Q[: hole.n])
     stats["delaunay_faces"] = faces
-    tris, _ = _fill_all(Q, n, has_third, weight, objective, liepa, "liepa", ptr, ks)
+    tris, _ = _fill_all(hole, "liepa", ptr, ks)
     if tris is not None:
         stats["fallback"] = 0
         return tris, "delaunay"
     stats["fallback"] = 1
-    tris, used = _fill_all(Q, n, has_third, weight, objective, liepa, "auto")
+    tris, used = _fill_all(hole, "auto")
     assert tris is not None  # every index triangulation is a candidate now
     return tris, f"delaunay->{used}"
 

@@ -42,8 +42,8 @@ _CODE_AREA = 2
 
 
 @njit(cache=True)
-def unit_normal(Q, a, b, c):
-    """Unit normal of triangle a->b->c, a degenerate flag and the area."""
+def _cross(Q, a, b, c):
+    # (b - a) x (c - a) and the squared lengths of both edge vectors
     ux = Q[b, 0] - Q[a, 0]
     uy = Q[b, 1] - Q[a, 1]
     uz = Q[b, 2] - Q[a, 2]
@@ -53,10 +53,15 @@ def unit_normal(Q, a, b, c):
     nx = uy * vz - uz * vy
     ny = uz * vx - ux * vz
     nz = ux * vy - uy * vx
+    return nx, ny, nz, ux * ux + uy * uy + uz * uz, vx * vx + vy * vy + vz * vz
+
+
+@njit(cache=True)
+def unit_normal(Q, a, b, c):
+    """Unit normal of triangle a->b->c, a degenerate flag and the area."""
+    nx, ny, nz, uu, vv = _cross(Q, a, b, c)
     n2 = nx * nx + ny * ny + nz * nz
     nn = math.sqrt(n2)
-    uu = ux * ux + uy * uy + uz * uz
-    vv = vx * vx + vy * vy + vz * vz
     if n2 <= _DEGENERATE_SINE2 * (uu * vv):
         return 0.0, 0.0, 0.0, True, 0.5 * nn
     inv = 1.0 / nn
@@ -340,21 +345,28 @@ def _fix_ends(Q, n, i, j, has_third, MN, T, C):
 
 
 @njit(cache=True)
-def _chord_inputs(Q, n, i, j, B, LEAF, has_third):
-    # per apex k of chord (i, j): normal of (i, k, j), its area, and the worse key
-    # of its two halves (sub-polygon (i, k) seen from apex j, (k, j) from apex i)
-    L = j - i
-    nk = np.zeros((L - 1, 4))
-    area = np.zeros(L - 1)
-    base = np.zeros(L - 1)
-    for t in range(L - 1):
-        k = i + 1 + t
-        x, y, z, d, a = unit_normal(Q, i, k, j)
+def _apex_normals(Q, i, j):
+    # rows (x, y, z, degenerate) and areas of triangles (i, k, j), k = i + 1 ..
+    nk = np.zeros((j - i - 1, 4))
+    area = np.zeros(j - i - 1)
+    for t in range(j - i - 1):
+        x, y, z, d, a = unit_normal(Q, i, i + 1 + t, j)
         nk[t, 0] = x
         nk[t, 1] = y
         nk[t, 2] = z
         nk[t, 3] = 1.0 if d else 0.0
         area[t] = a
+    return nk, area
+
+
+@njit(cache=True)
+def _chord_inputs(Q, n, i, j, B, LEAF, has_third):
+    # per apex k of chord (i, j): normal of (i, k, j), its area, and the worse key
+    # of its two halves (sub-polygon (i, k) seen from apex j, (k, j) from apex i)
+    nk, area = _apex_normals(Q, i, j)
+    base = np.zeros(j - i - 1)
+    for t in range(j - i - 1):
+        k = i + 1 + t
         left = LEAF[i, j] if k - i == 1 else B[i, k, j]
         right = LEAF[k, i] if j - k == 1 else B[k, j, i]
         base[t] = max(left, right)
@@ -417,18 +429,13 @@ def _area_pass(Q, n, has_third, MN, LEAF, M, A, S):
     for L in range(2, n):
         for i in range(n - L):
             j = i + L
-            nk = np.zeros((L - 1, 4))
+            nk, area = _apex_normals(Q, i, j)
             sub = np.full(L - 1, np.inf)
             for t in range(L - 1):
                 k = i + 1 + t
-                x, y, z, d, a = unit_normal(Q, i, k, j)
-                nk[t, 0] = x
-                nk[t, 1] = y
-                nk[t, 2] = z
-                nk[t, 3] = 1.0 if d else 0.0
                 left = (0.0 if LEAF[i, j] <= M else np.inf) if k - i == 1 else A[i, k, j]
                 right = (0.0 if LEAF[k, i] <= M else np.inf) if j - k == 1 else A[k, j, i]
-                sub[t] = left + right + a
+                sub[t] = left + right + area[t]
             for m in _outside(n, i, j):
                 ox, oy, oz, od, has = _outer_normal(Q, n, i, j, m, MN, has_third)
                 best = np.inf
@@ -478,15 +485,7 @@ def exact_table_bytes(n: int) -> int:
 @njit(cache=True)
 def _weight(Q, code, i, k, j):
     if code == _CODE_AREA:
-        ux = Q[k, 0] - Q[i, 0]
-        uy = Q[k, 1] - Q[i, 1]
-        uz = Q[k, 2] - Q[i, 2]
-        vx = Q[j, 0] - Q[i, 0]
-        vy = Q[j, 1] - Q[i, 1]
-        vz = Q[j, 2] - Q[i, 2]
-        nx = uy * vz - uz * vy
-        ny = uz * vx - ux * vz
-        nz = ux * vy - uy * vx
+        nx, ny, nz, _, _ = _cross(Q, i, k, j)
         return 0.5 * math.sqrt(nx * nx + ny * ny + nz * nz)
     a = math.sqrt((Q[i, 0] - Q[k, 0]) ** 2 + (Q[i, 1] - Q[k, 1]) ** 2 + (Q[i, 2] - Q[k, 2]) ** 2)
     b = math.sqrt((Q[k, 0] - Q[j, 0]) ** 2 + (Q[k, 1] - Q[j, 1]) ** 2 + (Q[k, 2] - Q[j, 2]) ** 2)
