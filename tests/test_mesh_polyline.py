@@ -137,12 +137,12 @@ def test_delaunay_falls_back_when_faces_hold_no_patch():
     knot = np.column_stack(
         (np.sin(t) + 2 * np.sin(2 * t), np.cos(t) - 2 * np.cos(2 * t), -np.sin(3 * t))
     )
-    r = fill_polyline(knot, "area", "delaunay")
-    r.check()
-    assert r.stats["fallback"] in (0, 1)
-    if r.stats["fallback"]:
-        assert r.method.startswith("delaunay->")
-        assert math.isclose(r.weight, fill_polyline(knot, "area", "exact").weight)
+    for weight in ("area", "liepa"):
+        r = fill_polyline(knot, weight, "delaunay")
+        r.check()
+        assert r.stats["fallback"] == 1 and r.stats["delaunay_faces"] > 0
+        assert r.method == "delaunay->exact"
+        assert r.weight == fill_polyline(knot, weight, "exact").weight
 
 
 def test_triangle_weights_and_callables_agree_with_triangulate_sum():
