@@ -251,10 +251,9 @@ def _liepa_dense(Q, n, has_third):
     X = Q[:n, 0].copy()
     Y = Q[:n, 1].copy()
     Z = Q[:n, 2].copy()
-    T = np.zeros((n, n, 5))
+    T = np.zeros((n, 5, n))
     K = np.full((n, n), -1, dtype=np.int32)
-    W = np.empty((n, 5))
-    C = np.empty((n, 2))
+    C = np.empty((2, n))
     for i in range(n - 1):
         K[i, i + 1] = i
     # row i of T stays in cache while j grows: i descending, j ascending
@@ -269,6 +268,8 @@ def _liepa_dense(Q, n, has_third):
             vv = vx * vx + vy * vy + vz * vz
             xi, yi, zi = X[i], Y[i], Z[i]
             Xs, Ys, Zs = X[i + 1 : j], Y[i + 1 : j], Z[i + 1 : j]
+            Ti = T[i, :, i + 1 : j]
+            Tj = T[j, :, i + 1 : j]
             for t in range(m):
                 ux = Xs[t] - xi
                 uy = Ys[t] - yi
@@ -281,43 +282,38 @@ def _liepa_dense(Q, n, has_third):
                 uu = ux * ux + uy * uy + uz * uz
                 deg = n2 <= _DEGENERATE_SINE2 * (uu * vv)
                 inv = 0.0 if deg else 1.0 / nn  # a zero normal, never NaN
-                W[t, 0] = nx * inv
-                W[t, 1] = ny * inv
-                W[t, 2] = nz * inv
-                W[t, 3] = 0.5 * nn
-                W[t, 4] = 1.0 if deg else 0.0
-            Ti = T[i, i + 1 : j]
-            Tj = T[j, i + 1 : j]
-            for t in range(m):
-                ax, ay, az = W[t, 0], W[t, 1], W[t, 2]
-                kl = 1.0 - (ax * Ti[t, 2] + ay * Ti[t, 3] + az * Ti[t, 4])
-                kr = 1.0 - (ax * Tj[t, 2] + ay * Tj[t, 3] + az * Tj[t, 4])
+                ax = nx * inv
+                ay = ny * inv
+                az = nz * inv
+                kl = 1.0 - (ax * Ti[2, t] + ay * Ti[3, t] + az * Ti[4, t])
+                kr = 1.0 - (ax * Tj[2, t] + ay * Tj[3, t] + az * Tj[4, t])
                 kl = min(max(kl, 0.0), 2.0)
                 kr = min(max(kr, 0.0), 2.0)
-                kl = DEGENERATE_KEY if W[t, 4] > 0.0 else kl
-                kr = DEGENERATE_KEY if W[t, 4] > 0.0 else kr
-                C[t, 0] = max(max(Ti[t, 0], Tj[t, 0]), max(kl, kr))
-                C[t, 1] = Ti[t, 1] + Tj[t, 1] + W[t, 3]
+                kl = DEGENERATE_KEY if deg else kl
+                kr = DEGENERATE_KEY if deg else kr
+                C[0, t] = max(max(Ti[0, t], Tj[0, t]), max(kl, kr))
+                C[1, t] = Ti[1, t] + Tj[1, t] + 0.5 * nn
             _fix_ends(Q, n, i, j, has_third, MN, T, C)
             best1 = np.inf
             best2 = np.inf
             bt = 0
             for t in range(m):
-                c1 = C[t, 0]
-                if c1 < best1 or (c1 == best1 and C[t, 1] < best2):
+                c1 = C[0, t]
+                if c1 < best1 or (c1 == best1 and C[1, t] < best2):
                     best1 = c1
-                    best2 = C[t, 1]
+                    best2 = C[1, t]
                     bt = t
             K[i, j] = i + 1 + bt
+            x, y, z, d, _ = unit_normal(Q, i, i + 1 + bt, j)
             for r, c in ((i, j), (j, i)):
                 # a degenerate top folds against anything above it: its parents'
                 # key is then the worst, DEGENERATE_KEY, whatever their normal
-                T[r, c, 0] = DEGENERATE_KEY if W[bt, 4] > 0.0 else best1
-                T[r, c, 1] = best2
-                T[r, c, 2] = W[bt, 0]
-                T[r, c, 3] = W[bt, 1]
-                T[r, c, 4] = W[bt, 2]
-    return best1, T[0, n - 1, 1], K
+                T[r, 0, c] = DEGENERATE_KEY if d else best1
+                T[r, 1, c] = best2
+                T[r, 2, c] = x
+                T[r, 3, c] = y
+                T[r, 4, c] = z
+    return best1, T[0, 1, n - 1], K
 
 
 @njit(cache=True)
@@ -332,16 +328,16 @@ def _fix_ends(Q, n, i, j, has_third, MN, T, C):
         if k - i == 1:
             c1 = _mesh_key(MN, i, x, y, z, d, has_third)
         else:
-            c1 = max(T[i, k, 0], _key(x, y, z, d, T[i, k, 2], T[i, k, 3], T[i, k, 4], False))
+            c1 = max(T[i, 0, k], _key(x, y, z, d, T[i, 2, k], T[i, 3, k], T[i, 4, k], False))
         if j - k == 1:
             c1 = max(c1, _mesh_key(MN, k, x, y, z, d, has_third))
         else:
-            c1 = max(c1, T[j, k, 0], _key(x, y, z, d, T[j, k, 2], T[j, k, 3], T[j, k, 4], False))
-        C[k - i - 1, 0] = c1
+            c1 = max(c1, T[j, 0, k], _key(x, y, z, d, T[j, 2, k], T[j, 3, k], T[j, 4, k], False))
+        C[0, k - i - 1] = c1
     if i == 0 and j == n - 1 and has_third:
         for k in range(i + 1, j):
             x, y, z, d, _ = unit_normal(Q, i, k, j)
-            C[k - 1, 0] = max(C[k - 1, 0], _mesh_key(MN, n - 1, x, y, z, d, has_third))
+            C[0, k - 1] = max(C[0, k - 1], _mesh_key(MN, n - 1, x, y, z, d, has_third))
 
 
 @njit(cache=True)
