@@ -23,7 +23,7 @@ from . import config
 from .engines.memory import require_memory
 from .engines.problem import triangles_from_splits
 from .errors import InvalidPolygonError, WeightError
-from .geometry import Polygon, as_polygon
+from .geometry import Polygon, _require_distinct, _require_finite
 from .objective import Cost, ObjectiveLike, as_objective
 from .result import Triangulation
 
@@ -186,7 +186,14 @@ def _as_points(points3d: ArrayLike) -> NDArray[np.float64]:
         raise InvalidPolygonError(f"expected an (n, 3) array of points, got shape {arr.shape}")
     if arr.shape[1] == 2:
         arr = np.column_stack((arr, np.zeros(len(arr))))
-    P = as_polygon(arr).vertices  # finite, >= 3, distinct; closing duplicate dropped
+    # optri.geometry's checks, without its planarity and convexity analysis
+    _require_finite(arr)
+    if arr.shape[0] > 3 and np.array_equal(arr[0], arr[-1]):
+        arr = arr[:-1]  # a closing vertex equal to the first
+    if arr.shape[0] < 3:
+        raise InvalidPolygonError(f"a polygon needs at least 3 vertices, got {arr.shape[0]}")
+    _require_distinct(arr)
+    P = arr
     centred = P - P.mean(axis=0)
     sv = np.linalg.svd(centred, compute_uv=False)
     if sv[1] <= 1e-12 * sv[0]:
@@ -358,27 +365,21 @@ def _liepa_keys(
 
     tris = np.sort(triangles.reshape(-1, 3), axis=1)
     normals = hk.triangle_normals(Q, tris)
-    mesh = hk.mesh_normals(Q, n) if has_third else None
-    owner: dict[tuple[int, int], int] = {}
-    worst = 0.0
-    for t, (a, b, c) in enumerate(tris.tolist()):
-        for e in ((a, b), (b, c), (a, c)):
-            other = owner.pop(e, None)
-            if other is not None:
-                worst = max(worst, _pair_key(normals[t], normals[other]))
-                continue
-            owner[e] = t
-            side = e[1] - e[0] == 1 or e == (0, n - 1)
-            if side and mesh is not None:
-                s = e[0] if e[1] - e[0] == 1 else n - 1
-                worst = max(worst, _pair_key(normals[t], mesh[s]))
-    return worst, float(normals[:, 4].sum())
-
-
-def _pair_key(u: NDArray[np.float64], v: NDArray[np.float64]) -> float:
-    from .holes_kernels import _key
-
-    return float(_key(u[0], u[1], u[2], u[3] != 0, v[0], v[1], v[2], v[3] != 0))
+    # every edge (a < b) with its triangle, sorted: equal neighbours share an edge
+    edges = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [0, 2]]])
+    keys = edges[:, 0] * n + edges[:, 1]
+    order = np.argsort(keys, kind="stable")
+    keys, owner = keys[order], np.tile(np.arange(len(tris)), 3)[order]
+    same = keys[1:] == keys[:-1]
+    worst = hk.pair_keys(normals[owner[:-1][same]], normals[owner[1:][same]]).max(initial=0.0)
+    if has_third:
+        sides = np.append(np.arange(n - 1) * (n + 1) + 1, n - 1)  # (s, s+1), then (0, n-1)
+        pos = np.minimum(np.searchsorted(keys, sides), len(keys) - 1)
+        found = keys[pos] == sides
+        mesh = hk.mesh_normals(Q, n)
+        side_keys = hk.pair_keys(normals[owner[pos[found]]], mesh[np.flatnonzero(found)])
+        worst = max(worst, side_keys.max(initial=0.0))
+    return float(worst), float(normals[:, 4].sum())
 
 
 def _result(

@@ -26,6 +26,7 @@ __all__ = [
     "exact_table_bytes",
     "liepa_recurrence",
     "mesh_normals",
+    "pair_keys",
     "sum_dp",
     "triangle_normals",
     "unit_normal",
@@ -117,6 +118,17 @@ def triangle_normals(Q, tris):
         out[t, 2] = z
         out[t, 3] = 1.0 if d else 0.0
         out[t, 4] = area
+    return out
+
+
+@njit(cache=True)
+def pair_keys(U, V):
+    """Keys of row pairs (x, y, z, degenerate, ...) of two normal tables."""
+    out = np.empty(U.shape[0])
+    for r in range(U.shape[0]):
+        out[r] = _key(
+            U[r, 0], U[r, 1], U[r, 2], U[r, 3] != 0.0, V[r, 0], V[r, 1], V[r, 2], V[r, 3] != 0.0
+        )
     return out
 
 
