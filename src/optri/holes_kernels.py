@@ -22,8 +22,6 @@ from numba import njit
 
 __all__ = [
     "DEGENERATE_KEY",
-    "exact_liepa",
-    "exact_table_bytes",
     "liepa_recurrence",
     "mesh_normals",
     "pair_keys",
@@ -137,21 +135,6 @@ def _mesh_key(MN, s, x, y, z, d, has_third):
     if not has_third:
         return 0.0
     return _key(x, y, z, d, MN[s, 0], MN[s, 1], MN[s, 2], MN[s, 3] != 0.0)
-
-
-@njit(cache=True)
-def _leaf_table(Q, n, MN, has_third):
-    # LEAF[s, m]: key of side (s, s+1) between patch triangle (s, s+1, m) and the mesh
-    leaf = np.zeros((n, n))
-    if not has_third:
-        return leaf
-    for s in range(n - 1):
-        for m in range(n):
-            if m == s or m == s + 1:
-                continue
-            x, y, z, d, _ = _sorted_normal(Q, s, s + 1, m)
-            leaf[s, m] = _mesh_key(MN, s, x, y, z, d, has_third)
-    return leaf
 
 
 @njit(cache=True)
@@ -350,144 +333,6 @@ def _fix_ends(Q, n, i, j, has_third, MN, T, C):
         for k in range(i + 1, j):
             x, y, z, d, _ = unit_normal(Q, i, k, j)
             C[0, k - 1] = max(C[0, k - 1], _mesh_key(MN, n - 1, x, y, z, d, has_third))
-
-
-@njit(cache=True)
-def _apex_normals(Q, i, j):
-    # rows (x, y, z, degenerate) and areas of triangles (i, k, j), k = i + 1 ..
-    nk = np.zeros((j - i - 1, 4))
-    area = np.zeros(j - i - 1)
-    for t in range(j - i - 1):
-        x, y, z, d, a = unit_normal(Q, i, i + 1 + t, j)
-        nk[t, 0] = x
-        nk[t, 1] = y
-        nk[t, 2] = z
-        nk[t, 3] = 1.0 if d else 0.0
-        area[t] = a
-    return nk, area
-
-
-@njit(cache=True)
-def _chord_inputs(Q, n, i, j, B, LEAF, has_third):
-    # per apex k of chord (i, j): normal of (i, k, j), its area, and the worse key
-    # of its two halves (sub-polygon (i, k) seen from apex j, (k, j) from apex i)
-    nk, area = _apex_normals(Q, i, j)
-    base = np.zeros(j - i - 1)
-    for t in range(j - i - 1):
-        k = i + 1 + t
-        left = LEAF[i, j] if k - i == 1 else B[i, k, j]
-        right = LEAF[k, i] if j - k == 1 else B[k, j, i]
-        base[t] = max(left, right)
-    return nk, area, base
-
-
-@njit(cache=True)
-def _outer_normal(Q, n, i, j, m, MN, has_third):
-    # the triangle across chord (i, j): (i, j, m), or the mesh triangle at the root
-    if m == n:
-        if has_third:
-            return MN[n - 1, 0], MN[n - 1, 1], MN[n - 1, 2], MN[n - 1, 3] != 0.0, True
-        return 0.0, 0.0, 0.0, False, False
-    x, y, z, d, _ = _sorted_normal(Q, i, j, m)
-    return x, y, z, d, True
-
-
-@njit(cache=True)
-def _outside(n, i, j):
-    if i == 0 and j == n - 1:
-        out = np.empty(1, dtype=np.int64)
-        out[0] = n
-        return out
-    out = np.empty(n - (j - i + 1), dtype=np.int64)
-    t = 0
-    for m in range(n):
-        if m < i or m > j:
-            out[t] = m
-            t += 1
-    return out
-
-
-@njit(cache=True)
-def _bottleneck_pass(Q, n, has_third, MN, LEAF, B):
-    # B[i, j, m]: least possible max key inside sub-polygon (i..j) and across
-    # chord (i, j) to the outer triangle (i, j, m); m == n is the root's mesh side
-    for L in range(2, n):
-        for i in range(n - L):
-            j = i + L
-            nk, _, base = _chord_inputs(Q, n, i, j, B, LEAF, has_third)
-            for m in _outside(n, i, j):
-                ox, oy, oz, od, has = _outer_normal(Q, n, i, j, m, MN, has_third)
-                best = np.inf
-                for t in range(L - 1):
-                    c = base[t]
-                    if has:
-                        c = max(
-                            c, _key(nk[t, 0], nk[t, 1], nk[t, 2], nk[t, 3] != 0, ox, oy, oz, od)
-                        )
-                    if c < best:
-                        best = c
-                B[i, j, m] = best
-    return B[0, n - 1, n]
-
-
-@njit(cache=True)
-def _area_pass(Q, n, has_third, MN, LEAF, M, A, S):
-    # A[i, j, m]: least area of sub-polygon (i..j) using only pairs with key <= M;
-    # S[i, j, m]: its apex
-    for L in range(2, n):
-        for i in range(n - L):
-            j = i + L
-            nk, area = _apex_normals(Q, i, j)
-            sub = np.full(L - 1, np.inf)
-            for t in range(L - 1):
-                k = i + 1 + t
-                left = (0.0 if LEAF[i, j] <= M else np.inf) if k - i == 1 else A[i, k, j]
-                right = (0.0 if LEAF[k, i] <= M else np.inf) if j - k == 1 else A[k, j, i]
-                sub[t] = left + right + area[t]
-            for m in _outside(n, i, j):
-                ox, oy, oz, od, has = _outer_normal(Q, n, i, j, m, MN, has_third)
-                best = np.inf
-                arg = -1
-                for t in range(L - 1):
-                    c = sub[t]
-                    if c < best:
-                        if (
-                            has
-                            and _key(nk[t, 0], nk[t, 1], nk[t, 2], nk[t, 3] != 0, ox, oy, oz, od)
-                            > M
-                        ):
-                            continue
-                        best = c
-                        arg = i + 1 + t
-                A[i, j, m] = best
-                S[i, j, m] = arg
-    return A[0, n - 1, n]
-
-
-def exact_liepa(Q: np.ndarray, n: int, has_third: bool) -> tuple[float, float, np.ndarray]:
-    """Exact (max dihedral key, area) optimum over all triangulations; O(n^4).
-
-    State (i, j, m): sub-polygon i..j with the triangle (i, j, m) across its
-    chord, so every dihedral is known when its two triangles meet
-    (Barequet-Dickerson-Eppstein 1996). Two passes make the lexicographic pair
-    exact: the first finds the least max key M (bottleneck: monotone), the
-    second minimizes area over triangulations whose keys are all <= M.
-    Returns (M, area, S) with S[i, j, m] the optimal apex.
-    """
-    MN = mesh_normals(Q, n) if has_third else np.zeros((1, 4))
-    LEAF = _leaf_table(Q, n, MN, has_third)
-    B = np.full((n, n, n + 1), np.inf)
-    M = _bottleneck_pass(Q, n, has_third, MN, LEAF, B)
-    del B  # the second pass needs only M: free the table before the next two
-    A = np.full((n, n, n + 1), np.inf)
-    S = np.full((n, n, n + 1), -1, dtype=np.int16)
-    area = _area_pass(Q, n, has_third, MN, LEAF, M, A, S)
-    return float(M), float(area), S
-
-
-def exact_table_bytes(n: int) -> int:
-    """Peak bytes of :func:`exact_liepa`'s tables (float64 + int16 per state)."""
-    return n * n * (n + 1) * 10
 
 
 @njit(cache=True)

@@ -46,10 +46,8 @@ def main() -> None:
 
 
 def _register() -> None:
-    from . import (
-        fill_cmd,  # noqa: F401
-        solve_cmd,  # noqa: F401  (each module adds its commands to main)
-    )
+    from . import solve_cmd  # noqa: F401  (each module adds its commands to main)
+    from .fill_cmd import fill  # noqa: F401
 
 
 _register()
