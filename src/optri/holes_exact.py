@@ -12,7 +12,13 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .holes_kernels import _key, _mesh_key, _sorted_normal, mesh_normals, unit_normal
+from .holes_kernels import (
+    DEGENERATE_KEY,
+    _mesh_key,
+    _sorted_normal,
+    mesh_normals,
+    unit_normal,
+)
 
 __all__ = ["exact_liepa", "exact_table_bytes"]
 
@@ -34,17 +40,56 @@ def _leaf_table(Q, n, MN, has_third):
 
 @njit(cache=True)
 def _apex_normals(Q, i, j):
-    # rows (x, y, z, degenerate) and areas of triangles (i, k, j), k = i + 1 ..
-    nk = np.zeros((j - i - 1, 4))
+    # component rows (x, y, z, degenerate) and areas of triangles (i, k, j),
+    # k = i + 1 .. j - 1: contiguous per component for the vectorized loops
+    nk = np.zeros((4, j - i - 1))
     area = np.zeros(j - i - 1)
     for t in range(j - i - 1):
         x, y, z, d, a = unit_normal(Q, i, i + 1 + t, j)
-        nk[t, 0] = x
-        nk[t, 1] = y
-        nk[t, 2] = z
-        nk[t, 3] = 1.0 if d else 0.0
+        nk[0, t] = x
+        nk[1, t] = y
+        nk[2, t] = z
+        nk[3, t] = 1.0 if d else 0.0
         area[t] = a
     return nk, area
+
+
+@njit(cache=True)
+def _keys_against(nk, ox, oy, oz, od, has, out):
+    # out[t] = _key(apex triangle t, outer triangle), the same arithmetic
+    if not has:
+        out[:] = 0.0
+        return
+    if od:
+        out[:] = DEGENERATE_KEY
+        return
+    X, Y, Z, D = nk[0], nk[1], nk[2], nk[3]
+    for t in range(out.shape[0]):
+        k = 1.0 - (X[t] * ox + Y[t] * oy + Z[t] * oz)
+        k = min(max(k, 0.0), 2.0)
+        out[t] = DEGENERATE_KEY if D[t] != 0.0 else k
+
+
+# keys and areas are never NaN and min/max are exact in any order, so fast-math
+# (which lets the compiler reorder the two reductions below) changes no result:
+# there is no other arithmetic in them
+@njit(cache=True, fastmath=True)
+def _min_of_max(a, b):
+    best = np.inf
+    for t in range(a.shape[0]):
+        best = min(best, max(a[t], b[t]))
+    return best
+
+
+@njit(cache=True, fastmath=True)
+def _min_where(sub, keys, M, buf):
+    # least sub[t] among apexes whose key is <= M (inf if none) into buf first
+    best = np.inf
+    for t in range(sub.shape[0]):
+        c = sub[t] if keys[t] <= M else np.inf
+        buf[t] = c
+        best = min(best, c)
+    return best
 
 
 @njit(cache=True)
@@ -91,29 +136,25 @@ def _outside(n, i, j):
 def _bottleneck_pass(Q, n, has_third, MN, LEAF, B):
     # B[i, j, m]: least possible max key inside sub-polygon (i..j) and across
     # chord (i, j) to the outer triangle (i, j, m); m == n is the root's mesh side
+    keys = np.empty(n)
     for L in range(2, n):
         for i in range(n - L):
             j = i + L
             nk, _, base = _chord_inputs(Q, n, i, j, B, LEAF, has_third)
+            kb = keys[: L - 1]
             for m in _outside(n, i, j):
                 ox, oy, oz, od, has = _outer_normal(Q, n, i, j, m, MN, has_third)
-                best = np.inf
-                for t in range(L - 1):
-                    c = base[t]
-                    if has:
-                        c = max(
-                            c, _key(nk[t, 0], nk[t, 1], nk[t, 2], nk[t, 3] != 0, ox, oy, oz, od)
-                        )
-                    if c < best:
-                        best = c
-                B[i, j, m] = best
+                _keys_against(nk, ox, oy, oz, od, has, kb)
+                B[i, j, m] = _min_of_max(base, kb)
     return B[0, n - 1, n]
 
 
 @njit(cache=True)
 def _area_pass(Q, n, has_third, MN, LEAF, M, A, S):
     # A[i, j, m]: least area of sub-polygon (i..j) using only pairs with key <= M;
-    # S[i, j, m]: its apex
+    # S[i, j, m]: its apex (the smallest on ties)
+    keys = np.empty(n)
+    buf = np.empty(n)
     for L in range(2, n):
         for i in range(n - L):
             j = i + L
@@ -124,21 +165,17 @@ def _area_pass(Q, n, has_third, MN, LEAF, M, A, S):
                 left = (0.0 if LEAF[i, j] <= M else np.inf) if k - i == 1 else A[i, k, j]
                 right = (0.0 if LEAF[k, i] <= M else np.inf) if j - k == 1 else A[k, j, i]
                 sub[t] = left + right + area[t]
+            kb, bb = keys[: L - 1], buf[: L - 1]
             for m in _outside(n, i, j):
                 ox, oy, oz, od, has = _outer_normal(Q, n, i, j, m, MN, has_third)
-                best = np.inf
+                _keys_against(nk, ox, oy, oz, od, has, kb)
+                best = _min_where(sub, kb, M, bb)
                 arg = -1
-                for t in range(L - 1):
-                    c = sub[t]
-                    if c < best:
-                        if (
-                            has
-                            and _key(nk[t, 0], nk[t, 1], nk[t, 2], nk[t, 3] != 0, ox, oy, oz, od)
-                            > M
-                        ):
-                            continue
-                        best = c
-                        arg = i + 1 + t
+                if best < np.inf:
+                    for t in range(L - 1):
+                        if bb[t] == best:
+                            arg = i + 1 + t
+                            break
                 A[i, j, m] = best
                 S[i, j, m] = arg
     return A[0, n - 1, n]
