@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from optri import fill_holes
-from optri.errors import InvalidPolygonError
+from optri.errors import InvalidPolygonError, WeightError
 from optri.mesh import HoleSkippedWarning, boundary_loops
 
 trimesh = pytest.importorskip("trimesh")
@@ -100,3 +100,39 @@ def test_non_manifold_boundary_is_refused():
 def test_bad_meshes(mesh, match):
     with pytest.raises(InvalidPolygonError, match=match):
         fill_holes(mesh)
+
+
+def test_unknown_weight_or_method_fails_before_filling():
+    _, holed = _holed_sphere(1)
+    with pytest.raises(WeightError, match="unknown weight"):
+        fill_holes(holed, weight="no_such_weight")
+    with pytest.raises(InvalidPolygonError, match="unknown method"):
+        fill_holes(holed, method="fastest")
+
+
+def test_hole_that_cannot_be_filled_is_reported_not_fatal(monkeypatch):
+    # exact search with no memory to spare: each hole fails alone, with a warning
+    import optri
+
+    _, holed = _holed_sphere(2)
+    monkeypatch.setattr(optri.config, "MEMORY_LIMIT_BYTES", 1000)
+    with pytest.warns(HoleSkippedWarning, match="needs"):
+        filled, records = fill_holes(holed, method="exact")
+    assert records and all(r.status == "failed" and "MB" in r.reason for r in records)
+    assert len(filled.faces) == len(holed.faces)
+    monkeypatch.setattr(optri.config, "MEMORY_LIMIT_BYTES", None)
+    _, records = fill_holes(holed, method="auto")
+    assert all(r.status == "filled" for r in records)
+
+
+def test_callable_weight_fills_holes():
+    _, holed = _holed_sphere(2)
+    calls = []
+
+    def w(vertices, i, k, j):
+        calls.append(1)
+        return float(np.linalg.norm(np.cross(vertices[k] - vertices[i], vertices[j] - vertices[i])))
+
+    filled, records = fill_holes(holed, weight=w)
+    assert filled.is_watertight and calls
+    assert all(r.status == "filled" for r in records)

@@ -107,7 +107,7 @@ def fill_polyline(
     exact search avoids degenerate triangles whenever it can.
 
     Which mode is exact: ``"exact"`` always (for ``"liepa"``: O(n^4) time and
-    about 10 n^3 bytes; some 1 s at n = 200). ``"liepa"`` and ``"delaunay"``
+    about 10 n^3 bytes; about 0.6 s at n = 200). ``"liepa"`` and ``"delaunay"``
     with the ``"liepa"`` weight are Liepa's heuristic (the latter is the
     search CGAL's ``triangulate_hole_polyline`` runs); with a triangle weight,
     ``"liepa"`` is exact and ``"delaunay"`` is exact over the Delaunay faces.

@@ -18,9 +18,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .errors import InvalidPolygonError, OptriError
-from .holes import fill_polyline
+from .errors import InvalidPolygonError, TableTooLargeError
+from .holes import METHODS, fill_polyline
 from .objective import Cost
+from .weights import get_weight
 
 __all__ = ["HoleRecord", "HoleSkippedWarning", "boundary_loops", "fill_holes"]
 
@@ -171,6 +172,10 @@ def fill_holes(
     >>> f2[-1].tolist(), records[0].status, records[0].edges
     ([0, 3, 2], 'filled', 3)
     """
+    if method not in METHODS:
+        raise InvalidPolygonError(f"unknown method {method!r}; choose one of: {', '.join(METHODS)}")
+    if not (isinstance(weight, str) and weight == "liepa"):
+        get_weight(weight)  # an unknown weight fails here, not once per hole
     vertices, faces, is_trimesh = _mesh_arrays(mesh)
     loops = boundary_loops(faces)
     records: list[HoleRecord] = []
@@ -208,9 +213,8 @@ def _fill_one(
     start = time.perf_counter()
     try:
         tri = fill_polyline(vertices[loop], weight, method, vertices[third])
-    except OptriError as exc:
-        if isinstance(exc, InvalidPolygonError) and "unknown method" in str(exc):
-            raise
+    except (InvalidPolygonError, TableTooLargeError) as exc:
+        # this hole's geometry (e.g. collinear) or size: report it, fill the others
         rec.status, rec.reason = "failed", str(exc)
         warnings.warn(f"hole {h} left open: {exc}", HoleSkippedWarning, stacklevel=3)
         return rec, None
