@@ -17,7 +17,9 @@ from .errors import (
     WeightError,
 )
 from .geometry import Polygon, as_polygon
+from .holes import fill_polyline
 from .kbest import best_triangulations
+from .mesh import fill_holes
 from .papertable import format_table
 from .result import Triangulation
 from .simple import require_simple, valid_diagonals
@@ -43,6 +45,8 @@ __all__ = [
     "count_triangulations",
     "custom_weight",
     "enumerate_triangulations",
+    "fill_holes",
+    "fill_polyline",
     "format_table",
     "matrix_chain",
     "random_triangulation",

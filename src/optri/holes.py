@@ -1,0 +1,340 @@
+"""Optimal triangulation of a closed 3-D polyline: ``fill_polyline``.
+
+A hole in a triangle mesh is bounded by a closed polyline; every index
+triangulation of it is a candidate patch (Barequet-Sharir 1995). The weight
+``"liepa"`` is Liepa's (2003): the largest dihedral angle between adjacent
+patch triangles (and, given ``third_points``, between a patch triangle and the
+mesh triangle across a boundary edge), ties broken by the total area. Other
+weights (``"area"``, ``"perimeter"``, any optri weight, a callable) are sums of
+triangle weights and go through the standard O(n^3) recurrence.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import config
+from .engines.memory import require_memory
+from .engines.problem import triangles_from_splits
+from .errors import InvalidPolygonError, WeightError
+from .geometry import Polygon
+from .objective import Cost, ObjectiveLike, as_objective
+from .polyline import _angle, _as_points, _liepa_keys, _with_third, liepa_objective
+from .result import Triangulation
+
+__all__ = ["EXACT_MAX_N", "METHODS", "fill_polyline", "liepa_objective"]
+
+#: ``method="auto"`` runs the exact O(n^4) Liepa search up to this many vertices.
+EXACT_MAX_N = 120
+#: Accepted ``method`` values.
+METHODS = ("auto", "exact", "liepa", "delaunay")
+#: Built-in weights with a compiled 3-D kernel (codes as in optri.weights).
+_KERNEL_WEIGHTS = {"perimeter": 0, "area": 2}
+
+
+def fill_polyline(
+    points3d: ArrayLike,
+    weight: str | Callable[..., float] = "liepa",
+    method: str = "exact",
+    third_points: ArrayLike | None = None,
+    *,
+    objective: ObjectiveLike = "sum",
+) -> Triangulation:
+    """Optimal triangulation (patch) of a closed 3-D polyline.
+
+    Parameters
+    ----------
+    points3d : array_like, shape (n, 3) or (n, 2)
+        Polyline vertices in order (2-D input is lifted to z = 0); a closing
+        vertex equal to the first is dropped.
+    weight : str or callable
+        ``"liepa"`` (default): (largest dihedral angle, total area) compared
+        lexicographically. ``"area"``, ``"perimeter"``, any name in
+        :data:`optri.WEIGHTS`, or a callable ``w(i, k, j)`` /
+        ``w(vertices, i, k, j)``: a sum of triangle weights.
+    method : {"exact", "liepa", "delaunay", "auto"}
+        ``"exact"``: the optimum over *all* triangulations. For ``"liepa"``
+        this is an O(n^4)-time, O(n^3)-memory search (states: a chord plus the
+        apex across it); for triangle weights O(n^3). ``"liepa"``: Liepa's
+        O(n^3) recurrence, which measures each dihedral against the optimal
+        sub-patch's top triangle only, a heuristic for the max-dihedral
+        objective (identical to ``"exact"`` for triangle weights).
+        ``"delaunay"``: candidate triangles restricted to faces of the 3-D
+        Delaunay tetrahedralization of the vertices (Zou et al. 2013), solved
+        with Liepa's recurrence for ``"liepa"`` and exactly otherwise; if
+        those faces hold no triangulation it falls back to ``"auto"`` over all
+        triangles (``stats["fallback"] == 1``). ``"auto"``: ``"exact"`` up to
+        :data:`EXACT_MAX_N` vertices (when its table fits in memory), else
+        ``"liepa"``.
+    third_points : array_like, shape (n, 3), optional
+        ``third_points[i]`` is the third vertex of the mesh triangle on
+        boundary edge ``(i, i + 1)`` (CGAL's convention). Only ``"liepa"``
+        uses them: the dihedral across a boundary edge is then counted too.
+    objective : {"sum", "max"} or pair
+        How triangle weights combine (ignored by ``"liepa"``).
+
+    Returns
+    -------
+    Triangulation
+        ``triangles`` (input indices ``(i, k, j)``, ``i < k < j``, wound in the
+        polyline's order), ``weight`` (for ``"liepa"``: the pair (largest
+        dihedral angle in radians, total area)), ``method`` and ``stats``.
+
+    Raises
+    ------
+    InvalidPolygonError
+        Fewer than 3 points, NaN/inf, repeated points, all points collinear,
+        ``third_points`` of the wrong shape, unknown method.
+    WeightError
+        Unknown weight, or a weight returning NaN.
+    TableTooLargeError
+        ``method="exact"`` with ``"liepa"`` on a polyline whose O(n^3) table
+        does not fit in memory (use ``method="liepa"``).
+
+    Notes
+    -----
+    Liepa's dihedral angle of two triangles sharing an edge is the angle
+    between their normals when both are wound the same way, i.e. pi minus the
+    opening angle between them: 0 for a flat continuation, pi for a full fold.
+    It does not depend on the direction in which the polyline is given. A
+    zero-area triangle counts as a fold of pi against every neighbour, so the
+    exact search avoids degenerate triangles whenever it can.
+
+    Which mode is exact: ``"exact"`` always (for ``"liepa"``: O(n^4) time and
+    about 10 n^3 bytes; about 0.6 s at n = 200). ``"liepa"`` and ``"delaunay"``
+    with the ``"liepa"`` weight are Liepa's heuristic (the latter is the
+    search CGAL's ``triangulate_hole_polyline`` runs); with a triangle weight,
+    ``"liepa"`` is exact and ``"delaunay"`` is exact over the Delaunay faces.
+    The lexicographic pair is made exact by two passes: the least possible
+    largest dihedral M first, then the least area among patches whose
+    dihedrals are all <= M (one pass comparing pairs would not be exact, since
+    a sub-patch with a larger area but a smaller dihedral can lose its
+    advantage once a larger dihedral above it dominates).
+
+    References
+    ----------
+    .. [1] P. Liepa, "Filling holes in meshes", Eurographics SGP 2003.
+    .. [2] G. Barequet, M. Sharir, "Filling gaps in the boundary of a
+       polyhedron", CAGD 12(2), 1995.
+    .. [3] G. Barequet, M. Dickerson, D. Eppstein, "On triangulating
+       three-dimensional polygons", SoCG 1996.
+    .. [4] W. Zou, J. Ye, H. Kuo, et al., "An algorithm for triangulating
+       multiple 3D polygons", Eurographics SGP 2013.
+
+    Examples
+    --------
+    >>> from optri import fill_polyline
+    >>> square = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
+    >>> t = fill_polyline(square, weight="area")
+    >>> round(t.weight, 12), t.triangles.tolist()
+    (1.0, [[0, 1, 3], [1, 2, 3]])
+    >>> bent = [[0, 0, 0], [1, 0, 0], [1, 1, 1], [0, 1, 0]]
+    >>> fill_polyline(bent).triangles.tolist()      # folds along the short diagonal
+    [[0, 1, 3], [1, 2, 3]]
+    """
+    P = _as_points(points3d)
+    n = P.shape[0]
+    Q, has_third = _with_third(P, third_points)
+    if method not in METHODS:
+        raise InvalidPolygonError(f"unknown method {method!r}; choose one of: {', '.join(METHODS)}")
+    liepa = isinstance(weight, str) and weight == "liepa"
+    start = time.perf_counter()
+    stats: dict[str, Any] = {}
+    hole = _Hole(Q, n, has_third, weight, objective, liepa)
+    if method == "delaunay":
+        tris, used = _fill_delaunay(hole, stats)
+    else:
+        tris, used = _fill_all(hole, method)
+    seconds = time.perf_counter() - start
+    return _result(P, Q, has_third, tris, weight, objective, liepa, used, stats, seconds)
+
+
+# --- search -------------------------------------------------------------------
+
+
+class _Hole(NamedTuple):
+    """One fill request: points (+ third points) and what to minimize."""
+
+    Q: NDArray[np.float64]
+    n: int
+    has_third: bool
+    weight: Any
+    objective: ObjectiveLike
+    liepa: bool
+
+
+def _fill_all(
+    hole: _Hole,
+    method: str,
+    ptr: NDArray[np.int64] | None = None,
+    ks: NDArray[np.int64] | None = None,
+) -> tuple[NDArray[np.int64] | None, str]:
+    """Triangles of the best patch (None if the candidates admit none) and the mode."""
+    from . import holes_kernels as hk
+
+    Q, n, has_third, weight, objective, liepa = hole
+    empty = np.zeros(0, dtype=np.int64)
+    ptr = empty if ptr is None else ptr
+    ks = empty if ks is None else ks
+    if liepa:
+        from . import holes_exact as hx
+
+        fits = hx.exact_table_bytes(n) <= config.available_memory_bytes()
+        if method == "exact" or (method == "auto" and n <= EXACT_MAX_N and fits):
+            require_memory(
+                hx.exact_table_bytes(n),
+                f"the exact Liepa search of a {n}-vertex hole (O(n^3) states)",
+                "use method='liepa' (Liepa's O(n^3) recurrence) or 'auto'",
+            )
+            _, _, S = hx.exact_liepa(Q, n, has_third)
+            return _walk_exact(S, n), "exact"
+        _, _, K = hk.liepa_recurrence(Q, n, has_third, ptr, ks)
+        return _walk(K, n), "liepa"
+    if (
+        isinstance(weight, str)
+        and weight in _KERNEL_WEIGHTS
+        and as_objective(objective).name == "sum"
+    ):
+        _, K = hk.sum_dp(Q[:n], n, _KERNEL_WEIGHTS[weight], ptr, ks)
+        return _walk(K, n), "exact"
+    if len(ptr):
+        return _sparse_dp(Q[:n], weight, objective, ptr, ks), "exact"
+    return _engine_dp(Q[:n], weight, objective), "exact"
+
+
+def _fill_delaunay(hole: _Hole, stats: dict[str, Any]) -> tuple[NDArray[np.int64], str]:
+    from .delaunay3 import candidate_lists
+
+    ptr, ks, faces = candidate_lists(hole.Q[: hole.n])
+    stats["delaunay_faces"] = faces
+    tris, _ = _fill_all(hole, "liepa", ptr, ks)
+    if tris is not None:
+        stats["fallback"] = 0
+        return tris, "delaunay"
+    stats["fallback"] = 1
+    tris, used = _fill_all(hole, "auto")
+    assert tris is not None  # every index triangulation is a candidate now
+    return tris, f"delaunay->{used}"
+
+
+def _walk(K: NDArray[np.int32], n: int) -> NDArray[np.int64] | None:
+    if K[0, n - 1] < 0:
+        return None
+    return triangles_from_splits(lambda i, j: K[i, j], n)
+
+
+def _walk_exact(S: NDArray[np.int16], n: int) -> NDArray[np.int64]:
+    tris, stack = [], [(0, n - 1, n)]
+    while stack:
+        i, j, m = stack.pop()
+        if j - i < 2:
+            continue
+        k = int(S[i, j, m])
+        tris.append((i, k, j))
+        stack.append((k, j, i))
+        stack.append((i, k, j))
+    return np.array(tris, dtype=np.int64).reshape(-1, 3)
+
+
+def _problem(P: NDArray[np.float64], weight: Any, objective: ObjectiveLike) -> Any:
+    from .solve import build_problem
+
+    # a 3-D polyline: every index triangulation is a surface, so every chord is allowed
+    n = len(P)
+    polygon = Polygon(P, P, np.arange(n, dtype=np.int64), None, True)
+    return build_problem(polygon, weight, objective, keep_table=False)
+
+
+def _engine_dp(P: NDArray[np.float64], weight: Any, objective: ObjectiveLike) -> NDArray[np.int64]:
+    from .engines import select_engine
+
+    problem = _problem(P, weight, objective)
+    _, solve = select_engine("auto", problem)
+    return solve(problem).triangles
+
+
+def _sparse_dp(
+    P: NDArray[np.float64],
+    weight: Any,
+    objective: ObjectiveLike,
+    ptr: NDArray[np.int64],
+    ks: NDArray[np.int64],
+) -> NDArray[np.int64] | None:
+    """The recurrence over candidate triangles only (Python; few candidates)."""
+    problem = _problem(P, weight, objective)
+    w, obj = problem.evaluator(), problem.objective
+    n = len(P)
+    cost: dict[tuple[int, int], Cost] = {(i, i + 1): obj.neutral for i in range(n - 1)}
+    split: dict[tuple[int, int], int] = {}
+    chords = np.flatnonzero(np.diff(ptr))
+    for c in sorted(chords.tolist(), key=lambda c: (c % n) - (c // n)):
+        i, j = divmod(c, n)
+        best, arg = obj.worst, -1
+        for k in ks[ptr[c] : ptr[c + 1]].tolist():
+            if (i, k) in cost and (k, j) in cost:
+                val = obj.combine(cost[(i, k)], cost[(k, j)], w(i, k, j))
+                if obj.less(val, best):
+                    best, arg = val, k
+        if arg >= 0:
+            cost[(i, j)], split[(i, j)] = best, arg
+    if (0, n - 1) not in split:
+        return None
+    return triangles_from_splits(lambda i, j: split[(i, j)], n)
+
+
+# --- result -------------------------------------------------------------------
+
+
+def _result(
+    P: NDArray[np.float64],
+    Q: NDArray[np.float64],
+    has_third: bool,
+    tris: NDArray[np.int64],
+    weight: Any,
+    objective: ObjectiveLike,
+    liepa: bool,
+    method: str,
+    stats: dict[str, Any],
+    seconds: float,
+) -> Triangulation:
+    n = len(P)
+    tris = tris[np.lexsort((tris[:, 2], tris[:, 1], tris[:, 0]))]
+    if liepa:
+
+        def again(t: NDArray[np.int64]) -> Cost:
+            key, area = _liepa_keys(Q, n, has_third, t)
+            return (_angle(key), area)
+
+        value: Cost = again(tris)
+        name: Any = ("liepa_dihedral", "area")
+        obj_name: Any = ("max", "sum")
+    else:
+        from .result import recompute_cost
+
+        problem = _problem(P, weight, objective)
+        again = recompute_cost(problem.evaluator(), problem.objective, problem.polygon.order)
+        value = again(tris)
+        names = tuple(w.name for w in problem.weights)
+        name = names[0] if len(names) == 1 else names
+        obj_name = problem.objective.name
+    if isinstance(value, float) and math.isnan(value):
+        raise WeightError("the weight returned NaN")
+    return Triangulation(
+        vertices=P,
+        triangles=tris.astype(np.int64),
+        weight=value,
+        method=method,
+        weight_name=name,
+        objective=obj_name,
+        orientation=None,
+        order=np.arange(n, dtype=np.int64),
+        stats=stats,
+        seconds=seconds,
+        _recompute=again,
+    )

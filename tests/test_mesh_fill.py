@@ -1,0 +1,138 @@
+"""fill_holes on trimesh meshes: watertight round trips, winding, reports, bad meshes."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from optri import fill_holes
+from optri.errors import InvalidPolygonError, WeightError
+from optri.mesh import HoleSkippedWarning, boundary_loops
+
+trimesh = pytest.importorskip("trimesh")
+
+
+def _holed_sphere(subdivisions=3):
+    sphere = trimesh.creation.icosphere(subdivisions=subdivisions)
+    c = sphere.triangles_center
+    cut = (c[:, 2] > 0.85) | (np.linalg.norm(c - [1, 0, 0], axis=1) < 0.45)
+    cut |= np.linalg.norm(c - [0, -1, 0], axis=1) < 0.25
+    return sphere, trimesh.Trimesh(sphere.vertices, sphere.faces[~cut], process=False)
+
+
+@pytest.mark.parametrize(
+    "weight, method",
+    [("liepa", "auto"), ("liepa", "liepa"), ("liepa", "delaunay"), ("area", "exact")],
+)
+def test_filled_sphere_is_watertight(weight, method):
+    sphere, holed = _holed_sphere()
+    loops = boundary_loops(holed.faces)
+    assert len(loops) == 3 and not holed.is_watertight
+    filled, records = fill_holes(holed, weight=weight, method=method)
+    assert [r.status for r in records] == ["filled"] * 3
+    assert len(filled.faces) == len(holed.faces) + sum(r.edges - 2 for r in records)
+    assert filled.is_watertight and filled.is_winding_consistent
+    assert filled.volume > 0  # outward, like the sphere's own faces
+    assert filled.volume == pytest.approx(sphere.volume, rel=0.05)
+    assert np.array_equal(filled.faces[: len(holed.faces)], holed.faces)
+    for rec in records:
+        assert rec.faces_added == rec.edges - 2 and rec.seconds >= 0
+        assert method == "auto" or rec.method.startswith(method.replace("auto", ""))
+
+
+def test_new_faces_run_against_their_neighbours():
+    _, holed = _holed_sphere(2)
+    filled, _ = fill_holes(holed)
+    old = {(a, b) for f in holed.faces.tolist() for a, b in zip(f, f[1:] + f[:1])}
+    new = [
+        (a, b) for f in filled.faces[len(holed.faces) :].tolist() for a, b in zip(f, f[1:] + f[:1])
+    ]
+    assert not old & set(new)  # no directed edge twice: consistent orientation
+    for loop, _third in boundary_loops(holed.faces):
+        for a, b in zip(loop.tolist(), np.roll(loop, -1).tolist()):
+            assert (b, a) in old and (a, b) in new
+
+
+def test_arrays_in_arrays_out_and_exact_liepa_patch():
+    _, holed = _holed_sphere(2)
+    (v, f), records = fill_holes((holed.vertices, holed.faces), method="exact")
+    assert isinstance(f, np.ndarray) and f.shape[1] == 3
+    assert trimesh.Trimesh(v, f, process=False).is_watertight
+    assert all(isinstance(r.weight, tuple) for r in records)
+
+
+def test_skipped_holes_are_reported_and_warned():
+    _, holed = _holed_sphere()
+    sizes = sorted(len(loop) for loop, _ in boundary_loops(holed.faces))
+    limit = sizes[0]
+    with pytest.warns(HoleSkippedWarning, match="max_hole_edges"):
+        filled, records = fill_holes(holed, max_hole_edges=limit)
+    skipped = [r for r in records if r.status == "skipped"]
+    assert len(skipped) == sum(s > limit for s in sizes) > 0
+    assert all("max_hole_edges" in r.reason and r.faces_added == 0 for r in skipped)
+    assert len(filled.faces) == len(holed.faces) + sum(r.faces_added for r in records)
+    assert records[0].to_dict()["status"] in ("filled", "skipped")
+
+
+def test_closed_mesh_has_no_holes():
+    sphere = trimesh.creation.icosphere(subdivisions=1)
+    filled, records = fill_holes(sphere)
+    assert records == [] and len(filled.faces) == len(sphere.faces)
+
+
+def test_non_manifold_boundary_is_refused():
+    # two triangles touching at one vertex: vertex 0 has four boundary edges
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]], dtype=float)
+    f = np.array([[0, 1, 2], [0, 3, 4]])
+    with pytest.raises(InvalidPolygonError, match="non-manifold boundary at vertex 0"):
+        fill_holes((v, f))
+
+
+@pytest.mark.parametrize(
+    "mesh, match",
+    [
+        ((np.zeros((3, 3)), np.array([[0, 1, 5]])), "does not exist"),
+        ((np.zeros((3, 2)), np.array([[0, 1, 2]])), "vertices"),
+        ((np.zeros((3, 3)), np.zeros((0, 3), dtype=int)), "no faces"),
+        ("not a mesh", "expected a trimesh"),
+    ],
+)
+def test_bad_meshes(mesh, match):
+    with pytest.raises(InvalidPolygonError, match=match):
+        fill_holes(mesh)
+
+
+def test_unknown_weight_or_method_fails_before_filling():
+    _, holed = _holed_sphere(1)
+    with pytest.raises(WeightError, match="unknown weight"):
+        fill_holes(holed, weight="no_such_weight")
+    with pytest.raises(InvalidPolygonError, match="unknown method"):
+        fill_holes(holed, method="fastest")
+
+
+def test_hole_that_cannot_be_filled_is_reported_not_fatal(monkeypatch):
+    # exact search with no memory to spare: each hole fails alone, with a warning
+    import optri
+
+    _, holed = _holed_sphere(2)
+    monkeypatch.setattr(optri.config, "MEMORY_LIMIT_BYTES", 1000)
+    with pytest.warns(HoleSkippedWarning, match="needs"):
+        filled, records = fill_holes(holed, method="exact")
+    assert records and all(r.status == "failed" and "MB" in r.reason for r in records)
+    assert len(filled.faces) == len(holed.faces)
+    monkeypatch.setattr(optri.config, "MEMORY_LIMIT_BYTES", None)
+    _, records = fill_holes(holed, method="auto")
+    assert all(r.status == "filled" for r in records)
+
+
+def test_callable_weight_fills_holes():
+    _, holed = _holed_sphere(2)
+    calls = []
+
+    def w(vertices, i, k, j):
+        calls.append(1)
+        return float(np.linalg.norm(np.cross(vertices[k] - vertices[i], vertices[j] - vertices[i])))
+
+    filled, records = fill_holes(holed, weight=w)
+    assert filled.is_watertight and calls
+    assert all(r.status == "filled" for r in records)
