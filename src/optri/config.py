@@ -21,6 +21,12 @@ BRUTE_MAX_N = 13
 PYTHON_ENGINE_SOFT_MAX_N = 300
 #: Relative tolerance for geometric predicates (collinearity, convexity).
 GEOMETRY_RTOL = 1e-12
+#: Compiled engine: side of the square tiles of cells of the min-plus kernel.
+FAST_TILE = 64
+#: Compiled engine: work (about min-plus steps) per kernel call between progress reports.
+FAST_CHUNK_WORK = 3e8
+#: Compiled engine: numba cache folder when NUMBA_CACHE_DIR is unset (None: numba's default).
+JIT_CACHE_DIR: str | None = None
 
 _DEFAULTS = {k: v for k, v in dict(globals()).items() if k.isupper()}
 
