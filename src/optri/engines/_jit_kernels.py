@@ -61,13 +61,26 @@ def _fmin(typingctx, a, b):
 # --- min-plus path (sum of an edge-decomposable weight) -----------------------------
 
 
+# Inner loops run over slices from index 0: with a loop index LLVM cannot prove
+# non-negative, numba's negative-index wraparound turns the vector loads into gathers.
+
+
+@njit(cache=True, fastmath=_FASTMATH, inline="always")
+def _rowmin(best, a, b):
+    """``min(best, min_k a[k] + b[k])`` over two equal-length contiguous slices."""
+    for k in range(a.shape[0]):
+        best = _fmin(best, a[k] + b[k])
+    return best
+
+
 @njit(cache=True, fastmath=_FASTMATH, inline="always")
 def _block24(T, i, j, k0, k1):
-    ra, rb = T[i], T[i + 1]
-    r0, r1, r2, r3 = T[j], T[j + 1], T[j + 2], T[j + 3]
-    a0, a1, a2, a3 = ra[j], ra[j + 1], ra[j + 2], ra[j + 3]
-    b0, b1, b2, b3 = rb[j], rb[j + 1], rb[j + 2], rb[j + 3]
-    for k in range(k0, k1):
+    """Cells (i..i+1, j..j+3): two streamed rows shared by four columns."""
+    ra, rb = T[i, k0:k1], T[i + 1, k0:k1]
+    r0, r1, r2, r3 = T[j, k0:k1], T[j + 1, k0:k1], T[j + 2, k0:k1], T[j + 3, k0:k1]
+    a0, a1, a2, a3 = T[i, j], T[i, j + 1], T[i, j + 2], T[i, j + 3]
+    b0, b1, b2, b3 = T[i + 1, j], T[i + 1, j + 1], T[i + 1, j + 2], T[i + 1, j + 3]
+    for k in range(ra.shape[0]):
         x, y = ra[k], rb[k]
         c0, c1, c2, c3 = r0[k], r1[k], r2[k], r3[k]
         a0 = _fmin(a0, x + c0)
@@ -78,17 +91,13 @@ def _block24(T, i, j, k0, k1):
         b1 = _fmin(b1, y + c1)
         b2 = _fmin(b2, y + c2)
         b3 = _fmin(b3, y + c3)
-    ra[j], ra[j + 1], ra[j + 2], ra[j + 3] = a0, a1, a2, a3
-    rb[j], rb[j + 1], rb[j + 2], rb[j + 3] = b0, b1, b2, b3
+    T[i, j], T[i, j + 1], T[i, j + 2], T[i, j + 3] = a0, a1, a2, a3
+    T[i + 1, j], T[i + 1, j + 1], T[i + 1, j + 2], T[i + 1, j + 3] = b0, b1, b2, b3
 
 
 @njit(cache=True, fastmath=_FASTMATH, inline="always")
 def _block11(T, i, j, k0, k1):
-    ri, rj = T[i], T[j]
-    best = ri[j]
-    for k in range(k0, k1):
-        best = _fmin(best, ri[k] + rj[k])
-    ri[j] = best
+    T[i, j] = _rowmin(T[i, j], T[i, k0:k1], T[j, k0:k1])
 
 
 @njit(cache=True, fastmath=_FASTMATH)
@@ -129,11 +138,9 @@ def _tile(T, pts, code, mask, use_mask, tile, ti, tj):
                 rj = T[j]
                 if tj <= ti + 1:
                     ri[j] = np.inf  # no far splits; keeps best in the table's dtype
-                best = ri[j]
-                for k in range(i + 1, min(i1, j)):
-                    best = _fmin(best, ri[k] + rj[k])
-                for k in range(max(j0, i1), j):
-                    best = _fmin(best, ri[k] + rj[k])
+                lo, hi = min(i1, j), max(j0, i1)
+                best = _rowmin(ri[j], ri[i + 1 : lo], rj[i + 1 : lo])
+                best = _rowmin(best, ri[hi:j], rj[hi:j])
                 v = best + 2.0 * edge_weight(code, pts, i, j)
                 if use_mask and not mask[i, j]:
                     v = np.inf
@@ -154,11 +161,11 @@ def minplus_tiles(T, pts, code, mask, use_mask, tile, d0, d1):
 def minplus_split(T, i, j):
     """Smallest k minimizing ``E(i, k) + E(k, j)``; -1 if every split is infinite."""
     best, arg = np.inf, -1
-    ri, rj = T[i], T[j]
-    for k in range(i + 1, j):
-        c = ri[k] + rj[k]
+    ri, rj = T[i, i + 1 : j], T[j, i + 1 : j]
+    for kk in range(ri.shape[0]):
+        c = ri[kk] + rj[kk]
         if c < best:
-            best, arg = c, k
+            best, arg = c, i + 1 + kk
     return arg
 
 
@@ -188,14 +195,18 @@ def best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, verts, or
     on component 1, then (``lex``) component 2. A NaN weight sets ``nan[0]``.
     """
     b1, b2, arg = np.inf, np.inf, -1
-    r1i, r1j = T1[i], T1[j]
-    r2i, r2j = T2[i], T2[j]
-    for k in range(i + 1, j):
+    r1i, r1j = T1[i, i + 1 : j], T1[j, i + 1 : j]
+    if lex:
+        r2i, r2j = T2[i, i + 1 : j], T2[j, i + 1 : j]
+    else:
+        r2i, r2j = r1i, r1j
+    for kk in range(r1i.shape[0]):
+        k = i + 1 + kk
         w1 = _weight(codes[0], pts, i, k, j, wfn1, verts, order)
         if w1 != w1:
             nan[0] = 1
             continue
-        v1 = _combine(is_max[0], r1i[k], r1j[k], w1)
+        v1 = _combine(is_max[0], r1i[kk], r1j[kk], w1)
         if not lex:
             if v1 < b1:
                 b1, arg = v1, k
@@ -204,7 +215,7 @@ def best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, verts, or
         if w2 != w2:
             nan[0] = 1
             continue
-        v2 = _combine(is_max[1], r2i[k], r2j[k], w2)
+        v2 = _combine(is_max[1], r2i[kk], r2j[kk], w2)
         if v1 < b1 or (v1 == b1 and v2 < b2):
             b1, b2, arg = v1, v2, k
     return b1, b2, arg
