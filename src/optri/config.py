@@ -21,6 +21,9 @@ BRUTE_MAX_N = 13
 PYTHON_ENGINE_SOFT_MAX_N = 300
 #: Relative tolerance for geometric predicates (collinearity, convexity).
 GEOMETRY_RTOL = 1e-12
+#: ``method="auto"`` leaves smaller problems to the Python engines: loading numba and the
+#: cached kernels takes about 0.8 s of CPU, longer than the whole Python DP below ~150.
+FAST_AUTO_MIN_N = 120
 #: Compiled engine: side of the square tiles of cells of the min-plus kernel.
 FAST_TILE = 64
 #: Compiled engine: work (about min-plus steps) per kernel call between progress reports.

@@ -61,8 +61,11 @@ def unsupported(problem: Problem) -> str | None:
 
 
 def auto_accepts(problem: Problem) -> bool:
-    """``method="auto"`` offers every problem to this engine."""
-    return True
+    """``method="auto"`` uses this engine from ``config.FAST_AUTO_MIN_N`` vertices on.
+
+    Below that, starting numba costs more than the Python DP itself.
+    """
+    return problem.n >= config.FAST_AUTO_MIN_N
 
 
 def estimate_bytes(
@@ -156,10 +159,13 @@ def _vertex_array(problem: Problem) -> NDArray[np.float64]:
 
 
 def _mask(problem: Problem) -> tuple[NDArray[np.bool_], bool]:
-    rows = problem.allowed_rows()
-    if rows is None:
+    if problem.allowed is None:
         return np.ones((1, 1), dtype=np.bool_), False
-    return np.array(rows, dtype=np.bool_), True
+    ok = np.array(problem.allowed, dtype=np.bool_, copy=True)
+    n, idx = problem.n, np.arange(problem.n - 1)
+    ok[idx, idx + 1] = ok[idx + 1, idx] = True  # polygon sides are always usable
+    ok[0, n - 1] = ok[n - 1, 0] = True
+    return ok, True
 
 
 def _edge(code: int, pts: NDArray[np.float64], a: int, b: int) -> float:
