@@ -37,6 +37,7 @@ __all__ = [
     "minplus_tiles",
     "split_table",
     "trace",
+    "uncached",
 ]
 
 # Table values are never NaN (weights are checked) but may be +inf (unusable chord),
@@ -187,7 +188,7 @@ def _combine(is_max, a, b, w):
     return a + b + w
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, verts, order):
     """The recurrence for one cell: ``(cost1, cost2, k)``, ties to the smallest k.
 
@@ -246,7 +247,7 @@ def generic_diagonals(
 # --- reconstruction and the exported table ---------------------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _split(T1, T2, pts, codes, is_max, lex, minplus, i, j, nan, wfn1, wfn2, verts, order):
     if minplus:
         return minplus_split(T1, i, j)
@@ -292,3 +293,20 @@ def split_table(T1, T2, pts, codes, is_max, lex, minplus, nan, wfn1, wfn2, verts
                 T1, T2, pts, codes, is_max, lex, minplus, i, j, nan, wfn1, wfn2, verts, order
             )
     return out
+
+
+_TWINS: dict[str, object] = {}
+
+
+def uncached(name: str) -> object:
+    """Kernel ``name`` compiled without the disk cache, for a user's numba weight.
+
+    A user function's type differs in every process, so caching its
+    specializations would only grow the cache; the callees above are inlined,
+    so they add no cached entries either.
+    """
+    if name not in _TWINS:
+        kernel = globals()[name]
+        options = {k: v for k, v in kernel.targetoptions.items() if k != "nopython"}
+        _TWINS[name] = njit(**options)(kernel.py_func)
+    return _TWINS[name]

@@ -122,7 +122,7 @@ def solve(problem: Problem) -> Solution:
     else:
         _fill_generic(K, problem, T1, T2, args, mask, use_mask)
         cost = (float(T1[0, n - 1]), float(T2[0, n - 1])) if lex else float(T1[0, n - 1])
-    tris, bad = K.trace(T1, T2, *args.trace_args(minplus))
+    tris, bad = args.kernel("trace")(T1, T2, *args.trace_args(minplus))
     args.raise_on_nan()
     if bad[0] >= 0:
         raise WeightError(
@@ -191,9 +191,14 @@ class _Args:
         self.pts = pts
         self.nan = np.zeros(1, dtype=np.int64)
         self.wfn1, self.wfn2 = _compiled_fn(ws[0]), _compiled_fn(second) if self.lex else None
-        custom = self.wfn1 is not None or self.wfn2 is not None
-        self.verts = _user_vertices(problem) if custom else pts
+        self.custom = self.wfn1 is not None or self.wfn2 is not None
+        self.verts = _user_vertices(problem) if self.custom else pts
+        self.K = kernels
         self.order = np.ascontiguousarray(problem.polygon.order, dtype=np.int64)
+
+    def kernel(self, name: str) -> Any:
+        """Kernel ``name``; its uncached twin when a user's numba weight is involved."""
+        return self.K.uncached(name) if self.custom else getattr(self.K, name)
 
     def weight_args(self) -> tuple[Any, ...]:
         return (self.nan, self.wfn1, self.wfn2, self.verts, self.order)
@@ -259,7 +264,7 @@ def _fill_generic(
         d0 = max(d0, 2)
         if d0 >= d1:
             continue
-        K.generic_diagonals(
+        args.kernel("generic_diagonals")(
             T1,
             T2,
             args.pts,
@@ -333,6 +338,6 @@ def _export(
                 d = np.where(side, 0.0, 0.5 * d)
             out[i, i + 1 :] -= d
     out[np.isneginf(out)] = 0.0
-    splits = K.split_table(T1, T2, *args.trace_args(minplus))
+    splits = args.kernel("split_table")(T1, T2, *args.trace_args(minplus))
     out += np.tril(splits.T.astype(np.float64), -1)
     return out
