@@ -73,6 +73,21 @@ def test_fast_equals_memo_larger(n: int, seed: int) -> None:
         a.check()
 
 
+@pytest.mark.parametrize("tile", [3, 5, 8])
+def test_fast_small_tiles_equal_memo(monkeypatch: pytest.MonkeyPatch, tile: int) -> None:
+    # tiny tiles: many tile-diagonals, far splits, partial tiles and odd row counts
+    monkeypatch.setattr(config, "FAST_TILE", tile)
+    monkeypatch.setattr(config, "FAST_CHUNK_WORK", 1)  # one kernel call per tile-diagonal
+    pts = convex_polygon(37, tile)
+    for w, obj in (("perimeter", "sum"), ("diagonal", "sum"), ("max_angle", "max")):
+        a = optri.triangulate(pts, w, obj, method="fast")
+        b = optri.triangulate(pts, w, obj, method="memo")
+        assert close(a.weight, b.weight), (w, obj)
+    a = optri.triangulate(pts, LEX[0][0], LEX[0][1], method="fast")
+    b = optri.triangulate(pts, LEX[0][0], LEX[0][1], method="memo")
+    assert close(a.weight, b.weight)
+
+
 @pytest.mark.parametrize("n", [3, 4, 7, 10])
 def test_fast_equals_brute(n: int) -> None:
     pts = convex_polygon(n, n)

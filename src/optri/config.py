@@ -24,6 +24,9 @@ GEOMETRY_RTOL = 1e-12
 #: ``method="auto"`` leaves smaller problems to the Python engines: loading numba and the
 #: cached kernels takes about 0.8 s of CPU, longer than the whole Python DP below ~150.
 FAST_AUTO_MIN_N = 120
+#: Compiled engine: below this n the kernels run on one thread: a parallel region costs a
+#: thread wake-up per (tile-)diagonal, milliseconds on a busy machine, more than it saves.
+FAST_PARALLEL_MIN_N = 1000
 #: Compiled engine: side of the square tiles of cells of the min-plus kernel.
 FAST_TILE = 64
 #: Compiled engine: work (about min-plus steps) per kernel call between progress reports.

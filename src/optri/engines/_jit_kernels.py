@@ -15,9 +15,9 @@ Two evaluation orders of the one recurrence (``best_split``):
   takes the "far" splits, whose halves lie in earlier tiles, with a 2 x 4
   register block (two streamed rows ``i`` shared by four columns ``j``), then
   the "near" splits in dependency order.
-* ``generic_diagonals``: any built-in or numba-compiled weight, ``sum`` or
-  ``max``, one table per component of a lexicographic objective; ``prange``
-  over the cells of one diagonal ``j - i = d``.
+* ``generic_tiles``: any built-in or numba-compiled weight, ``sum`` or
+  ``max``, one table per component of a lexicographic objective, over the
+  same tiles, each cell scanning all its splits.
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ from ._jit_weights import edge_weight, triangle_weight
 
 __all__ = [
     "best_split",
-    "generic_diagonals",
+    "generic_tiles",
     "minplus_split",
     "minplus_tiles",
     "split_table",
@@ -223,25 +223,34 @@ def best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, verts, or
 
 
 @njit(cache=True, parallel=True)
-def generic_diagonals(
-    T1, T2, pts, codes, is_max, lex, mask, use_mask, d0, d1, nan, wfn1, wfn2, verts, order
+def generic_tiles(
+    T1, T2, pts, codes, is_max, lex, mask, use_mask, tile, d0, d1, nan, wfn1, wfn2, verts, order
 ):
-    """Fill diagonals ``d0 <= j - i < d1`` (``d0 >= 2``) of the cost table(s)."""
+    """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the cost table(s).
+
+    Sides must hold the neutral cost already. Tiles on one tile-diagonal are
+    independent; inside a tile, cells go rows upwards, columns rightwards, so
+    both halves of every split are final when read.
+    """
     n = T1.shape[0]
+    nt = (n + tile - 1) // tile
     for d in range(d0, d1):
-        for i in prange(n - d):
-            j = i + d
-            if use_mask and not mask[i, j]:
-                b1, b2 = np.inf, np.inf
-            else:
-                b1, b2, _ = best_split(
-                    T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, verts, order
-                )
-            T1[i, j] = b1
-            T1[j, i] = b1
-            if lex:
-                T2[i, j] = b2
-                T2[j, i] = b2
+        for t in prange(nt - d):
+            i0, i1 = t * tile, min(n, t * tile + tile)
+            j0, j1 = (t + d) * tile, min(n, (t + d) * tile + tile)
+            for i in range(i1 - 1, i0 - 1, -1):
+                for j in range(max(j0, i + 2), j1):
+                    if use_mask and not mask[i, j]:
+                        c1, c2 = np.inf, np.inf
+                    else:
+                        c1, c2, _ = best_split(
+                            T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, verts, order
+                        )
+                    T1[i, j] = c1
+                    T1[j, i] = c1
+                    if lex:
+                        T2[i, j] = c2
+                        T2[j, i] = c2
 
 
 # --- reconstruction and the exported table ---------------------------------------------

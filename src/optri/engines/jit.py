@@ -17,6 +17,7 @@ ever pays the compilation.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -110,6 +111,18 @@ def solve(problem: Problem) -> Solution:
         f"the fast engine's {n} x {n} {dtype} table{'s' if lex else ''}",
         "use dtype=float32 (half the memory) or method='gpu'",
     )
+    threads = _threads(numba, problem)
+    previous = numba.get_num_threads()
+    numba.set_num_threads(threads)
+    try:
+        return _solve(K, problem, minplus, threads)
+    finally:
+        numba.set_num_threads(previous)
+
+
+def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:
+    n, lex = problem.n, problem.objective.is_lex
+    dtype = np.dtype(problem.dtype)
     pts = _vertex_array(problem)
     mask, use_mask = _mask(problem)
     args = _Args(problem, pts, K)
@@ -120,7 +133,7 @@ def solve(problem: Problem) -> Solution:
         e_last = _edge(problem.weights[0].code, pts, 0, n - 1)
         cost: Any = float(T1[0, n - 1]) - e_last
     else:
-        _fill_generic(K, problem, T1, T2, args, mask, use_mask)
+        _fill_generic(problem, T1, T2, args, mask, use_mask)
         cost = (float(T1[0, n - 1]), float(T2[0, n - 1])) if lex else float(T1[0, n - 1])
     tris, bad = args.kernel("trace")(T1, T2, *args.trace_args(minplus))
     args.raise_on_nan()
@@ -132,7 +145,7 @@ def solve(problem: Problem) -> Solution:
     table = _export(K, problem, T1, T2, args, minplus) if problem.keep_table else None
     stats = {
         "cells": (n - 1) * (n - 2) // 2,
-        "threads": int(numba.get_num_threads()),
+        "threads": threads,
         "minplus": int(minplus),
         "tile": int(config.FAST_TILE) if minplus else 0,
     }
@@ -140,6 +153,14 @@ def solve(problem: Problem) -> Solution:
 
 
 # --- helpers -----------------------------------------------------------------------
+
+
+def _threads(numba: Any, problem: Problem) -> int:
+    """Threads for this problem: ``options["threads"]``, else all above the size threshold."""
+    wanted = problem.options.get("threads")
+    if wanted is None:
+        wanted = numba.get_num_threads() if problem.n >= config.FAST_PARALLEL_MIN_N else 1
+    return max(1, min(int(wanted), numba.config.NUMBA_NUM_THREADS))
 
 
 def _use_cache_dir(numba: Any) -> None:
@@ -231,20 +252,12 @@ def _fill_minplus(
     mask: NDArray[np.bool_],
     use_mask: bool,
 ) -> None:
-    n, tile = problem.n, int(config.FAST_TILE)
-    nt = (n + tile - 1) // tile
     code = problem.weights[0].code
-    cells = [_tile_diagonal_cells(n, tile, d) for d in range(nt)]
-    # work of tile-diagonal d: its cells times the splits each scans (~ (d + 1) tiles)
-    work = [c * (d + 1) * tile for d, c in enumerate(cells)]
-    report = _Reporter(problem, n)
-    for d0, d1 in _chunks(work, config.FAST_CHUNK_WORK):
+    for d0, d1, tile in _tile_chunks(problem, cost_per_split=1):
         K.minplus_tiles(T, pts, code, mask, use_mask, tile, d0, d1)
-        report.add(sum(cells[d0:d1]))
 
 
 def _fill_generic(
-    K: Any,
     problem: Problem,
     T1: NDArray[Any],
     T2: NDArray[Any],
@@ -257,14 +270,10 @@ def _fill_generic(
     idx = np.arange(n - 1)
     for T, v in zip((T1, T2), neutral if args.lex else (neutral,)):
         T[idx, idx + 1] = T[idx + 1, idx] = v
-    # work of diagonal d: n - d cells of d - 1 splits; weights cost ~ 20 min-plus steps
-    work = [0, 0] + [(n - d) * (d - 1) * 20 for d in range(2, n)]
-    report = _Reporter(problem, n)
-    for d0, d1 in _chunks(work, config.FAST_CHUNK_WORK):
-        d0 = max(d0, 2)
-        if d0 >= d1:
-            continue
-        args.kernel("generic_diagonals")(
+    kernel = args.kernel("generic_tiles")
+    # a weight evaluation costs about 20 min-plus steps
+    for d0, d1, tile in _tile_chunks(problem, cost_per_split=20):
+        kernel(
             T1,
             T2,
             args.pts,
@@ -273,12 +282,25 @@ def _fill_generic(
             args.lex,
             mask,
             use_mask,
+            tile,
             d0,
             d1,
             *args.weight_args(),
         )
         args.raise_on_nan()
-        report.add(sum(n - d for d in range(d0, d1)))
+
+
+def _tile_chunks(problem: Problem, cost_per_split: int) -> Iterator[tuple[int, int, int]]:
+    """Runs ``(d0, d1, tile)`` of tile-diagonals per kernel call, reporting progress."""
+    n, tile = problem.n, int(config.FAST_TILE)
+    nt = (n + tile - 1) // tile
+    cells = [_tile_diagonal_cells(n, tile, d) for d in range(nt)]
+    # work of tile-diagonal d: its cells times the splits each scans (~ (d + 1) tiles)
+    work = [c * (d + 1) * tile * cost_per_split for d, c in enumerate(cells)]
+    report = _Reporter(problem, n)
+    for d0, d1 in _chunks(work, config.FAST_CHUNK_WORK):
+        yield d0, d1, tile
+        report.add(sum(cells[d0:d1]))
 
 
 def _chunks(work: list[int], budget: float) -> list[tuple[int, int]]:
