@@ -77,6 +77,7 @@ def test_fast_equals_memo_larger(n: int, seed: int) -> None:
 def test_fast_small_tiles_equal_memo(monkeypatch: pytest.MonkeyPatch, tile: int) -> None:
     # tiny tiles: many tile-diagonals, far splits, partial tiles and odd row counts
     monkeypatch.setattr(config, "FAST_TILE", tile)
+    monkeypatch.setattr(config, "FAST_GENERIC_TILE", tile)
     monkeypatch.setattr(config, "FAST_CHUNK_WORK", 1)  # one kernel call per tile-diagonal
     pts = convex_polygon(37, tile)
     for w, obj in (("perimeter", "sum"), ("diagonal", "sum"), ("max_angle", "max")):

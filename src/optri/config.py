@@ -29,6 +29,9 @@ FAST_AUTO_MIN_N = 120
 FAST_PARALLEL_MIN_N = 1000
 #: Compiled engine: side of the square tiles of cells of the min-plus kernel.
 FAST_TILE = 64
+#: Compiled engine: tile side of the generic kernel (any weight): compute-bound, so small
+#: tiles that keep each kernel call short (progress, Ctrl-C) cost nothing.
+FAST_GENERIC_TILE = 16
 #: Compiled engine: work (about min-plus steps) per kernel call between progress reports.
 FAST_CHUNK_WORK = 3e8
 #: Compiled engine: numba cache folder when NUMBA_CACHE_DIR is unset (None: numba's default).

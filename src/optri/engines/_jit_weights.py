@@ -46,12 +46,12 @@ def edge_weight(code, pts, a, b):
 
 
 @njit(cache=True, inline="always")
-def _angle(x, y, z):
-    """Angle opposite side ``x`` (law of cosines, clamped like the Python version)."""
+def _cos(x, y, z):
+    """Clamped cosine of the angle opposite side ``x``; -1 (angle pi) if degenerate."""
     den = 2.0 * y * z
     if den == 0.0:
-        return math.pi
-    return math.acos(max(-1.0, min(1.0, (y * y + z * z - x * x) / den)))
+        return -1.0  # the Python version returns pi, whose cosine this is
+    return max(-1.0, min(1.0, (y * y + z * z - x * x) / den))
 
 
 @njit(cache=True)
@@ -82,10 +82,11 @@ def triangle_weight(code, pts, i, k, j):
     if code == CODE_PRODUCT:
         return pts[i, 0] * pts[k, 0] * pts[j, 0]
     a, b, c = _dist(pts, k, j), _dist(pts, i, j), _dist(pts, i, k)
+    # acos is decreasing: the largest angle has the smallest cosine (one acos, not three)
     if code == CODE_MAX_ANGLE:
-        return max(_angle(a, b, c), _angle(b, c, a), _angle(c, a, b))
+        return math.acos(min(_cos(a, b, c), _cos(b, c, a), _cos(c, a, b)))
     if code == CODE_MIN_ANGLE:
-        return -min(_angle(a, b, c), _angle(b, c, a), _angle(c, a, b))
+        return -math.acos(max(_cos(a, b, c), _cos(b, c, a), _cos(c, a, b)))
     if code == CODE_ASPECT_RATIO:
         s = 0.5 * (a + b + c)
         q = (s - a) * (s - b) * (s - c)

@@ -147,7 +147,7 @@ def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:
         "cells": (n - 1) * (n - 2) // 2,
         "threads": threads,
         "minplus": int(minplus),
-        "tile": int(config.FAST_TILE) if minplus else 0,
+        "tile": int(config.FAST_TILE if minplus else config.FAST_GENERIC_TILE),
     }
     return Solution(cost, tris.astype(np.int64), table, stats)
 
@@ -253,7 +253,7 @@ def _fill_minplus(
     use_mask: bool,
 ) -> None:
     code = problem.weights[0].code
-    for d0, d1, tile in _tile_chunks(problem, cost_per_split=1):
+    for d0, d1, tile in _tile_chunks(problem, int(config.FAST_TILE), cost_per_split=1):
         K.minplus_tiles(T, pts, code, mask, use_mask, tile, d0, d1)
 
 
@@ -272,7 +272,7 @@ def _fill_generic(
         T[idx, idx + 1] = T[idx + 1, idx] = v
     kernel = args.kernel("generic_tiles")
     # a weight evaluation costs about 20 min-plus steps
-    for d0, d1, tile in _tile_chunks(problem, cost_per_split=20):
+    for d0, d1, tile in _tile_chunks(problem, int(config.FAST_GENERIC_TILE), cost_per_split=20):
         kernel(
             T1,
             T2,
@@ -290,9 +290,11 @@ def _fill_generic(
         args.raise_on_nan()
 
 
-def _tile_chunks(problem: Problem, cost_per_split: int) -> Iterator[tuple[int, int, int]]:
+def _tile_chunks(
+    problem: Problem, tile: int, cost_per_split: int
+) -> Iterator[tuple[int, int, int]]:
     """Runs ``(d0, d1, tile)`` of tile-diagonals per kernel call, reporting progress."""
-    n, tile = problem.n, int(config.FAST_TILE)
+    n = problem.n
     nt = (n + tile - 1) // tile
     cells = [_tile_diagonal_cells(n, tile, d) for d in range(nt)]
     # work of tile-diagonal d: its cells times the splits each scans (~ (d + 1) tiles)
