@@ -8,6 +8,7 @@
 from __future__ import annotations
 
 from .chain import ChainOrder, matrix_chain
+from .enumerate import count_triangulations, enumerate_triangulations, random_triangulation
 from .errors import (
     EngineUnavailableError,
     InvalidPolygonError,
@@ -16,8 +17,10 @@ from .errors import (
     WeightError,
 )
 from .geometry import Polygon, as_polygon
+from .kbest import best_triangulations
 from .papertable import format_table
 from .result import Triangulation
+from .simple import require_simple, valid_diagonals
 from .solve import triangulate
 from .weights import WEIGHTS, Weight, custom_weight
 
@@ -36,8 +39,14 @@ __all__ = [
     "WeightError",
     "__version__",
     "as_polygon",
+    "best_triangulations",
+    "count_triangulations",
     "custom_weight",
+    "enumerate_triangulations",
     "format_table",
     "matrix_chain",
+    "random_triangulation",
+    "require_simple",
     "triangulate",
+    "valid_diagonals",
 ]

@@ -21,6 +21,23 @@ BRUTE_MAX_N = 13
 PYTHON_ENGINE_SOFT_MAX_N = 300
 #: Relative tolerance for geometric predicates (collinearity, convexity).
 GEOMETRY_RTOL = 1e-12
+#: method="auto" picks the GPU engine (when a GPU is present) from this many vertices on.
+GPU_AUTO_MIN_N = 3000
+#: Side of the square table tiles the GPU engine works on (shared-memory blocking).
+GPU_TILE = 64
+#: Depth of the k-slices of a tile product staged in shared memory at a time.
+GPU_K_CHUNK = 16
+#: Threads per block of the GPU kernels (tests patch it low).
+GPU_THREADS_PER_BLOCK = 256
+#: Split the k-range of a tile product until a launch has this many blocks (fills the GPU
+#: on the last tile diagonals, where few tiles remain).
+GPU_MIN_BLOCKS = 528
+#: Most blocks in one launch; grid-stride loops cover the rest.
+GPU_MAX_BLOCKS = 65535
+#: Fraction of the free device memory the GPU engine may take.
+GPU_MEMORY_FRACTION = 0.9
+#: Hard override of the device memory ceiling in bytes (None: ask the device).
+GPU_MEMORY_LIMIT_BYTES: int | None = None
 #: ``method="auto"`` leaves smaller problems to the Python engines: loading numba and the
 #: cached kernels takes about 0.8 s of CPU, longer than the whole Python DP below ~150.
 FAST_AUTO_MIN_N = 120

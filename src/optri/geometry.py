@@ -127,7 +127,7 @@ def as_polygon(data: ArrayLike | Polygon) -> Polygon:
     area = signed_area(planar)
     scale = float(np.ptp(planar, axis=0).max()) ** 2
     if abs(area) <= config.GEOMETRY_RTOL * scale * n:
-        raise InvalidPolygonError("all vertices are collinear: the polygon has no area")
+        _refuse_flat(planar)
     order = np.arange(n, dtype=np.int64)
     orientation = "ccw" if area > 0 else "cw"
     if orientation == "cw":
@@ -194,6 +194,19 @@ def _is_strictly_convex(ccw_points: NDArray[np.float64]) -> bool:
     ang = np.arctan2(edges[:, 1], edges[:, 0])
     turning = np.mod(np.diff(np.append(ang, ang[0])) + np.pi, 2 * np.pi) - np.pi
     return bool(abs(turning.sum() - 2 * np.pi) < 1e-6)
+
+
+def _refuse_flat(points: NDArray[np.float64]) -> None:
+    """Zero net area: name the crossing edges of a bow-tie, else report collinearity."""
+    from .simple import find_self_intersection, not_simple_error  # simple builds on geometry
+
+    centred = points - points.mean(axis=0)
+    if np.linalg.matrix_rank(centred, tol=config.GEOMETRY_RTOL * float(np.abs(centred).max())) < 2:
+        raise InvalidPolygonError("all vertices are collinear: the polygon has no area")
+    hit = find_self_intersection(points)
+    if hit is not None:
+        raise not_simple_error(hit[0], hit[1], len(points), hit[2])  # input order kept here
+    raise InvalidPolygonError("all vertices are collinear: the polygon has no area")
 
 
 def _require_finite(arr: NDArray[np.float64]) -> None:

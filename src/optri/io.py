@@ -20,11 +20,13 @@ __all__ = ["atomic_write", "read_polygon", "write_json"]
 
 
 def read_polygon(path: str | os.PathLike[str]) -> NDArray[np.float64]:
-    """Read polygon vertices from a CSV or JSON file.
+    """Read polygon vertices from a CSV, JSON, GeoJSON or WKT file.
 
     CSV: ``x,y`` or ``x,y,z`` per line, an optional header, ``#`` comments; a
     single column is read as vertex values. JSON: a list of pairs or numbers,
     or an object with a ``vertices``/``coordinates``/``points``/``values`` key.
+    GeoJSON (an object with a ``type``) and ``.wkt`` files: the exterior ring of
+    one polygon; a polygon with holes is refused (:mod:`optri.interop`).
 
     Raises
     ------
@@ -37,6 +39,10 @@ def read_polygon(path: str | os.PathLike[str]) -> NDArray[np.float64]:
     except OSError as exc:
         raise InvalidPolygonError(f"cannot read {p}: {exc.strerror or exc}") from exc
     suffix = p.suffix.lower()
+    if suffix == ".wkt":
+        from .interop import polygon_from_wkt
+
+        return polygon_from_wkt(text)
     if suffix in (".json", ".geojson"):
         return _parse_json(text, p)
     return _parse_csv(text, p)
@@ -47,6 +53,10 @@ def _parse_json(text: str, path: Path) -> NDArray[np.float64]:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise InvalidPolygonError(f"{path}:{exc.lineno}: invalid JSON ({exc.msg})") from exc
+    if isinstance(data, dict) and "type" in data:  # GeoJSON: exterior ring, holes refused
+        from .interop import polygon_from_geojson
+
+        return polygon_from_geojson(data)
     if isinstance(data, dict):
         for key in ("vertices", "coordinates", "points", "values"):
             if key in data:
@@ -99,6 +109,7 @@ def atomic_write(path: str | os.PathLike[str], mode: str = "w") -> Iterator[IO[A
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual file mode
     try:
         with os.fdopen(fd, mode) as fh:
             yield fh
@@ -109,6 +120,12 @@ def atomic_write(path: str | os.PathLike[str], mode: str = "w") -> Iterator[IO[A
         with contextlib.suppress(OSError):
             os.unlink(tmp)
         raise
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 def write_json(path: str | os.PathLike[str], obj: Any) -> None:

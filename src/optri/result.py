@@ -104,6 +104,12 @@ class Triangulation:
 
         return plot_triangulation(self, ax=ax, **kwargs)
 
+    def to_shapely(self) -> Any:
+        """The triangles as a ``shapely.GeometryCollection`` (:func:`optri.interop.to_shapely`)."""
+        from .interop import to_shapely
+
+        return to_shapely(self)
+
     @property
     def __geo_interface__(self) -> dict[str, Any]:
         """GeoJSON MultiPolygon of the triangles (2-D input only)."""

@@ -4,21 +4,23 @@ from __future__ import annotations
 
 import os
 import time
+import warnings
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .engines import select_engine
-from .engines.problem import Problem, ProgressFn
-from .errors import WeightError
-from .geometry import Polygon, as_polygon, require_convex
+from .engines.problem import Problem, ProgressFn, Solution
+from .errors import InvalidPolygonError, WeightError
+from .geometry import Polygon, as_polygon
 from .objective import Objective, ObjectiveLike, as_objective
 from .result import Triangulation, recompute_cost
 from .weights import Weight, WeightLike, get_weight
 
-__all__ = ["build_problem", "triangulate"]
+__all__ = ["allowed_chords", "build_problem", "solve_problem", "triangulate"]
 
 PolygonLike = ArrayLike | Polygon | str | os.PathLike[str]
 
@@ -117,15 +119,57 @@ def triangulate(
     problem = build_problem(
         polygon, weight, objective, progress=progress, keep_table=keep_table, dtype=dtype
     )
-    name, solve = select_engine(method, problem)
-    if problem.keep_table is None:
-        problem.keep_table = name in ("memo", "table")
     start = time.perf_counter()
-    solution = solve(problem)
+    try:
+        name, solution = solve_problem(problem, method)
+    except WeightError as exc:
+        if problem.allowed is None or "no valid triangulation" not in str(exc):
+            raise
+        # cannot happen for a simple polygon; guards against inconsistent predicates
+        raise InvalidPolygonError(f"the polygon has no triangulation: {exc}") from exc
     seconds = time.perf_counter() - start
+    if problem.allowed is not None:
+        _report_degenerate(problem, solution.triangles, solution.stats)
     return _to_result(
         problem, solution.cost, solution.triangles, name, seconds, solution.table, solution.stats
     )
+
+
+def solve_problem(problem: Problem, method: str = "auto") -> tuple[str, Solution]:
+    """Run an engine on ``problem``; returns ``(engine name, Solution)``.
+
+    A lexicographic objective whose primary component is ``"max"`` is not
+    monotone under the recurrence (a sub-polygon with a smaller maximum but a
+    larger secondary cost can lose later, once a larger maximum elsewhere
+    dominates), so it is solved exactly in two phases: first the bottleneck
+    value M* of the primary weight alone, then the secondary objective over the
+    triangulations whose triangles all have primary weight <= M*. A ``"sum"``
+    primary is monotone and runs as one lexicographic DP. The brute-force
+    oracle always evaluates the objective directly.
+    """
+    objective = problem.objective
+    if objective.is_lex and objective.components[0] == "max" and method != "brute":
+        first = replace(
+            problem, weights=problem.weights[:1], objective=Objective(("max",)), keep_table=False
+        )
+        _, bottleneck = solve_problem(first, method)
+        rest = replace(
+            problem,
+            weights=problem.weights[1:],
+            objective=Objective(objective.components[1:]),
+            gates=(*problem.gates, (problem.weights[0], bottleneck.cost)),
+        )
+        name, second = solve_problem(rest, method)
+        tail = second.cost if isinstance(second.cost, tuple) else (second.cost,)
+        stats = {
+            k: bottleneck.stats.get(k, 0) + second.stats.get(k, 0)
+            for k in {*bottleneck.stats, *second.stats}
+        }
+        return name, Solution((bottleneck.cost, *tail), second.triangles, second.table, stats)
+    name, solve = select_engine(method, problem)
+    if problem.keep_table is None:
+        problem.keep_table = name in ("memo", "table")
+    return name, solve(problem)
 
 
 def build_problem(
@@ -141,29 +185,43 @@ def build_problem(
     """Resolve weights and objective and decide which chords are allowed."""
     obj = as_objective(objective)
     weights = _weights_for(weight, obj)
+    options: dict[str, Any] = {}
     if allowed is None:
+        start = time.perf_counter()
         allowed = allowed_chords(polygon)
+        if allowed is not None:
+            options["mask_seconds"] = time.perf_counter() - start
     return Problem(
         polygon,
         weights,
         obj,
-        allowed,
-        progress,
-        keep_table,  # type: ignore[arg-type]
-        np.dtype(dtype),
+        allowed=allowed,
+        progress=progress,
+        keep_table=keep_table,  # type: ignore[arg-type]
+        dtype=np.dtype(dtype),
+        options=options,
     )
 
 
 def allowed_chords(polygon: Polygon) -> NDArray[np.bool_] | None:
-    """Chords a triangulation may use: None (all) for convex input.
+    """Chords a triangulation may use, in internal (counter-clockwise) indices.
 
-    Non-convex polygons are refused here until the simple-polygon support
-    computes their valid diagonals.
+    None (every chord) for a strictly convex polygon, for vertex values and for
+    a skew 3-D polygon; otherwise the polygon must be simple and the result is
+    the ``(n, n)`` bool mask of its sides and internal diagonals
+    (:func:`optri.simple.valid_diagonals`, planar 3-D input in its own plane).
+
+    Raises
+    ------
+    InvalidPolygonError
+        The boundary crosses or touches itself (the message names the edges).
     """
     if polygon.convex:
         return None
-    require_convex(polygon)
-    return None  # pragma: no cover
+    from .simple import require_simple, valid_diagonals
+
+    require_simple(polygon)
+    return valid_diagonals(polygon)
 
 
 def _weights_for(weight: Any, objective: Objective) -> tuple[Weight, ...]:
@@ -182,7 +240,31 @@ def _load(vertices: PolygonLike) -> Polygon:
         from .io import read_polygon
 
         return as_polygon(read_polygon(vertices))
+    if hasattr(vertices, "__geo_interface__"):  # shapely or any GeoJSON-like geometry
+        from .interop import geo_polygon_coords
+
+        return as_polygon(geo_polygon_coords(vertices))
     return as_polygon(vertices)  # type: ignore[arg-type]
+
+
+def _report_degenerate(problem: Problem, triangles: NDArray[np.int64], stats: Any) -> None:
+    """Record the mask's size and time and zero-area triangles (none for a simple polygon)."""
+    from .simple import zero_area_triangles
+
+    pts = problem.polygon.planar_points
+    count = zero_area_triangles(pts, triangles) if pts is not None else 0
+    if isinstance(stats, dict):
+        stats["zero_area_triangles"] = count
+        stats["valid_diagonals"] = int(np.count_nonzero(problem.allowed)) // 2 - problem.n
+        if "mask_seconds" in problem.options:
+            stats["mask_seconds"] = problem.options["mask_seconds"]
+    if count:
+        warnings.warn(
+            f"{count} zero-area triangle(s) in the optimal triangulation: collinear "
+            f"vertices left no alternative",
+            RuntimeWarning,
+            stacklevel=3,
+        )
 
 
 def _to_result(

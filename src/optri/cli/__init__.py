@@ -46,7 +46,8 @@ def main() -> None:
 
 
 def _register() -> None:
-    from . import bench_cmd, solve_cmd  # noqa: F401  (each module adds its commands to main)
+    # each module adds its commands to main
+    from . import bench_cmd, enumerate_cmd, paper_cmd, solve_cmd  # noqa: F401
 
 
 _register()

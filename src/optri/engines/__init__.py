@@ -1,8 +1,10 @@
 """Engine registry and the ``method="auto"`` choice.
 
 An engine is a module with ``solve(problem) -> Solution`` and, optionally,
-``unavailable() -> str | None`` (why it cannot run here) and
-``unsupported(problem) -> str | None`` (why it cannot take this problem).
+``unavailable() -> str | None`` (why it cannot run here),
+``unsupported(problem) -> str | None`` (why it cannot take this problem),
+``auto_accepts(problem) -> bool`` (whether ``"auto"`` should use it) and
+``SUPPORTS_GATES = True`` when it honours :attr:`Problem.gates`.
 Modules load on first use, so importing optri never imports numba or CUDA.
 """
 
@@ -67,6 +69,10 @@ def _reason_unavailable(spec: EngineSpec) -> tuple[ModuleType | None, str | None
 
 
 def _reason_unsupported(module: ModuleType, problem: Problem) -> str | None:
+    # gated problems (second phase of a max-led lexicographic objective) must never
+    # reach an engine that would silently ignore the gate
+    if problem.gates and not getattr(module, "SUPPORTS_GATES", False):
+        return "it does not support lexicographic objectives led by 'max' (triangle gates)"
     check = getattr(module, "unsupported", None)
     return check(problem) if check is not None else None
 

@@ -31,6 +31,7 @@ from ..weights import CODE_CUSTOM
 from ._jit_weights import edge_weight, triangle_weight
 
 __all__ = [
+    "NO_GATE",
     "best_split",
     "generic_tiles",
     "minplus_split",
@@ -43,6 +44,7 @@ __all__ = [
 # Table values are never NaN (weights are checked) but may be +inf (unusable chord),
 # so "ninf" must stay off.
 _FASTMATH = {"nnan", "nsz", "arcp", "contract", "reassoc"}
+NO_GATE = -2  # codes[2] when the problem has no gate
 _KBLOCK = 512  # split vertices per pass over a tile: 2 x 64 rows x 512 x 8 B fit in L2
 
 
@@ -189,11 +191,13 @@ def _combine(is_max, a, b, w):
 
 
 @njit(cache=True, inline="always")
-def best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, verts, order):
+def best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, wfng, gate, verts, order):
     """The recurrence for one cell: ``(cost1, cost2, k)``, ties to the smallest k.
 
     ``cost(i, j) = best_k combine(cost(i, k), cost(k, j), w(i, k, j))``, compared
     on component 1, then (``lex``) component 2. A NaN weight sets ``nan[0]``.
+    With ``codes[2] != NO_GATE``, a triangle whose weight ``codes[2]`` exceeds
+    ``gate[0]`` gets weight +inf (second phase of a max-led lexicographic objective).
     """
     b1, b2, arg = np.inf, np.inf, -1
     r1i, r1j = T1[i, i + 1 : j], T1[j, i + 1 : j]
@@ -204,6 +208,9 @@ def best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, verts, or
     for kk in range(r1i.shape[0]):
         k = i + 1 + kk
         w1 = _weight(codes[0], pts, i, k, j, wfn1, verts, order)
+        if codes[2] != NO_GATE:  # a triangle above the gate's threshold is forbidden
+            if _weight(codes[2], pts, i, k, j, wfng, verts, order) > gate[0]:
+                w1 = np.inf
         if w1 != w1:
             nan[0] = 1
             continue
@@ -224,7 +231,24 @@ def best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, verts, or
 
 @njit(cache=True, parallel=True)
 def generic_tiles(
-    T1, T2, pts, codes, is_max, lex, mask, use_mask, tile, d0, d1, nan, wfn1, wfn2, verts, order
+    T1,
+    T2,
+    pts,
+    codes,
+    is_max,
+    lex,
+    mask,
+    use_mask,
+    tile,
+    d0,
+    d1,
+    nan,
+    wfn1,
+    wfn2,
+    wfng,
+    gate,
+    verts,
+    order,
 ):
     """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the cost table(s).
 
@@ -244,7 +268,21 @@ def generic_tiles(
                         c1, c2 = np.inf, np.inf
                     else:
                         c1, c2, _ = best_split(
-                            T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, verts, order
+                            T1,
+                            T2,
+                            pts,
+                            codes,
+                            is_max,
+                            lex,
+                            i,
+                            j,
+                            nan,
+                            wfn1,
+                            wfn2,
+                            wfng,
+                            gate,
+                            verts,
+                            order,
                         )
                     T1[i, j] = c1
                     T1[j, i] = c1
@@ -257,14 +295,18 @@ def generic_tiles(
 
 
 @njit(cache=True, inline="always")
-def _split(T1, T2, pts, codes, is_max, lex, minplus, i, j, nan, wfn1, wfn2, verts, order):
+def _split(
+    T1, T2, pts, codes, is_max, lex, minplus, i, j, nan, wfn1, wfn2, wfng, gate, verts, order
+):
     if minplus:
         return minplus_split(T1, i, j)
-    return best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, verts, order)[2]
+    return best_split(
+        T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, wfng, gate, verts, order
+    )[2]
 
 
 @njit(cache=True)
-def trace(T1, T2, pts, codes, is_max, lex, minplus, nan, wfn1, wfn2, verts, order):
+def trace(T1, T2, pts, codes, is_max, lex, minplus, nan, wfn1, wfn2, wfng, gate, verts, order):
     """Optimal triangles from chord (0, n-1) down.
 
     Re-scans only the O(n) cells on the optimal path. Returns ``(triangles,
@@ -280,7 +322,24 @@ def trace(T1, T2, pts, codes, is_max, lex, minplus, nan, wfn1, wfn2, verts, orde
         i, j = stack[top, 0], stack[top, 1]
         if j - i < 2:
             continue
-        k = _split(T1, T2, pts, codes, is_max, lex, minplus, i, j, nan, wfn1, wfn2, verts, order)
+        k = _split(
+            T1,
+            T2,
+            pts,
+            codes,
+            is_max,
+            lex,
+            minplus,
+            i,
+            j,
+            nan,
+            wfn1,
+            wfn2,
+            wfng,
+            gate,
+            verts,
+            order,
+        )
         if k < 0:
             return tris[:m], (i, j)
         tris[m, 0], tris[m, 1], tris[m, 2] = i, k, j
@@ -292,14 +351,31 @@ def trace(T1, T2, pts, codes, is_max, lex, minplus, nan, wfn1, wfn2, verts, orde
 
 
 @njit(cache=True, parallel=True)
-def split_table(T1, T2, pts, codes, is_max, lex, minplus, nan, wfn1, wfn2, verts, order):
+def split_table(
+    T1, T2, pts, codes, is_max, lex, minplus, nan, wfn1, wfn2, wfng, gate, verts, order
+):
     """Optimal split of every chord (O(n^3): only for an exported table)."""
     n = T1.shape[0]
     out = np.full((n, n), -1, dtype=np.int32)
     for i in prange(n):
         for j in range(i + 2, n):
             out[i, j] = _split(
-                T1, T2, pts, codes, is_max, lex, minplus, i, j, nan, wfn1, wfn2, verts, order
+                T1,
+                T2,
+                pts,
+                codes,
+                is_max,
+                lex,
+                minplus,
+                i,
+                j,
+                nan,
+                wfn1,
+                wfn2,
+                wfng,
+                gate,
+                verts,
+                order,
             )
     return out
 

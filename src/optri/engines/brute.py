@@ -16,6 +16,9 @@ from .problem import Problem, Solution
 
 __all__ = ["all_index_triangulations", "solve"]
 
+#: Honours Problem.gates (through Problem.evaluator).
+SUPPORTS_GATES = True
+
 Tri = tuple[int, int, int]
 
 

@@ -18,6 +18,7 @@ ever pays the compilation.
 from __future__ import annotations
 
 import importlib.util
+import math
 from collections.abc import Iterator
 from typing import Any
 
@@ -30,7 +31,18 @@ from ..weights import CODE_CUSTOM, CODE_DIAGONAL, CODE_PERIMETER, Weight
 from .memory import require_memory
 from .problem import Problem, Solution
 
-__all__ = ["auto_accepts", "estimate_bytes", "solve", "unavailable", "unsupported"]
+__all__ = [
+    "SUPPORTS_GATES",
+    "auto_accepts",
+    "estimate_bytes",
+    "solve",
+    "unavailable",
+    "unsupported",
+]
+
+#: The generic kernel honours :attr:`Problem.gates` (one gate: max-led lexicographic pairs).
+SUPPORTS_GATES = True
+_NO_GATE = -2  # mirrors _jit_kernels.NO_GATE without importing numba
 
 _DTYPES = (np.dtype(np.float64), np.dtype(np.float32))
 _OVERHEAD = 8 << 20  # vertex copies, traceback stack, numba's thread pool
@@ -56,7 +68,9 @@ def unsupported(problem: Problem) -> str | None:
     A plain Python weight cannot be called from compiled code; decorating it
     with ``numba.njit`` makes it run compiled.
     """
-    for w in problem.weights:
+    if len(problem.gates) > 1:
+        return "more than one triangle gate (lexicographic objectives of 3+ components)"
+    for w in (*problem.weights, *(g for g, _ in problem.gates)):
         if w.code == CODE_CUSTOM and w.compiled is None:
             return (
                 f"weight {w.name!r} is a plain Python callable, which compiled code cannot "
@@ -177,7 +191,9 @@ def _use_cache_dir(numba: Any) -> None:
 
 def _is_minplus(problem: Problem) -> bool:
     code = problem.weights[0].code
-    return problem.objective.components == ("sum",) and code in (CODE_PERIMETER, CODE_DIAGONAL)
+    if problem.gates or problem.objective.components != ("sum",):
+        return False
+    return code in (CODE_PERIMETER, CODE_DIAGONAL)
 
 
 def _vertex_array(problem: Problem) -> NDArray[np.float64]:
@@ -211,14 +227,18 @@ class _Args:
         ws = problem.weights
         second = ws[1] if len(ws) > 1 else ws[0]
         self.names = [w.name for w in ws]
-        self.codes = np.array([ws[0].code, second.code], dtype=np.int64)
+        gate_w, thr = problem.gates[0] if problem.gates else (None, math.inf)
+        gate_code = _NO_GATE if gate_w is None else gate_w.code
+        self.codes = np.array([ws[0].code, second.code, gate_code], dtype=np.int64)
+        self.gate = np.array([_gate_threshold(thr, problem.dtype)], dtype=np.float64)
         comps = problem.objective.components
         self.is_max = np.array([comps[0] == "max", comps[-1] == "max"], dtype=np.bool_)
         self.lex = problem.objective.is_lex
         self.pts = pts
         self.nan = np.zeros(1, dtype=np.int64)
         self.wfn1, self.wfn2 = _compiled_fn(ws[0]), _compiled_fn(second) if self.lex else None
-        self.custom = self.wfn1 is not None or self.wfn2 is not None
+        self.wfng = None if gate_w is None else _compiled_fn(gate_w)
+        self.custom = any(f is not None for f in (self.wfn1, self.wfn2, self.wfng))
         self.verts = _user_vertices(problem) if self.custom else pts
         self.K = kernels
         self.order = np.ascontiguousarray(problem.polygon.order, dtype=np.int64)
@@ -228,7 +248,7 @@ class _Args:
         return self.K.uncached(name) if self.custom else getattr(self.K, name)
 
     def weight_args(self) -> tuple[Any, ...]:
-        return (self.nan, self.wfn1, self.wfn2, self.verts, self.order)
+        return (self.nan, self.wfn1, self.wfn2, self.wfng, self.gate, self.verts, self.order)
 
     def trace_args(self, minplus: bool) -> tuple[Any, ...]:
         return (self.pts, self.codes, self.is_max, self.lex, minplus, *self.weight_args())
@@ -237,6 +257,13 @@ class _Args:
         if self.nan[0]:
             names = " or ".join(repr(x) for x in dict.fromkeys(self.names))
             raise WeightError(f"weight {names} returned NaN for a triangle")
+
+
+def _gate_threshold(thr: float, dtype: Any) -> float:
+    """The gate's bound; from a float32 table, widened by its rounding (one float32 ulp)."""
+    if np.dtype(dtype) == np.float32 and math.isfinite(thr):
+        return float(np.nextafter(np.float32(thr), np.float32(np.inf)))
+    return float(thr)
 
 
 def _compiled_fn(weight: Weight) -> Any:

@@ -14,6 +14,9 @@ from .tables import export_table, new_tables
 
 __all__ = ["solve"]
 
+#: Honours Problem.gates (through Problem.evaluator).
+SUPPORTS_GATES = True
+
 _UNSET = None  # the paper's "infinity": not computed yet
 
 

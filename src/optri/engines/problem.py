@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -40,6 +41,11 @@ class Problem:
         below) where it can give one.
     dtype : numpy dtype
         Float type of compiled tables (float64 default).
+    gates : tuple of (Weight, float)
+        Triangle filters: a triangle whose gate weight exceeds the threshold is
+        forbidden (its weight becomes +inf). Lexicographic objectives with a
+        ``"max"`` primary are solved in two phases, the second gated by the
+        first's optimum (see :func:`optri.solve.triangulate`).
     options : dict
         Engine-specific extras.
     """
@@ -51,6 +57,7 @@ class Problem:
     progress: ProgressFn | None = None
     keep_table: bool = True
     dtype: Any = np.float64
+    gates: tuple[tuple[Weight, float], ...] = ()
     options: dict[str, Any] = field(default_factory=dict)
 
     @property
@@ -67,6 +74,18 @@ class Problem:
         def nan_error(i: int, k: int, j: int, name: str) -> WeightError:
             tri = (int(order[i]), int(order[k]), int(order[j]))
             return WeightError(f"weight {name!r} returned NaN for triangle {tri}")
+
+        if self.gates:
+            gates = [(g.evaluator(self.polygon), thr) for g, thr in self.gates]
+            inner = fns[0]
+
+            def gated(i: int, k: int, j: int) -> float:
+                for g, thr in gates:
+                    if g(i, k, j) > thr:
+                        return math.inf
+                return inner(i, k, j)
+
+            fns = [gated, *fns[1:]]
 
         if len(fns) == 1:
             (f,), (name,) = fns, names

@@ -13,6 +13,9 @@ from .tables import export_table, new_tables
 
 __all__ = ["solve"]
 
+#: Honours Problem.gates (through Problem.evaluator).
+SUPPORTS_GATES = True
+
 _UNSET = None
 
 

@@ -1,0 +1,264 @@
+"""Compiled valid-diagonal kernels for simple polygons (numba, serial: compiles fast).
+
+Imported lazily by :func:`optri.simple.valid_diagonals`, so ``import optri``
+never loads numba. Under ``NUMBA_DISABLE_JIT=1`` the same code runs as Python.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["ear_clip", "valid_mask", "visibility_mask"]
+
+
+@njit(cache=True, inline="always")
+def _orient(ax, ay, bx, by, cx, cy, tol):  # type: ignore[no-untyped-def]
+    """Sign of the turn a -> b -> c, 0 within a tolerance relative to both arms."""
+    ux = bx - ax
+    uy = by - ay
+    vx = cx - ax
+    vy = cy - ay
+    c = ux * vy - uy * vx
+    eps = tol * (abs(ux) + abs(uy)) * (abs(vx) + abs(vy))
+    if c > eps:
+        return 1
+    if c < -eps:
+        return -1
+    return 0
+
+
+@njit(cache=True)
+def _in_cone(x, y, i, j, tol):  # type: ignore[no-untyped-def]
+    """Whether the chord from vertex i towards j starts inside the (CCW) polygon."""
+    n = x.shape[0]
+    p = (i - 1) % n
+    q = (i + 1) % n
+    left_of_next = _orient(x[i], y[i], x[q], y[q], x[j], y[j], tol) > 0
+    left_of_prev = _orient(x[p], y[p], x[i], y[i], x[j], y[j], tol) > 0
+    if _orient(x[p], y[p], x[i], y[i], x[q], y[q], tol) > 0:  # convex corner
+        return left_of_next and left_of_prev
+    return left_of_next or left_of_prev  # reflex or straight: the union of half-planes
+
+
+@njit(cache=True)
+def _clear(x, y, i, j, tol):  # type: ignore[no-untyped-def]
+    """No vertex on the open chord (i, j) and no edge crossing it properly.
+
+    Vertices are visited outward from i in both directions: the edges that block
+    a chord of a simple polygon are most often near its endpoint, so most
+    invalid chords stop after a few steps.
+    """
+    n = x.shape[0]
+    dx = x[j] - x[i]
+    dy = y[j] - y[i]
+    for s in range(n - 1):
+        off = s // 2 + 1
+        a = (i + off) % n if s % 2 == 0 else (i - off) % n
+        if a == j:
+            continue
+        sa = _orient(x[i], y[i], x[j], y[j], x[a], y[a], tol)
+        if sa == 0:
+            t = (x[a] - x[i]) * dx + (y[a] - y[i]) * dy
+            if 0.0 < t < dx * dx + dy * dy:
+                return False  # the chord runs through vertex a
+        b = (a + 1) % n
+        if b == i or b == j:
+            continue
+        sb = _orient(x[i], y[i], x[j], y[j], x[b], y[b], tol)
+        if sa * sb < 0:
+            s1 = _orient(x[a], y[a], x[b], y[b], x[i], y[i], tol)
+            s2 = _orient(x[a], y[a], x[b], y[b], x[j], y[j], tol)
+            if s1 * s2 < 0:
+                return False  # edge (a, a+1) crosses the chord
+    return True
+
+
+@njit(cache=True)
+def _row(x, y, i, tol, out):  # type: ignore[no-untyped-def]
+    n = x.shape[0]
+    for j in range(i + 2, n):
+        if i == 0 and j == n - 1:
+            continue  # a polygon side
+        if _in_cone(x, y, i, j, tol) and _in_cone(x, y, j, i, tol) and _clear(x, y, i, j, tol):
+            out[i, j] = True
+            out[j, i] = True
+
+
+@njit(cache=True)
+def valid_mask(x, y, tol):  # type: ignore[no-untyped-def]
+    """(n, n) bool: ``out[i, j]`` iff chord (i, j) is an internal diagonal.
+
+    The fallback when :func:`ear_clip` fails: O(n^2) to O(n^3). Polygon sides and
+    the main diagonal are left False.
+    """
+    n = x.shape[0]
+    out = np.zeros((n, n), dtype=np.bool_)
+    for i in range(n):
+        _row(x, y, i, tol, out)
+    return out
+
+
+@njit(cache=True)
+def _blocks_ear(x, y, p, v, q, w, tol):  # type: ignore[no-untyped-def]
+    """Whether w lies in the closed counter-clockwise triangle (p, v, q)."""
+    return (
+        _orient(x[p], y[p], x[v], y[v], x[w], y[w], tol) >= 0
+        and _orient(x[v], y[v], x[q], y[q], x[w], y[w], tol) >= 0
+        and _orient(x[q], y[q], x[p], y[p], x[w], y[w], tol) >= 0
+    )
+
+
+@njit(cache=True)
+def _is_ear(x, y, prv, nxt, v, tol):  # type: ignore[no-untyped-def]
+    p = prv[v]
+    q = nxt[v]
+    if _orient(x[p], y[p], x[v], y[v], x[q], y[q], tol) <= 0:
+        return False  # not strictly convex: the triangle would be flat or outside
+    w = nxt[q]
+    while w != p:
+        if _blocks_ear(x, y, p, v, q, w, tol):
+            return False
+        w = nxt[w]
+    return True
+
+
+@njit(cache=True)
+def ear_clip(x, y, tol):  # type: ignore[no-untyped-def]
+    """Some triangulation of a simple CCW polygon with no zero-area triangle.
+
+    Returns ``(triangles (n-2, 3) int64 CCW, ok)``; ``ok`` is False if no ear
+    was found (inconsistent floating-point predicates), then the caller falls
+    back to a method that needs no triangulation. O(n^2) for most polygons.
+    """
+    n = x.shape[0]
+    prv = np.empty(n, dtype=np.int64)
+    nxt = np.empty(n, dtype=np.int64)
+    for k in range(n):
+        prv[k] = (k - 1) % n
+        nxt[k] = (k + 1) % n
+    tris = np.empty((max(n - 2, 0), 3), dtype=np.int64)
+    left = n
+    v = 0
+    misses = 0
+    m = 0
+    while left > 3:
+        if _is_ear(x, y, prv, nxt, v, tol):
+            p = prv[v]
+            q = nxt[v]
+            tris[m, 0] = p
+            tris[m, 1] = v
+            tris[m, 2] = q
+            m += 1
+            nxt[p] = q
+            prv[q] = p
+            left -= 1
+            misses = 0
+            v = p  # the new corner at p may have become an ear
+        else:
+            misses += 1
+            if misses > left:
+                return tris, False
+            v = nxt[v]
+    p = prv[v]
+    q = nxt[v]
+    tris[m, 0] = p
+    tris[m, 1] = v
+    tris[m, 2] = q
+    return tris, True
+
+
+@njit(cache=True)
+def _left_triangle(tris, n):  # type: ignore[no-untyped-def]
+    """``left[a, b]``: the triangle lying left of the directed edge a -> b, or -1."""
+    left = np.full((n, n), -1, dtype=np.int32)
+    for t in range(tris.shape[0]):
+        a = tris[t, 0]
+        b = tris[t, 1]
+        c = tris[t, 2]
+        left[a, b] = t
+        left[b, c] = t
+        left[c, a] = t
+    return left
+
+
+@njit(cache=True)
+def _third(tris, t, a, b):  # type: ignore[no-untyped-def]
+    for m in range(3):
+        c = tris[t, m]
+        if c != a and c != b:
+            return c
+    return -1
+
+
+@njit(cache=True)
+def _see_from(x, y, tris, left, i, tol, row):  # type: ignore[no-untyped-def]
+    """Mark in ``row`` every vertex visible from vertex i through the polygon.
+
+    Walks the triangulation's dual tree from the fan of triangles around i,
+    carrying the open angular window (rays i->lo and i->hi) that still reaches
+    through the current edge; a vertex strictly inside the window is visible.
+    A vertex exactly on a window ray is hidden behind the vertex defining it.
+    """
+    n = x.shape[0]
+    # stack rows: directed edge (a, b) with the unvisited triangle on the left of b -> a,
+    # and the window rays' vertices (lo on a's side, hi on b's side); each triangulation
+    # edge is pushed at most once, so 2n rows always suffice
+    stack = np.empty((2 * n, 4), dtype=np.int64)
+    top = 0
+    a = (i + 1) % n
+    t = left[i, a]
+    while t >= 0:  # the fan around i, counter-clockwise from side (i, i+1)
+        b = _third(tris, t, i, a)
+        row[a] = True
+        row[b] = True
+        top = _push(stack, top, a, b, a, b)
+        a = b
+        t = left[i, a]
+    while top > 0:
+        top -= 1
+        a, b, lo, hi = stack[top, 0], stack[top, 1], stack[top, 2], stack[top, 3]
+        t = left[b, a]
+        if t < 0:
+            continue  # a polygon side: the view stops here
+        c = _third(tris, t, a, b)
+        past_lo = _orient(x[i], y[i], x[lo], y[lo], x[c], y[c], tol) > 0
+        before_hi = _orient(x[i], y[i], x[hi], y[hi], x[c], y[c], tol) < 0
+        if past_lo and before_hi:
+            row[c] = True
+            top = _push(stack, top, a, c, lo, c)
+            top = _push(stack, top, c, b, c, hi)
+        elif past_lo:  # c at or beyond the hi ray: the window leaves through edge (a, c)
+            top = _push(stack, top, a, c, lo, hi)
+        else:  # c at or before the lo ray: the window leaves through edge (c, b)
+            top = _push(stack, top, c, b, lo, hi)
+
+
+@njit(cache=True, inline="always")
+def _push(stack, top, a, b, lo, hi):  # type: ignore[no-untyped-def]
+    stack[top, 0] = a
+    stack[top, 1] = b
+    stack[top, 2] = lo
+    stack[top, 3] = hi
+    return top + 1
+
+
+@njit(cache=True)
+def visibility_mask(x, y, tris, tol):  # type: ignore[no-untyped-def]
+    """(n, n) bool vertex visibility from a triangulation ``tris``; O(n^2) in all.
+
+    ``out[i, j]`` iff the open segment (i, j) lies in the polygon's interior
+    (sides included, as they are seen too). Made symmetric by AND, so rounding
+    can only ever drop a chord, never admit an outside one.
+    """
+    n = x.shape[0]
+    left = _left_triangle(tris, n)
+    out = np.zeros((n, n), dtype=np.bool_)
+    for i in range(n):
+        _see_from(x, y, tris, left, i, tol, out[i])
+    for i in range(n):
+        for j in range(i + 1, n):
+            both = out[i, j] and out[j, i]
+            out[i, j] = both
+            out[j, i] = both
+    return out

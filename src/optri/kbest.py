@@ -1,0 +1,160 @@
+"""The k best triangulations by weight: a k-best dynamic program.
+
+Each cell (i, j) keeps its k cheapest sub-triangulations, as (cost, split,
+rank in (i, split), rank in (split, j)). Both "sum" and "max" (and their
+lexicographic pairs) are monotone in each half's cost, so the candidates of a
+split k form a sorted grid over the two halves' sorted lists, and the k best of
+all splits come out of one heap seeded with each split's best pair and grown
+lazily: popping (a, b) pushes (a + 1, b) and (a, b + 1).
+"""
+
+from __future__ import annotations
+
+import heapq
+from typing import Any
+
+from .enumerate import PolygonOrN, as_enumerable
+from .errors import InvalidPolygonError, WeightError
+from .objective import ObjectiveLike, as_objective
+from .result import Triangulation
+from .triangulations import TriangulationBuilder, usable_chords
+
+__all__ = ["best_triangulations"]
+
+#: Largest number of triangulations the fallback for non-monotone objectives enumerates.
+KBEST_ENUMERATION_LIMIT = 2_000_000
+
+Entry = tuple[Any, int, int, int]  # (cost, split, rank left, rank right)
+
+
+def best_triangulations(
+    vertices: PolygonOrN,
+    weight: Any = "perimeter",
+    k: int = 10,
+    objective: ObjectiveLike = "sum",
+) -> list[Triangulation]:
+    """The ``k`` cheapest triangulations, cheapest first (fewer if there are fewer).
+
+    Parameters
+    ----------
+    vertices : array_like or int
+        The polygon (or n for the regular n-gon).
+    weight : str or callable
+    k : int
+        How many to return (>= 1).
+    objective : {"sum", "max"} or pair
+
+    Returns
+    -------
+    list of Triangulation
+        Costs non-decreasing; ``method == "kbest"``. The first has the optimal
+        cost (ties may be broken differently from :func:`optri.triangulate`).
+
+    Notes
+    -----
+    For "sum", "max" and "sum"-led lexicographic pairs (monotone objectives):
+    O(n^3 + n^2 k log(n + k)) time and O(n^2 k) space: each of the O(n^2)
+    cells scans its O(n) splits once and pops k entries from a heap.
+    A "max"-led lexicographic pair is not monotone, so it falls back to a heap
+    over the full enumeration (exact; at most ``KBEST_ENUMERATION_LIMIT``
+    triangulations). Weights equal up to rounding may come in either order.
+
+    Examples
+    --------
+    >>> best = best_triangulations([5, 1, 5, 1, 5], "product", k=3)
+    >>> [t.weight for t in best]
+    [35.0, 35.0, 75.0]
+    """
+    if k < 1:
+        raise ValueError(f"k must be at least 1, got {k}")
+    polygon = as_enumerable(vertices)
+    build = TriangulationBuilder(polygon, weight, objective, "kbest")
+    obj = as_objective(objective)
+    if not _monotone(obj.components):
+        return _by_enumeration(polygon, build, k)
+    combine, neutral = obj.combine, obj.neutral
+    n = polygon.n
+    ok = usable_chords(polygon)
+    best: dict[tuple[int, int], list[Entry]] = {
+        (i, i + 1): [(neutral, -1, 0, 0)] for i in range(n - 1)
+    }
+    for d in range(2, n):
+        for i in range(n - d):
+            j = i + d
+            if ok is None or ok[i][j]:
+                best[(i, j)] = _cell(i, j, k, best, ok, combine, build.triangle_weight)
+    top = best.get((0, n - 1), [])
+    if not top:
+        raise InvalidPolygonError("the polygon has no triangulation with its allowed chords")
+    out = []
+    for rank, entry in enumerate(top):
+        tris = _expand(best, 0, n - 1, rank)
+        out.append(build(tris, obj.finalize(entry[0])))
+    return out
+
+
+def _monotone(components: tuple[str, ...]) -> bool:
+    """True when combine preserves order in each half's cost (per-cell k best suffice).
+
+    "sum" and "max" are; a lexicographic pair is when its first component is
+    "sum". With "max" first it is not: (1, 100) < (2, 5), yet with a triangle
+    (3, 0) they give (3, 100) > (3, 5), so a cell's k best can miss the answer.
+    """
+    return len(components) == 1 or components[0] == "sum"
+
+
+def _by_enumeration(polygon, build, k):  # type: ignore[no-untyped-def]
+    """Exact k best of a non-monotone objective: every triangulation, kept in a heap."""
+    from .enumerate import count_triangulations, index_triangulations
+
+    total = count_triangulations(polygon)
+    if total > KBEST_ENUMERATION_LIMIT:
+        raise WeightError(
+            f"k-best for a lexicographic objective led by 'max' enumerates all {total} "
+            f"triangulations, above the limit {KBEST_ENUMERATION_LIMIT}; use a 'sum'-led "
+            "objective or fewer vertices"
+        )
+    scored = (
+        (build.cost(t), i, [list(x) for x in t])
+        for i, t in enumerate(index_triangulations(polygon))
+    )
+    return [build(tris, cost) for cost, _, tris in heapq.nsmallest(k, scored)]
+
+
+def _cell(i, j, k, best, ok, combine, w):  # type: ignore[no-untyped-def]
+    """The k best entries of chord (i, j) by lazy merging of its splits."""
+    heap = []
+    for s in range(i + 1, j):
+        if ok is not None and not (ok[i][s] and ok[s][j]):
+            continue
+        left, right = best.get((i, s)), best.get((s, j))
+        if not left or not right:
+            continue
+        ws = w(i, s, j)
+        heap.append((combine(left[0][0], right[0][0], ws), s, 0, 0, ws))
+    heapq.heapify(heap)
+    out: list[Entry] = []
+    seen = set()
+    while heap and len(out) < k:
+        cost, s, a, b, ws = heapq.heappop(heap)
+        out.append((cost, s, a, b))
+        left, right = best[(i, s)], best[(s, j)]
+        for a2, b2 in ((a + 1, b), (a, b + 1)):
+            if a2 < len(left) and b2 < len(right) and (s, a2, b2) not in seen:
+                seen.add((s, a2, b2))
+                heapq.heappush(heap, (combine(left[a2][0], right[b2][0], ws), s, a2, b2, ws))
+    return out
+
+
+def _expand(best, i: int, j: int, rank: int) -> list[list[int]]:  # type: ignore[no-untyped-def]
+    """Triangles of the rank-th best sub-triangulation of (i, j)."""
+    tris = []
+    stack = [(i, j, rank)]
+    while stack:
+        a, b, r = stack.pop()
+        if b - a < 2:
+            continue
+        _, s, ra, rb = best[(a, b)][r]
+        tris.append([a, s, b])
+        stack += [(a, s, ra), (s, b, rb)]
+    return tris

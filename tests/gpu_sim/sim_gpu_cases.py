@@ -1,0 +1,196 @@
+"""GPU kernels under numba's CUDA simulator, against the pure-Python memo engine.
+
+Not collected by the main test run (the file name does not start with ``test_``):
+``tests/test_gpu_sim.py`` runs it in a subprocess with ``NUMBA_ENABLE_CUDASIM=1``,
+which must be set before numba is imported. Tiles, slices, threads and grid are
+patched tiny so that n <= 40 spans many tiles, blocks and k-splits.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+
+import numpy as np
+import pytest
+
+if os.environ.get("NUMBA_ENABLE_CUDASIM") != "1":  # pragma: no cover
+    pytest.skip("run through tests/test_gpu_sim.py (needs the simulator)", allow_module_level=True)
+
+# the simulator runs each CUDA thread as a Python thread; frequent switching
+# makes its barriers (syncthreads) cheap
+sys.setswitchinterval(1e-4)
+
+from optri import config  # noqa: E402
+from optri.engines import gpu, memo, select_engine  # noqa: E402
+from optri.engines.brute import solve as brute_solve  # noqa: E402
+from optri.errors import (  # noqa: E402
+    EngineUnavailableError,
+    TableTooLargeError,
+    WeightError,
+)
+from optri.geometry import as_polygon  # noqa: E402
+from optri.result import chords_cross_free, diagonals_of  # noqa: E402
+from optri.solve import build_problem, triangulate  # noqa: E402
+
+SMALL = {"GPU_TILE": 4, "GPU_K_CHUNK": 2, "GPU_THREADS_PER_BLOCK": 4, "GPU_MIN_BLOCKS": 6,
+         "GPU_MAX_BLOCKS": 3}  # fmt: skip
+
+
+@pytest.fixture(autouse=True)
+def tiny_kernels(monkeypatch):
+    for name, value in SMALL.items():
+        monkeypatch.setattr(config, name, value)
+
+
+def convex(n, seed):
+    rng = np.random.default_rng(seed)
+    ang = np.sort(rng.uniform(0.0, 2.0 * math.pi, n))
+    r = rng.uniform(1.0, 3.0)
+    return as_polygon(np.c_[r * np.cos(ang), 0.7 * r * np.sin(ang)])
+
+
+def comb(teeth, seed):
+    """A comb (simple, non-convex): its short tip-to-tip chords lie outside it.
+
+    Returns the polygon and its usable chords, found by brute force with shapely.
+    """
+    from shapely.geometry import LineString
+    from shapely.geometry import Polygon as ShapelyPolygon
+
+    rng = np.random.default_rng(seed)
+    top = []
+    for t in range(teeth, 0, -1):
+        top.append((t + rng.uniform(-0.1, 0.1), 3.0 + rng.uniform(0.0, 0.5)))  # tip
+        top.append((t - 0.5 + rng.uniform(-0.1, 0.1), 0.5 + rng.uniform(0.0, 0.3)))  # valley
+    poly = as_polygon(np.array([(0.0, 0.0), (teeth + 0.5, 0.0), *top]))
+    assert not poly.convex
+    n, pts, shape = poly.n, poly.data, ShapelyPolygon(poly.data)
+    ok = np.zeros((n, n), dtype=bool)
+    for a in range(n):
+        for b in range(a + 2, n):
+            ok[a, b] = ok[b, a] = shape.contains(LineString([pts[a], pts[b]]))
+    return poly, ok
+
+
+def check_against_memo(problem, rtol=1e-9):
+    """GPU cost equals memo's; GPU triangles form a triangulation attaining it."""
+    got = gpu.solve(problem)
+    want = memo.solve(problem)
+    assert math.isclose(got.cost, want.cost, rel_tol=rtol, abs_tol=rtol), (got.cost, want.cost)
+    n, tris = problem.n, got.triangles
+    assert tris.shape == (n - 2, 3)
+    assert ((tris[:, 0] < tris[:, 1]) & (tris[:, 1] < tris[:, 2])).all()
+    diags = diagonals_of(tris, n)
+    assert len(diags) == n - 3 and chords_cross_free(diags)
+    if problem.allowed is not None:
+        assert all(problem.allowed[a, b] for a, b in diags.tolist())
+    w = problem.evaluator()
+    again = problem.objective.aggregate([w(*t) for t in tris.tolist()])
+    assert math.isclose(again, want.cost, rel_tol=rtol, abs_tol=rtol), (again, want.cost)
+    return got, want
+
+
+POINT_WEIGHTS = ["perimeter", "diagonal", "area", "max_angle", "min_angle", "aspect_ratio"]
+
+
+@pytest.mark.parametrize("objective", ["sum", "max"])
+@pytest.mark.parametrize("weight", POINT_WEIGHTS)
+def test_convex_each_weight(weight, objective):
+    poly = convex(14, seed=len(weight) + 7 * len(objective))
+    check_against_memo(build_problem(poly, weight, objective))
+
+
+@pytest.mark.parametrize("objective", ["sum", "max"])
+def test_product_values(objective):
+    dims = np.random.default_rng(5).integers(2, 40, 15)
+    check_against_memo(build_problem(as_polygon(dims), "product", objective))
+
+
+@pytest.mark.parametrize(("weight", "objective"), [("area", "max"), ("perimeter", "sum")])
+def test_3d_polygon(weight, objective):
+    flat = convex(15, seed=8).data
+    tilt = np.c_[flat[:, 0], 0.6 * flat[:, 1], 0.8 * flat[:, 1] + 0.3 * flat[:, 0]]
+    check_against_memo(build_problem(as_polygon(tilt), weight, objective))
+
+
+def test_convex_n40_many_tiles_and_splits():
+    check_against_memo(build_problem(convex(40, seed=3), "perimeter", "sum"))
+
+
+@pytest.mark.parametrize(("tile", "chunk", "threads"), [(8, 4, 16), (4, 4, 3), (8, 2, 5)])
+def test_other_kernel_shapes(monkeypatch, tile, chunk, threads):
+    monkeypatch.setattr(config, "GPU_TILE", tile)
+    monkeypatch.setattr(config, "GPU_K_CHUNK", chunk)
+    monkeypatch.setattr(config, "GPU_THREADS_PER_BLOCK", threads)
+    check_against_memo(build_problem(convex(23, seed=tile + threads), "max_angle", "max"))
+
+
+@pytest.mark.parametrize(
+    ("weight", "objective"), [("perimeter", "sum"), ("min_angle", "max"), ("aspect_ratio", "sum")]
+)
+def test_simple_polygon_mask(weight, objective):
+    poly, ok = comb(7, seed=len(weight))
+    _, want = check_against_memo(build_problem(poly, weight, objective, allowed=ok))
+    free = memo.solve(build_problem(poly, weight, objective, allowed=np.ones_like(ok)))
+    assert want.cost != pytest.approx(free.cost)  # the mask changes the optimum
+
+
+def test_simple_polygon_matches_brute_force():
+    poly, ok = comb(4, seed=11)
+    problem = build_problem(poly, "diagonal", "sum", allowed=ok)
+    assert math.isclose(gpu.solve(problem).cost, brute_solve(problem).cost, rel_tol=1e-9)
+
+
+def test_no_valid_triangulation_is_a_weight_error():
+    ok = np.zeros((7, 7), dtype=bool)  # sides only: no chord may be drawn
+    problem = build_problem(convex(7, seed=1), "perimeter", "sum", allowed=ok)
+    with pytest.raises(WeightError, match="no valid triangulation"):
+        gpu.solve(problem)
+
+
+def test_table_equals_memo_table():
+    problem = build_problem(convex(13, seed=2), "perimeter", "sum", keep_table=True)
+    got, want = check_against_memo(problem)
+    n = problem.n
+    upper = np.triu_indices(n, 1)
+    np.testing.assert_allclose(got.table[upper], want.table[upper], rtol=1e-9)
+    np.testing.assert_array_equal(got.table.T[upper], want.table.T[upper])  # splits
+
+
+def test_float32():
+    problem = build_problem(convex(18, seed=4), "perimeter", "sum", dtype=np.float32)
+    got = gpu.solve(problem)
+    want = memo.solve(problem)
+    assert math.isclose(got.cost, want.cost, rel_tol=1e-5)
+
+
+def test_triangulate_method_gpu_and_progress():
+    calls = []
+    tri = triangulate(convex(12, seed=9).vertices, "perimeter", method="gpu",
+                      progress=lambda d, t: calls.append((d, t)))  # fmt: skip
+    tri.check()
+    assert tri.method == "gpu"
+    assert calls and calls[-1][0] == calls[-1][1] == 3
+
+
+def test_auto_never_picks_the_simulator(monkeypatch):
+    monkeypatch.setattr(config, "GPU_AUTO_MIN_N", 3)
+    assert gpu.unavailable() is None
+    name, _ = select_engine("auto", build_problem(convex(8, seed=1), "perimeter", "sum"))
+    assert name != "gpu"
+
+
+def test_unsupported_are_clear_errors():
+    poly = convex(8, seed=1)
+    with pytest.raises(EngineUnavailableError, match="Python callable"):
+        triangulate(poly.vertices, lambda i, k, j: 1.0, method="gpu")
+    with pytest.raises(EngineUnavailableError, match="lexicographic"):
+        triangulate(poly.vertices, ("max_angle", "perimeter"), ("max", "sum"), method="gpu")
+
+
+def test_device_memory_ceiling(monkeypatch):
+    monkeypatch.setattr(config, "GPU_MEMORY_LIMIT_BYTES", 1000)
+    with pytest.raises(TableTooLargeError, match="float32"):
+        gpu.solve(build_problem(convex(30, seed=1), "perimeter", "sum"))

@@ -1,0 +1,150 @@
+"""Bad input: a clear optri error from the API, one line and exit 2 from the CLI."""
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import optri
+from optri import config
+
+SQUARE = [[0, 0], [1, 0], [1, 1], [0, 1]]
+
+
+@pytest.mark.parametrize(
+    "vertices, fragment",
+    [
+        ([[0, 0], [1, 0]], "at least 3"),
+        ([], "at least 3"),
+        ([[0, 0], [1, np.nan], [1, 1]], "non-finite"),
+        ([[0, 0], [1, np.inf], [1, 1]], "non-finite"),
+        ([[0, 0], [1, 0], [1, 0], [0, 1]], "repeats"),
+        ([[0, 0], [1, 0], [1, 1], [0, 1], [1, 0], [2, 2]], "repeats"),
+        ([[0, 0], [1, 1], [2, 2]], "collinear"),
+        ([[0, 0, 0, 0]], "shape"),
+        ([["a", "b"], ["c", "d"], ["e", "f"]], "numbers"),
+    ],
+)
+def test_invalid_polygons(vertices, fragment):
+    with pytest.raises(optri.InvalidPolygonError, match=fragment):
+        optri.triangulate(vertices)
+
+
+def test_non_convex_refused_by_convex_solver():
+    from optri.geometry import as_polygon, require_convex
+
+    with pytest.raises(optri.InvalidPolygonError, match="not convex"):
+        require_convex(as_polygon([[0, 0], [2, 0], [1, 0.2], [2, 2], [0, 2]]))
+    with pytest.raises(optri.InvalidPolygonError, match="collinear"):
+        require_convex(as_polygon([[0, 0], [1, 0], [2, 0], [2, 2], [0, 2]]))
+
+
+def test_pentagram_is_not_convex():
+    ang = np.pi / 2 + 2 * np.pi * np.arange(5) / 5
+    star = np.column_stack((np.cos(ang), np.sin(ang)))[[0, 2, 4, 1, 3]]
+    assert not optri.as_polygon(star).convex
+
+
+def test_weight_errors():
+    with pytest.raises(optri.WeightError, match="unknown weight"):
+        optri.triangulate(SQUARE, "nonsense")
+    with pytest.raises(optri.WeightError, match="NaN"):
+        optri.triangulate(SQUARE, lambda i, k, j: math.nan, method="memo")
+    with pytest.raises(optri.WeightError, match="values"):
+        optri.triangulate(SQUARE, "product")
+    with pytest.raises(optri.WeightError, match="coordinates"):
+        optri.triangulate([1, 2, 3], "perimeter")
+    with pytest.raises(optri.WeightError, match="component"):
+        optri.triangulate(SQUARE, "perimeter", ("max", "sum"))
+    with pytest.raises(optri.WeightError, match="objective"):
+        optri.triangulate(SQUARE, "perimeter", "median")
+
+
+def test_unknown_method():
+    with pytest.raises(optri.EngineUnavailableError, match="unknown method"):
+        optri.triangulate(SQUARE, method="quantum")
+
+
+def test_brute_refuses_large_n():
+    ang = np.linspace(0, 2 * np.pi, config.BRUTE_MAX_N + 1, endpoint=False)
+    with pytest.raises(optri.InvalidPolygonError, match="brute"):
+        optri.triangulate(np.column_stack((np.cos(ang), np.sin(ang))), method="brute")
+
+
+def test_table_too_large_refused_before_allocating(monkeypatch):
+    monkeypatch.setattr(config, "MEMORY_LIMIT_BYTES", 10_000)
+    ang = np.linspace(0, 2 * np.pi, 100, endpoint=False)
+    with pytest.raises(optri.TableTooLargeError, match="MB"):
+        optri.triangulate(np.column_stack((np.cos(ang), np.sin(ang))), method="table")
+
+
+def run_cli(*args, cwd=None):
+    return subprocess.run(
+        [sys.executable, "-m", "optri", *args], capture_output=True, text=True, cwd=cwd, timeout=120
+    )
+
+
+@pytest.mark.parametrize(
+    "content",
+    ["0,0\n1,0\n", "0,0\n1,nan\n1,1\n", "0,0\n1,0\n1,0\n0,1\n", "x,y\n0,0\nfoo,1\n1,1\n"],
+)
+def test_cli_bad_input_one_line_exit_2(tmp_path, content):
+    f = tmp_path / "bad.csv"
+    f.write_text(content)
+    r = run_cli("solve", str(f))
+    assert r.returncode == 2
+    assert r.stderr.count("\n") == 1 and r.stderr.startswith("optri: error:")
+    assert "Traceback" not in r.stderr
+
+
+def test_cli_missing_file_and_bad_weight(tmp_path):
+    r = run_cli("solve", str(tmp_path / "none.csv"))
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    f = tmp_path / "sq.csv"
+    f.write_text("0,0\n1,0\n1,1\n0,1\n")
+    r = run_cli("solve", str(f), "--weight", "nonsense")
+    assert r.returncode == 2 and "unknown weight" in r.stderr
+    r = run_cli("chain", "3", "0", "4")
+    assert r.returncode == 2 and r.stderr.count("\n") == 1
+
+
+def test_cli_plot_write_failure_leaves_nothing(tmp_path):
+    f = tmp_path / "sq.csv"
+    f.write_text("0,0\n1,0\n1,1\n0,1\n")
+    out = tmp_path / "plot.png"
+    out.write_bytes(b"old")
+    r = run_cli("solve", str(f), "--weight", "nonsense", "--plot", str(out), "--json")
+    assert r.returncode == 2
+    assert out.read_bytes() == b"old"
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
+    json.loads(run_cli("solve", str(f), "--json").stdout)
+
+
+def test_atomic_write_gives_normal_permissions(tmp_path):
+    import os
+    import stat
+
+    from optri.io import atomic_write
+
+    out = tmp_path / "x.txt"
+    with atomic_write(out) as fh:
+        fh.write("x")
+    mask = os.umask(0)
+    os.umask(mask)
+    assert stat.S_IMODE(out.stat().st_mode) == 0o666 & ~mask
+
+
+def test_atomic_write_failure_keeps_old_file(tmp_path):
+    from optri.io import atomic_write
+
+    out = tmp_path / "x.txt"
+    out.write_text("old")
+    with pytest.raises(RuntimeError):
+        with atomic_write(out) as fh:
+            fh.write("new, half")
+            raise RuntimeError("interrupted")
+    assert out.read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir()] == ["x.txt"]

@@ -1,0 +1,36 @@
+import numpy as np
+import pytest
+
+import optri
+from optri.papertable import table_cells
+
+
+def test_table1_upper_part_cell_by_cell():
+    t = optri.triangulate([5, 1, 5, 1, 5], "product", method="memo")
+    cells, marks = table_cells(t, "paper")
+    assert cells[0] == ["0", "25", "10", "35", "X"]
+    assert cells[1][2:] == ["5", "10", "X"]
+    assert cells[2][3:] == ["25", "X"]
+    # below the diagonal: adjacent pairs and candidate splits, the optimum starred
+    assert [cells[r][r - 1] for r in range(1, 5)] == ["(2,1)", "(3,2)", "(4,3)", "(5,4)"]
+    assert cells[4][0].replace("*", "") == "2,3,4"
+    assert cells[3][1] == "3*" and cells[4][1] == "3,4*"
+    assert cells[4][0].count("*") == 1
+
+
+def test_vertex_style_is_consistent():
+    t = optri.triangulate([5, 1, 5, 1, 5], "product", method="table")
+    cells, _ = table_cells(t, "vertex")
+    assert cells[0][4] == "35" and cells[4][0] == "1"
+
+
+def test_no_table_error_and_plot():
+    ang = np.linspace(0, 2 * np.pi, 6, endpoint=False)
+    t = optri.triangulate(np.column_stack((np.cos(ang), np.sin(ang))), method="brute")
+    with pytest.raises(optri.OptriError, match="no table"):
+        optri.format_table(t)
+    t2 = optri.triangulate([5, 1, 5, 1, 5], "product", method="memo")
+    from optri.plot import plot_table
+
+    assert plot_table(t2) is not None
+    assert t2.plot() is not None

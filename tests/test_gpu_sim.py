@@ -1,0 +1,32 @@
+"""Run the GPU kernels under numba's CUDA simulator, in a subprocess.
+
+``NUMBA_ENABLE_CUDASIM`` is read when numba is imported, so the simulator cases
+(tests/gpu_sim/sim_gpu_cases.py) run in a fresh interpreter with it set; the
+rest of the suite keeps running in normal mode.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import optri
+
+pytest.importorskip("numba_cuda", reason="the CUDA simulator comes with numba-cuda")
+
+CASES = Path(__file__).parent / "gpu_sim" / "sim_gpu_cases.py"
+
+
+def test_gpu_kernels_under_the_simulator(tmp_path):
+    src = str(Path(optri.__file__).resolve().parents[1])
+    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
+    env["PYTHONPATH"] = os.pathsep.join([src, env.get("PYTHONPATH", "")]).rstrip(os.pathsep)
+    cmd = [sys.executable, "-m", "pytest", "-q", "-o", "addopts=", "-p", "no:cacheprovider",
+           "--rootdir", str(tmp_path), str(CASES)]  # fmt: skip
+    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout[-6000:] + proc.stderr[-2000:]
+    assert " passed" in proc.stdout and "skipped" not in proc.stdout
