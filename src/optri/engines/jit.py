@@ -127,7 +127,8 @@ def solve(problem: Problem) -> Solution:
     dtype = np.dtype(problem.dtype)
     minplus = _is_minplus(problem)
     require_memory(
-        estimate_bytes(n, dtype, lex, bool(problem.keep_table)),
+        estimate_bytes(n, dtype, lex, bool(problem.keep_table))
+        + (n * n if problem.allowed is not None else 0),  # a possible copy of the mask
         f"the fast engine's {n} x {n} {dtype} table{'s' if lex else ''}",
         "use dtype=float32 (half the memory) or method='gpu'",
     )
@@ -204,10 +205,12 @@ def _vertex_array(problem: Problem) -> NDArray[np.float64]:
 def _mask(problem: Problem) -> tuple[NDArray[np.bool_], bool]:
     if problem.allowed is None:
         return np.ones((1, 1), dtype=np.bool_), False
-    ok = np.array(problem.allowed, dtype=np.bool_, copy=True)
+    ok = np.ascontiguousarray(problem.allowed, dtype=np.bool_)
     n, idx = problem.n, np.arange(problem.n - 1)
-    ok[idx, idx + 1] = ok[idx + 1, idx] = True  # polygon sides are always usable
-    ok[0, n - 1] = ok[n - 1, 0] = True
+    if not (ok[idx, idx + 1].all() and ok[0, n - 1]):
+        ok = ok.copy()  # polygon sides are always usable; never write the caller's mask
+        ok[idx, idx + 1] = ok[idx + 1, idx] = True
+        ok[0, n - 1] = ok[n - 1, 0] = True
     return ok, True
 
 
