@@ -44,6 +44,8 @@ FAST_AUTO_MIN_N = 120
 #: Compiled engine: below this n the kernels run on one thread: a parallel region costs a
 #: thread wake-up per (tile-)diagonal, milliseconds on a busy machine, more than it saves.
 FAST_PARALLEL_MIN_N = 1000
+#: The same for the generic kernel (any weight), whose splits cost ~20x more each.
+FAST_GENERIC_PARALLEL_MIN_N = 250
 #: Compiled engine: side of the square tiles of cells of the min-plus kernel.
 FAST_TILE = 64
 #: Compiled engine: tile side of the generic kernel (any weight): compute-bound, so small

@@ -132,7 +132,7 @@ def solve(problem: Problem) -> Solution:
         f"the fast engine's {n} x {n} {dtype} table{'s' if lex else ''}",
         "use dtype=float32 (half the memory) or method='gpu'",
     )
-    threads = _threads(numba, problem)
+    threads = _threads(numba, problem, minplus)
     previous = numba.get_num_threads()
     numba.set_num_threads(threads)
     try:
@@ -176,11 +176,12 @@ def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:
 # --- helpers -----------------------------------------------------------------------
 
 
-def _threads(numba: Any, problem: Problem) -> int:
+def _threads(numba: Any, problem: Problem, minplus: bool) -> int:
     """Threads for this problem: ``options["threads"]``, else all above the size threshold."""
     wanted = problem.options.get("threads")
     if wanted is None:
-        wanted = numba.get_num_threads() if problem.n >= config.FAST_PARALLEL_MIN_N else 1
+        small = config.FAST_PARALLEL_MIN_N if minplus else config.FAST_GENERIC_PARALLEL_MIN_N
+        wanted = numba.get_num_threads() if problem.n >= small else 1
     return max(1, min(int(wanted), numba.config.NUMBA_NUM_THREADS))
 
 
