@@ -38,6 +38,23 @@ GPU_MAX_BLOCKS = 65535
 GPU_MEMORY_FRACTION = 0.9
 #: Hard override of the device memory ceiling in bytes (None: ask the device).
 GPU_MEMORY_LIMIT_BYTES: int | None = None
+#: ``method="auto"`` leaves smaller problems to the Python engines: loading numba and the
+#: cached kernels takes about 0.8 s of CPU, longer than the whole Python DP below ~150.
+FAST_AUTO_MIN_N = 120
+#: Compiled engine: below this n the kernels run on one thread: a parallel region costs a
+#: thread wake-up per (tile-)diagonal, milliseconds on a busy machine, more than it saves.
+FAST_PARALLEL_MIN_N = 1000
+#: The same for the generic kernel (any weight), whose splits cost ~20x more each.
+FAST_GENERIC_PARALLEL_MIN_N = 250
+#: Compiled engine: side of the square tiles of cells of the min-plus kernel.
+FAST_TILE = 64
+#: Compiled engine: tile side of the generic kernel (any weight): compute-bound, so small
+#: tiles that keep each kernel call short (progress, Ctrl-C) cost nothing.
+FAST_GENERIC_TILE = 16
+#: Compiled engine: work (about min-plus steps) per kernel call between progress reports.
+FAST_CHUNK_WORK = 3e8
+#: Compiled engine: numba cache folder when NUMBA_CACHE_DIR is unset (None: numba's default).
+JIT_CACHE_DIR: str | None = None
 
 _DEFAULTS = {k: v for k, v in dict(globals()).items() if k.isupper()}
 

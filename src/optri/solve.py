@@ -291,5 +291,21 @@ def _to_result(
         order=polygon.order,
         stats=dict(stats or {}),
         seconds=seconds,
-        _recompute=recompute_cost(problem.evaluator(), objective, polygon.order),
+        _recompute=recompute_cost(_lazy_evaluator(problem), objective, polygon.order),
     )
+
+
+def _lazy_evaluator(problem: Problem) -> Any:
+    """``problem.evaluator()``, bound on first use.
+
+    Compiled engines never need it unless ``Triangulation.check()`` runs, and
+    binding costs O(n^2) for n <= 1500.
+    """
+    bound: list[Any] = []
+
+    def w(i: int, k: int, j: int) -> Any:
+        if not bound:
+            bound.append(problem.evaluator())
+        return bound[0](i, k, j)
+
+    return w

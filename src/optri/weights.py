@@ -83,6 +83,9 @@ class Weight:
         Id of the compiled implementation (``CODE_CUSTOM`` if none).
     func : callable or None
         The user's function, for custom weights.
+    compiled : callable or None
+        The user's function when it is numba-compiled (``numba.njit``), so the
+        compiled engine can call it: ``w(vertices, i, k, j)`` over input indices.
     """
 
     name: str
@@ -92,9 +95,15 @@ class Weight:
     code: int = CODE_CUSTOM
     func: Callable[..., float] | None = field(default=None, compare=False)
     description: str = ""
+    compiled: Callable[..., float] | None = field(default=None, compare=False)
 
     def evaluator(self, polygon: Polygon) -> TriangleFn:
         """Return ``w(i, k, j)`` over ``polygon``'s internal indices."""
+        self.check(polygon)
+        return self.bind(polygon)
+
+    def check(self, polygon: Polygon) -> None:
+        """Raise :class:`WeightError` if the weight cannot read ``polygon``'s data."""
         if self.needs == "points" and polygon.is_values:
             raise WeightError(f"weight {self.name!r} needs vertex coordinates, got 1-D values")
         if self.needs == "values" and not polygon.is_values:
@@ -102,7 +111,6 @@ class Weight:
                 f"weight {self.name!r} needs a 1-D sequence of vertex values "
                 f"(matrix dimensions), got coordinates"
             )
-        return self.bind(polygon)
 
 
 WeightLike = Union[str, Weight, Callable[..., float]]
@@ -146,9 +154,12 @@ def custom_weight(func: Callable[..., float], name: str = "custom") -> Weight:
     """Wrap a user callable ``w(i, k, j)`` or ``w(vertices, i, k, j)``.
 
     Indices passed to ``func`` are *input* vertex indices (before any
-    re-orientation), so ``func`` may index the caller's own arrays.
+    re-orientation), so ``func`` may index the caller's own arrays. A
+    numba-compiled ``func`` (``@numba.njit``) taking ``(vertices, i, k, j)``
+    runs inside the compiled engine (``method="fast"``); any other callable
+    makes ``method="auto"`` use a Python engine.
     """
-    wants_vertices = _positional_arity(func) >= 4
+    wants_vertices = _positional_arity(getattr(func, "py_func", func)) >= 4
 
     def bind(polygon: Polygon) -> TriangleFn:
         orig = polygon.order.tolist()
@@ -165,7 +176,14 @@ def custom_weight(func: Callable[..., float], name: str = "custom") -> Weight:
 
         return w
 
-    return Weight(name, "any", bind, func=func, description="user callable")
+    compiled = func if wants_vertices and _is_numba_function(func) else None
+    kind = "numba-compiled user callable" if compiled is not None else "user callable"
+    return Weight(name, "any", bind, func=func, description=kind, compiled=compiled)
+
+
+def _is_numba_function(func: object) -> bool:
+    """True for a numba ``@njit`` dispatcher (checked without importing numba)."""
+    return type(func).__module__.startswith("numba.") and hasattr(func, "py_func")
 
 
 def _positional_arity(func: Callable[..., float]) -> int:

@@ -1,0 +1,397 @@
+"""Numba kernels of the compiled engine: one n x n table, filled in place.
+
+Table layout: ``T[i, j]`` (``i < j``) holds the cost of chord ``(i, j)`` and
+``T[j, i]`` the same value, so for a cell ``(i, j)`` both operands of every
+split, ``cost(i, k)`` = ``T[i, k]`` and ``cost(k, j)`` = ``T[j, k]``, are read
+along contiguous rows ``T[i]`` and ``T[j]``.
+
+Two evaluation orders of the one recurrence (``best_split``):
+
+* ``minplus_tiles``: sum objective with an edge-decomposable weight
+  ``w(i, k, j) = e(i, k) + e(k, j) + e(i, j)``. The table holds
+  ``E = cost + e`` and ``E(i, j) = 2 e(i, j) + min_k E(i, k) + E(k, j)``, a
+  pure min-plus product (as in ``ref_mwt.c``). It runs over square tiles of
+  cells; tiles on one tile-diagonal are independent (``prange``). A tile first
+  takes the "far" splits, whose halves lie in earlier tiles, with a 2 x 4
+  register block (two streamed rows ``i`` shared by four columns ``j``), then
+  the "near" splits in dependency order.
+* ``generic_tiles``: any built-in or numba-compiled weight, ``sum`` or
+  ``max``, one table per component of a lexicographic objective, over the
+  same tiles, each cell scanning all its splits.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from llvmlite import ir
+from numba import njit, prange
+from numba.extending import intrinsic
+
+from ..weights import CODE_CUSTOM
+from ._jit_weights import edge_weight, triangle_weight
+
+__all__ = [
+    "NO_GATE",
+    "best_split",
+    "generic_tiles",
+    "minplus_split",
+    "minplus_tiles",
+    "split_table",
+    "trace",
+    "uncached",
+]
+
+# Table values are never NaN (weights are checked) but may be +inf (unusable chord),
+# so "ninf" must stay off.
+_FASTMATH = {"nnan", "nsz", "arcp", "contract", "reassoc"}
+NO_GATE = -2  # codes[2] when the problem has no gate
+_KBLOCK = 512  # split vertices per pass over a tile: 2 x 64 rows x 512 x 8 B fit in L2
+
+
+@intrinsic
+def _fmin(typingctx, a, b):
+    """``llvm.minnum`` (no NaN): unlike ``a if a < b else b`` LLVM vectorizes its reductions."""
+    sig = a(a, a)
+
+    def codegen(context, builder, signature, args):
+        t = args[0].type
+        fn = builder.module.declare_intrinsic("llvm.minnum", [t], ir.FunctionType(t, [t, t]))
+        return builder.call(fn, args, fastmath=("nnan", "nsz"))
+
+    return sig, codegen
+
+
+# --- min-plus path (sum of an edge-decomposable weight) -----------------------------
+
+
+# Inner loops run over slices from index 0: with a loop index LLVM cannot prove
+# non-negative, numba's negative-index wraparound turns the vector loads into gathers.
+
+
+@njit(cache=True, fastmath=_FASTMATH, inline="always")
+def _rowmin(best, a, b):
+    """``min(best, min_k a[k] + b[k])`` over two equal-length contiguous slices."""
+    for k in range(a.shape[0]):
+        best = _fmin(best, a[k] + b[k])
+    return best
+
+
+@njit(cache=True, fastmath=_FASTMATH, inline="always")
+def _block24(T, i, j, k0, k1):
+    """Cells (i..i+1, j..j+3): two streamed rows shared by four columns."""
+    ra, rb = T[i, k0:k1], T[i + 1, k0:k1]
+    r0, r1, r2, r3 = T[j, k0:k1], T[j + 1, k0:k1], T[j + 2, k0:k1], T[j + 3, k0:k1]
+    a0, a1, a2, a3 = T[i, j], T[i, j + 1], T[i, j + 2], T[i, j + 3]
+    b0, b1, b2, b3 = T[i + 1, j], T[i + 1, j + 1], T[i + 1, j + 2], T[i + 1, j + 3]
+    for k in range(ra.shape[0]):
+        x, y = ra[k], rb[k]
+        c0, c1, c2, c3 = r0[k], r1[k], r2[k], r3[k]
+        a0 = _fmin(a0, x + c0)
+        a1 = _fmin(a1, x + c1)
+        a2 = _fmin(a2, x + c2)
+        a3 = _fmin(a3, x + c3)
+        b0 = _fmin(b0, y + c0)
+        b1 = _fmin(b1, y + c1)
+        b2 = _fmin(b2, y + c2)
+        b3 = _fmin(b3, y + c3)
+    T[i, j], T[i, j + 1], T[i, j + 2], T[i, j + 3] = a0, a1, a2, a3
+    T[i + 1, j], T[i + 1, j + 1], T[i + 1, j + 2], T[i + 1, j + 3] = b0, b1, b2, b3
+
+
+@njit(cache=True, fastmath=_FASTMATH, inline="always")
+def _block11(T, i, j, k0, k1):
+    T[i, j] = _rowmin(T[i, j], T[i, k0:k1], T[j, k0:k1])
+
+
+@njit(cache=True, fastmath=_FASTMATH)
+def _far(T, i0, i1, j0, j1):
+    """``T[i, j] = min over i1 <= k < j0 of T[i, k] + T[j, k]`` for the tile's cells."""
+    for i in range(i0, i1):
+        for j in range(j0, j1):
+            T[i, j] = np.inf
+    for k0 in range(i1, j0, _KBLOCK):
+        k1 = min(j0, k0 + _KBLOCK)
+        for i in range(i0, i1 - 1, 2):
+            j = j0
+            while j + 4 <= j1:
+                _block24(T, i, j, k0, k1)
+                j += 4
+            for jj in range(j, j1):
+                _block11(T, i, jj, k0, k1)
+                _block11(T, i + 1, jj, k0, k1)
+        if (i1 - i0) % 2:
+            for j in range(j0, j1):
+                _block11(T, i1 - 1, j, k0, k1)
+
+
+@njit(cache=True, fastmath=_FASTMATH)
+def _tile(T, pts, code, mask, use_mask, tile, ti, tj):
+    n = T.shape[0]
+    i0, i1 = ti * tile, min(n, ti * tile + tile)
+    j0, j1 = tj * tile, min(n, tj * tile + tile)
+    if tj > ti + 1:
+        _far(T, i0, i1, j0, j1)
+    # near splits, in dependency order: rows upwards, columns rightwards
+    for i in range(i1 - 1, i0 - 1, -1):
+        ri = T[i]
+        for j in range(max(j0, i + 1), j1):
+            if j == i + 1:
+                v = edge_weight(code, pts, i, j)  # a side: cost 0, so E = e
+            else:
+                rj = T[j]
+                if tj <= ti + 1:
+                    ri[j] = np.inf  # no far splits; keeps best in the table's dtype
+                lo, hi = min(i1, j), max(j0, i1)
+                best = _rowmin(ri[j], ri[i + 1 : lo], rj[i + 1 : lo])
+                best = _rowmin(best, ri[hi:j], rj[hi:j])
+                v = best + 2.0 * edge_weight(code, pts, i, j)
+                if use_mask and not mask[i, j]:
+                    v = np.inf
+            ri[j] = v
+            T[j, i] = v
+
+
+@njit(cache=True, parallel=True, fastmath=_FASTMATH)
+def minplus_tiles(T, pts, code, mask, use_mask, tile, d0, d1):
+    """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the E-table (sum, edge weight)."""
+    nt = (T.shape[0] + tile - 1) // tile
+    for d in range(d0, d1):
+        for t in prange(nt - d):
+            _tile(T, pts, code, mask, use_mask, tile, t, t + d)
+
+
+@njit(cache=True)
+def minplus_split(T, i, j):
+    """Smallest k minimizing ``E(i, k) + E(k, j)``; -1 if every split is infinite."""
+    best, arg = np.inf, -1
+    ri, rj = T[i, i + 1 : j], T[j, i + 1 : j]
+    for kk in range(ri.shape[0]):
+        c = ri[kk] + rj[kk]
+        if c < best:
+            best, arg = c, i + 1 + kk
+    return arg
+
+
+# --- generic path (any compiled weight, sum / max / lexicographic) -------------------
+
+
+@njit(cache=True, inline="always")
+def _weight(code, pts, i, k, j, wfn, verts, order):
+    if wfn is not None:  # pruned at compile time for built-in weights
+        if code == CODE_CUSTOM:
+            return float(wfn(verts, order[i], order[k], order[j]))
+    return triangle_weight(code, pts, i, k, j)
+
+
+@njit(cache=True, inline="always")
+def _combine(is_max, a, b, w):
+    if is_max:
+        return max(a, max(b, w))
+    return a + b + w
+
+
+@njit(cache=True, inline="always")
+def best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, wfng, gate, verts, order):
+    """The recurrence for one cell: ``(cost1, cost2, k)``, ties to the smallest k.
+
+    ``cost(i, j) = best_k combine(cost(i, k), cost(k, j), w(i, k, j))``, compared
+    on component 1, then (``lex``) component 2. A NaN weight sets ``nan[0]``.
+    With ``codes[2] != NO_GATE``, a triangle whose weight ``codes[2]`` exceeds
+    ``gate[0]`` gets weight +inf (second phase of a max-led lexicographic objective).
+    """
+    b1, b2, arg = np.inf, np.inf, -1
+    r1i, r1j = T1[i, i + 1 : j], T1[j, i + 1 : j]
+    if lex:
+        r2i, r2j = T2[i, i + 1 : j], T2[j, i + 1 : j]
+    else:
+        r2i, r2j = r1i, r1j
+    for kk in range(r1i.shape[0]):
+        k = i + 1 + kk
+        w1 = _weight(codes[0], pts, i, k, j, wfn1, verts, order)
+        if codes[2] != NO_GATE:  # a triangle above the gate's threshold is forbidden
+            if _weight(codes[2], pts, i, k, j, wfng, verts, order) > gate[0]:
+                w1 = np.inf
+        if w1 != w1:
+            nan[0] = 1
+            continue
+        v1 = _combine(is_max[0], r1i[kk], r1j[kk], w1)
+        if not lex:
+            if v1 < b1:
+                b1, arg = v1, k
+            continue
+        w2 = _weight(codes[1], pts, i, k, j, wfn2, verts, order)
+        if w2 != w2:
+            nan[0] = 1
+            continue
+        v2 = _combine(is_max[1], r2i[kk], r2j[kk], w2)
+        if v1 < b1 or (v1 == b1 and v2 < b2):
+            b1, b2, arg = v1, v2, k
+    return b1, b2, arg
+
+
+@njit(cache=True, parallel=True)
+def generic_tiles(
+    T1,
+    T2,
+    pts,
+    codes,
+    is_max,
+    lex,
+    mask,
+    use_mask,
+    tile,
+    d0,
+    d1,
+    nan,
+    wfn1,
+    wfn2,
+    wfng,
+    gate,
+    verts,
+    order,
+):
+    """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the cost table(s).
+
+    Sides must hold the neutral cost already. Tiles on one tile-diagonal are
+    independent; inside a tile, cells go rows upwards, columns rightwards, so
+    both halves of every split are final when read.
+    """
+    n = T1.shape[0]
+    nt = (n + tile - 1) // tile
+    for d in range(d0, d1):
+        for t in prange(nt - d):
+            i0, i1 = t * tile, min(n, t * tile + tile)
+            j0, j1 = (t + d) * tile, min(n, (t + d) * tile + tile)
+            for i in range(i1 - 1, i0 - 1, -1):
+                for j in range(max(j0, i + 2), j1):
+                    if use_mask and not mask[i, j]:
+                        c1, c2 = np.inf, np.inf
+                    else:
+                        c1, c2, _ = best_split(
+                            T1,
+                            T2,
+                            pts,
+                            codes,
+                            is_max,
+                            lex,
+                            i,
+                            j,
+                            nan,
+                            wfn1,
+                            wfn2,
+                            wfng,
+                            gate,
+                            verts,
+                            order,
+                        )
+                    T1[i, j] = c1
+                    T1[j, i] = c1
+                    if lex:
+                        T2[i, j] = c2
+                        T2[j, i] = c2
+
+
+# --- reconstruction and the exported table ---------------------------------------------
+
+
+@njit(cache=True, inline="always")
+def _split(
+    T1, T2, pts, codes, is_max, lex, minplus, i, j, nan, wfn1, wfn2, wfng, gate, verts, order
+):
+    if minplus:
+        return minplus_split(T1, i, j)
+    return best_split(
+        T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, wfng, gate, verts, order
+    )[2]
+
+
+@njit(cache=True)
+def trace(T1, T2, pts, codes, is_max, lex, minplus, nan, wfn1, wfn2, wfng, gate, verts, order):
+    """Optimal triangles from chord (0, n-1) down.
+
+    Re-scans only the O(n) cells on the optimal path. Returns ``(triangles,
+    bad)``; ``bad = (i, j)`` of a chord with no finite split, else ``(-1, -1)``.
+    """
+    n = T1.shape[0]
+    tris = np.empty((max(n - 2, 0), 3), dtype=np.int64)
+    stack = np.empty((n, 2), dtype=np.int64)
+    top, m = 1, 0
+    stack[0, 0], stack[0, 1] = 0, n - 1
+    while top > 0:
+        top -= 1
+        i, j = stack[top, 0], stack[top, 1]
+        if j - i < 2:
+            continue
+        k = _split(
+            T1,
+            T2,
+            pts,
+            codes,
+            is_max,
+            lex,
+            minplus,
+            i,
+            j,
+            nan,
+            wfn1,
+            wfn2,
+            wfng,
+            gate,
+            verts,
+            order,
+        )
+        if k < 0:
+            return tris[:m], (i, j)
+        tris[m, 0], tris[m, 1], tris[m, 2] = i, k, j
+        m += 1
+        stack[top, 0], stack[top, 1] = k, j
+        stack[top + 1, 0], stack[top + 1, 1] = i, k
+        top += 2
+    return tris[:m], (-1, -1)
+
+
+@njit(cache=True, parallel=True)
+def split_table(
+    T1, T2, pts, codes, is_max, lex, minplus, nan, wfn1, wfn2, wfng, gate, verts, order
+):
+    """Optimal split of every chord (O(n^3): only for an exported table)."""
+    n = T1.shape[0]
+    out = np.full((n, n), -1, dtype=np.int32)
+    for i in prange(n):
+        for j in range(i + 2, n):
+            out[i, j] = _split(
+                T1,
+                T2,
+                pts,
+                codes,
+                is_max,
+                lex,
+                minplus,
+                i,
+                j,
+                nan,
+                wfn1,
+                wfn2,
+                wfng,
+                gate,
+                verts,
+                order,
+            )
+    return out
+
+
+_TWINS: dict[str, object] = {}
+
+
+def uncached(name: str) -> object:
+    """Kernel ``name`` compiled without the disk cache, for a user's numba weight.
+
+    A user function's type differs in every process, so caching its
+    specializations would only grow the cache; the callees above are inlined,
+    so they add no cached entries either.
+    """
+    if name not in _TWINS:
+        kernel = globals()[name]
+        options = {k: v for k, v in kernel.targetoptions.items() if k != "nopython"}
+        _TWINS[name] = njit(**options)(kernel.py_func)
+    return _TWINS[name]

@@ -1,0 +1,404 @@
+"""The compiled engine (``method="fast"``): numba kernels on one n x n table.
+
+The table holds each chord's cost above the diagonal and its transpose below,
+so both operands of every split stream along contiguous rows (see
+:mod:`optri.engines._jit_kernels`). The sum of an edge-decomposable weight
+(perimeter, diagonal) runs as a cache-blocked min-plus product; every other
+compiled weight and the ``"max"`` and lexicographic objectives run the generic
+recurrence (a lexicographic pair uses a second table). Split vertices are not
+stored: the O(n) cells on the optimal path are re-scanned afterwards.
+
+The driver fills the table in chunks of (tile-)diagonals, reporting progress
+between chunks, where Ctrl-C also takes effect. Compiled code is cached on
+disk (``NUMBA_CACHE_DIR`` if set, else ``__pycache__`` beside this package or,
+where that is read-only, numba's per-user cache), so only the first process
+ever pays the compilation.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+from collections.abc import Iterator
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .. import config
+from ..errors import EngineUnavailableError, WeightError
+from ..weights import CODE_CUSTOM, CODE_DIAGONAL, CODE_PERIMETER, Weight
+from .memory import require_memory
+from .problem import Problem, Solution
+
+__all__ = [
+    "SUPPORTS_GATES",
+    "auto_accepts",
+    "estimate_bytes",
+    "solve",
+    "unavailable",
+    "unsupported",
+]
+
+#: The generic kernel honours :attr:`Problem.gates` (one gate: max-led lexicographic pairs).
+SUPPORTS_GATES = True
+_NO_GATE = -2  # mirrors _jit_kernels.NO_GATE without importing numba
+
+_DTYPES = (np.dtype(np.float64), np.dtype(np.float32))
+_OVERHEAD = 8 << 20  # vertex copies, traceback stack, numba's thread pool
+
+
+def unavailable() -> str | None:
+    """Why the compiled engine cannot run here (numba missing), or None.
+
+    Looks numba up without importing it (0.3 s), which only a solve needs.
+    """
+    try:
+        found = importlib.util.find_spec("numba") is not None
+    except (ImportError, ValueError) as exc:
+        return f"numba cannot be imported ({exc}); install it with: pip install numba"
+    if not found:
+        return "numba is not installed; install it with: pip install numba"
+    return None
+
+
+def unsupported(problem: Problem) -> str | None:
+    """Why the compiled engine cannot take ``problem``, or None.
+
+    A plain Python weight cannot be called from compiled code; decorating it
+    with ``numba.njit`` makes it run compiled.
+    """
+    if len(problem.gates) > 1:
+        return "more than one triangle gate (lexicographic objectives of 3+ components)"
+    for w in (*problem.weights, *(g for g, _ in problem.gates)):
+        if w.code == CODE_CUSTOM and w.compiled is None:
+            return (
+                f"weight {w.name!r} is a plain Python callable, which compiled code cannot "
+                f"call (decorate it with numba.njit to run it compiled)"
+            )
+    if np.dtype(problem.dtype) not in _DTYPES:
+        return f"dtype {np.dtype(problem.dtype)} is not float64 or float32"
+    return None
+
+
+def auto_accepts(problem: Problem) -> bool:
+    """``method="auto"`` uses this engine from ``config.FAST_AUTO_MIN_N`` vertices on.
+
+    Below that, starting numba costs more than the Python DP itself.
+    """
+    return problem.n >= config.FAST_AUTO_MIN_N
+
+
+def estimate_bytes(
+    n: int, dtype: Any = np.float64, lex: bool = False, keep_table: bool = False
+) -> int:
+    """Peak bytes the engine allocates for ``n`` vertices.
+
+    One ``n x n`` table (two for a lexicographic objective); an exported table
+    adds a float64 copy and an int32 split table.
+
+    >>> estimate_bytes(1000) // 10**6
+    16
+    """
+    cells = n * n
+    total = cells * np.dtype(dtype).itemsize * (2 if lex else 1) + _OVERHEAD
+    if keep_table:
+        total += cells * (8 + 4)
+    return total
+
+
+def solve(problem: Problem) -> Solution:
+    """Solve ``problem`` with the compiled kernels; O(n^3) time, one n x n table.
+
+    ``Solution.stats``: ``cells`` (chords computed), ``threads``, ``minplus``
+    (1 on the min-plus path) and ``tile`` (its tile size).
+    """
+    reason = unsupported(problem)
+    if reason is not None:
+        raise EngineUnavailableError(f"method='fast' cannot take this problem: {reason}")
+    for w in problem.weights:
+        w.check(problem.polygon)
+    import numba
+
+    _use_cache_dir(numba)
+    from . import _jit_kernels as K
+
+    n, lex = problem.n, problem.objective.is_lex
+    dtype = np.dtype(problem.dtype)
+    minplus = _is_minplus(problem)
+    require_memory(
+        estimate_bytes(n, dtype, lex, bool(problem.keep_table))
+        + (n * n if problem.allowed is not None else 0),  # a possible copy of the mask
+        f"the fast engine's {n} x {n} {dtype} table{'s' if lex else ''}",
+        "use dtype=float32 (half the memory) or method='gpu'",
+    )
+    threads = _threads(numba, problem, minplus)
+    previous = numba.get_num_threads()
+    numba.set_num_threads(threads)
+    try:
+        return _solve(K, problem, minplus, threads)
+    finally:
+        numba.set_num_threads(previous)
+
+
+def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:
+    n, lex = problem.n, problem.objective.is_lex
+    dtype = np.dtype(problem.dtype)
+    pts = _vertex_array(problem)
+    mask, use_mask = _mask(problem)
+    args = _Args(problem, pts, K)
+    T1 = np.empty((n, n), dtype=dtype)
+    T2 = np.empty((n, n) if lex else (1, 1), dtype=dtype)
+    if minplus:
+        _fill_minplus(K, problem, T1, pts, mask, use_mask)
+        e_last = _edge(problem.weights[0].code, pts, 0, n - 1)
+        cost: Any = float(T1[0, n - 1]) - e_last
+    else:
+        _fill_generic(problem, T1, T2, args, mask, use_mask)
+        cost = (float(T1[0, n - 1]), float(T2[0, n - 1])) if lex else float(T1[0, n - 1])
+    tris, bad = args.kernel("trace")(T1, T2, *args.trace_args(minplus))
+    args.raise_on_nan()
+    if bad[0] >= 0:
+        raise WeightError(
+            f"no valid triangulation of sub-polygon ({bad[0]}, {bad[1]}): every split has "
+            f"an infinite or invalid cost"
+        )
+    table = _export(K, problem, T1, T2, args, minplus) if problem.keep_table else None
+    stats = {
+        "cells": (n - 1) * (n - 2) // 2,
+        "threads": threads,
+        "minplus": int(minplus),
+        "tile": int(config.FAST_TILE if minplus else config.FAST_GENERIC_TILE),
+    }
+    return Solution(cost, tris.astype(np.int64), table, stats)
+
+
+# --- helpers -----------------------------------------------------------------------
+
+
+def _threads(numba: Any, problem: Problem, minplus: bool) -> int:
+    """Threads for this problem: ``options["threads"]``, else all above the size threshold."""
+    wanted = problem.options.get("threads")
+    if wanted is None:
+        small = config.FAST_PARALLEL_MIN_N if minplus else config.FAST_GENERIC_PARALLEL_MIN_N
+        wanted = numba.get_num_threads() if problem.n >= small else 1
+    return max(1, min(int(wanted), numba.config.NUMBA_NUM_THREADS))
+
+
+def _use_cache_dir(numba: Any) -> None:
+    """Point numba's cache at ``config.JIT_CACHE_DIR`` unless NUMBA_CACHE_DIR is set."""
+    if config.JIT_CACHE_DIR and not numba.config.CACHE_DIR:
+        numba.config.CACHE_DIR = str(config.JIT_CACHE_DIR)
+
+
+def _is_minplus(problem: Problem) -> bool:
+    code = problem.weights[0].code
+    if problem.gates or problem.objective.components != ("sum",):
+        return False
+    return code in (CODE_PERIMETER, CODE_DIAGONAL)
+
+
+def _vertex_array(problem: Problem) -> NDArray[np.float64]:
+    data = np.asarray(problem.polygon.data, dtype=np.float64)
+    return np.ascontiguousarray(data.reshape(len(data), -1))
+
+
+def _mask(problem: Problem) -> tuple[NDArray[np.bool_], bool]:
+    if problem.allowed is None:
+        return np.ones((1, 1), dtype=np.bool_), False
+    ok = np.ascontiguousarray(problem.allowed, dtype=np.bool_)
+    n, idx = problem.n, np.arange(problem.n - 1)
+    if not (ok[idx, idx + 1].all() and ok[0, n - 1]):
+        ok = ok.copy()  # polygon sides are always usable; never write the caller's mask
+        ok[idx, idx + 1] = ok[idx + 1, idx] = True
+        ok[0, n - 1] = ok[n - 1, 0] = True
+    return ok, True
+
+
+def _edge(code: int, pts: NDArray[np.float64], a: int, b: int) -> float:
+    """Python twin of ``edge_weight`` for the one chord (0, n-1)."""
+    d = float(np.sqrt(((pts[a] - pts[b]) ** 2).sum()))
+    if code == CODE_DIAGONAL:
+        side = b - a == 1 or (a == 0 and b == len(pts) - 1)
+        return 0.0 if side else 0.5 * d
+    return d
+
+
+class _Args:
+    """Arguments shared by the generic kernel, the traceback and the export."""
+
+    def __init__(self, problem: Problem, pts: NDArray[np.float64], kernels: Any) -> None:
+        ws = problem.weights
+        second = ws[1] if len(ws) > 1 else ws[0]
+        self.names = [w.name for w in ws]
+        gate_w, thr = problem.gates[0] if problem.gates else (None, math.inf)
+        gate_code = _NO_GATE if gate_w is None else gate_w.code
+        self.codes = np.array([ws[0].code, second.code, gate_code], dtype=np.int64)
+        self.gate = np.array([_gate_threshold(thr, problem.dtype)], dtype=np.float64)
+        comps = problem.objective.components
+        self.is_max = np.array([comps[0] == "max", comps[-1] == "max"], dtype=np.bool_)
+        self.lex = problem.objective.is_lex
+        self.pts = pts
+        self.nan = np.zeros(1, dtype=np.int64)
+        self.wfn1, self.wfn2 = _compiled_fn(ws[0]), _compiled_fn(second) if self.lex else None
+        self.wfng = None if gate_w is None else _compiled_fn(gate_w)
+        self.custom = any(f is not None for f in (self.wfn1, self.wfn2, self.wfng))
+        self.verts = _user_vertices(problem) if self.custom else pts
+        self.K = kernels
+        self.order = np.ascontiguousarray(problem.polygon.order, dtype=np.int64)
+
+    def kernel(self, name: str) -> Any:
+        """Kernel ``name``; its uncached twin when a user's numba weight is involved."""
+        return self.K.uncached(name) if self.custom else getattr(self.K, name)
+
+    def weight_args(self) -> tuple[Any, ...]:
+        return (self.nan, self.wfn1, self.wfn2, self.wfng, self.gate, self.verts, self.order)
+
+    def trace_args(self, minplus: bool) -> tuple[Any, ...]:
+        return (self.pts, self.codes, self.is_max, self.lex, minplus, *self.weight_args())
+
+    def raise_on_nan(self) -> None:
+        if self.nan[0]:
+            names = " or ".join(repr(x) for x in dict.fromkeys(self.names))
+            raise WeightError(f"weight {names} returned NaN for a triangle")
+
+
+def _gate_threshold(thr: float, dtype: Any) -> float:
+    """The gate's bound; from a float32 table, widened by its rounding (one float32 ulp)."""
+    if np.dtype(dtype) == np.float32 and math.isfinite(thr):
+        return float(np.nextafter(np.float32(thr), np.float32(np.inf)))
+    return float(thr)
+
+
+def _compiled_fn(weight: Weight) -> Any:
+    if weight.code != CODE_CUSTOM:
+        return None
+    return weight.compiled
+
+
+def _user_vertices(problem: Problem) -> NDArray[np.float64]:
+    verts = np.asarray(problem.polygon.vertices, dtype=np.float64)
+    return np.ascontiguousarray(verts)
+
+
+def _fill_minplus(
+    K: Any,
+    problem: Problem,
+    T: NDArray[Any],
+    pts: NDArray[np.float64],
+    mask: NDArray[np.bool_],
+    use_mask: bool,
+) -> None:
+    code = problem.weights[0].code
+    for d0, d1, tile in _tile_chunks(problem, int(config.FAST_TILE), cost_per_split=1):
+        K.minplus_tiles(T, pts, code, mask, use_mask, tile, d0, d1)
+
+
+def _fill_generic(
+    problem: Problem,
+    T1: NDArray[Any],
+    T2: NDArray[Any],
+    args: _Args,
+    mask: NDArray[np.bool_],
+    use_mask: bool,
+) -> None:
+    n = problem.n
+    neutral = problem.objective.neutral
+    idx = np.arange(n - 1)
+    for T, v in zip((T1, T2), neutral if args.lex else (neutral,)):
+        T[idx, idx + 1] = T[idx + 1, idx] = v
+    kernel = args.kernel("generic_tiles")
+    # a weight evaluation costs about 20 min-plus steps
+    for d0, d1, tile in _tile_chunks(problem, int(config.FAST_GENERIC_TILE), cost_per_split=20):
+        kernel(
+            T1,
+            T2,
+            args.pts,
+            args.codes,
+            args.is_max,
+            args.lex,
+            mask,
+            use_mask,
+            tile,
+            d0,
+            d1,
+            *args.weight_args(),
+        )
+        args.raise_on_nan()
+
+
+def _tile_chunks(
+    problem: Problem, tile: int, cost_per_split: int
+) -> Iterator[tuple[int, int, int]]:
+    """Runs ``(d0, d1, tile)`` of tile-diagonals per kernel call, reporting progress."""
+    n = problem.n
+    nt = (n + tile - 1) // tile
+    cells = [_tile_diagonal_cells(n, tile, d) for d in range(nt)]
+    # work of tile-diagonal d: its cells times the splits each scans (~ (d + 1) tiles)
+    work = [c * (d + 1) * tile * cost_per_split for d, c in enumerate(cells)]
+    report = _Reporter(problem, n)
+    for d0, d1 in _chunks(work, config.FAST_CHUNK_WORK):
+        yield d0, d1, tile
+        report.add(sum(cells[d0:d1]))
+
+
+def _chunks(work: list[int], budget: float) -> list[tuple[int, int]]:
+    """Split ``range(len(work))`` into consecutive runs of about ``budget`` work each."""
+    out, start, acc = [], 0, 0
+    for i, w in enumerate(work):
+        acc += w
+        if acc >= budget:
+            out.append((start, i + 1))
+            start, acc = i + 1, 0
+    if start < len(work):
+        out.append((start, len(work)))
+    return out
+
+
+def _tile_diagonal_cells(n: int, tile: int, d: int) -> int:
+    """Chords (i, j), j - i >= 2, in tiles (t, t + d)."""
+    nt = (n + tile - 1) // tile
+    total = 0
+    for t in range(nt - d):
+        rows = min(n, (t + 1) * tile) - t * tile
+        cols = min(n, (t + d + 1) * tile) - (t + d) * tile
+        if d == 0:
+            total += (rows - 1) * (rows - 2) // 2
+        else:
+            total += rows * cols - (1 if d == 1 else 0)
+    return total
+
+
+class _Reporter:
+    """Accumulate finished cells and pass them to ``problem.progress``."""
+
+    def __init__(self, problem: Problem, n: int) -> None:
+        self.cb = problem.progress
+        self.total = (n - 1) * (n - 2) // 2
+        self.done = 0
+
+    def add(self, cells: int) -> None:
+        self.done = min(self.total, self.done + cells)
+        if self.cb is not None:
+            self.cb(self.done, self.total)
+
+
+def _export(
+    K: Any, problem: Problem, T1: NDArray[Any], T2: NDArray[Any], args: _Args, minplus: bool
+) -> NDArray[np.float64]:
+    """The paper's table: costs (primary component) above the diagonal, splits below."""
+    n = problem.n
+    out = np.triu(T1.astype(np.float64), 1)
+    if minplus:
+        code = problem.weights[0].code
+        for i in range(n - 1):
+            j = np.arange(i + 1, n)
+            d = np.sqrt(((args.pts[j] - args.pts[i]) ** 2).sum(axis=1))
+            if code == CODE_DIAGONAL:
+                side = (j == i + 1) | ((i == 0) & (j == n - 1))
+                d = np.where(side, 0.0, 0.5 * d)
+            out[i, i + 1 :] -= d
+    out[np.isneginf(out)] = 0.0
+    splits = args.kernel("split_table")(T1, T2, *args.trace_args(minplus))
+    out += np.tril(splits.T.astype(np.float64), -1)
+    return out

@@ -1,0 +1,254 @@
+"""The compiled engine (method="fast") against the memo and brute-force oracles."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import optri
+from optri import config
+from optri.engines import jit, memo
+from optri.errors import EngineUnavailableError, TableTooLargeError, WeightError
+from optri.geometry import as_polygon
+from optri.solve import build_problem
+
+numba = pytest.importorskip("numba")
+
+WEIGHTS = ["perimeter", "diagonal", "area", "max_angle", "min_angle", "aspect_ratio"]
+OBJECTIVES = ["sum", "max"]
+LEX = [(("max_angle", "area"), ("max", "sum")), (("perimeter", "aspect_ratio"), ("sum", "max"))]
+#: float32 tables: observed relative error of the optimum ~1e-7 (n <= 2000); allow 1e-5.
+FLOAT32_RTOL = 1e-5
+
+
+def convex_polygon(n: int, seed: int, dims: int = 2) -> np.ndarray:
+    """Jittered angles on an ellipse: strictly convex, no near-duplicates."""
+    rng = np.random.default_rng(seed)
+    ang = 2 * np.pi * (np.arange(n) + 0.8 * rng.random(n)) / n
+    pts = np.c_[1000 * np.cos(ang), 600 * np.sin(ang)]
+    if dims == 3:  # a tilted plane: planar 3-D input
+        pts = np.c_[pts, 0.3 * pts[:, 0] - 0.2 * pts[:, 1] + 5.0]
+    return pts
+
+
+def close(a: object, b: object, rtol: float = 1e-9) -> bool:
+    if isinstance(a, tuple):
+        return all(close(x, y, rtol) for x, y in zip(a, b))  # type: ignore[arg-type]
+    return math.isclose(a, b, rel_tol=rtol, abs_tol=rtol)  # type: ignore[arg-type]
+
+
+polygons = st.tuples(st.integers(3, 32), st.integers(0, 2**32 - 1))
+
+
+@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(polygons)
+def test_fast_equals_memo_every_weight_and_objective(spec: tuple[int, int]) -> None:
+    pts = convex_polygon(*spec)
+    for w in WEIGHTS:
+        for obj in OBJECTIVES:
+            a = optri.triangulate(pts, w, obj, method="fast")
+            b = optri.triangulate(pts, w, obj, method="memo")
+            assert close(a.weight, b.weight), (w, obj, a.weight, b.weight)
+            a.check()
+    for ws, obj in LEX:
+        a = optri.triangulate(pts, ws, obj, method="fast")
+        b = optri.triangulate(pts, ws, obj, method="memo")
+        assert close(a.weight, b.weight), (ws, obj, a.weight, b.weight)
+        a.check()
+
+
+@settings(max_examples=3, deadline=None)
+@given(st.integers(41, 60), st.integers(0, 2**32 - 1))
+def test_fast_equals_memo_larger(n: int, seed: int) -> None:
+    pts = convex_polygon(n, seed)
+    for w, obj in (("perimeter", "sum"), ("diagonal", "sum"), ("max_angle", "max")):
+        a = optri.triangulate(pts, w, obj, method="fast")
+        b = optri.triangulate(pts, w, obj, method="memo")
+        assert close(a.weight, b.weight)
+        a.check()
+
+
+@pytest.mark.parametrize("tile", [3, 5, 8])
+def test_fast_small_tiles_equal_memo(monkeypatch: pytest.MonkeyPatch, tile: int) -> None:
+    # tiny tiles: many tile-diagonals, far splits, partial tiles and odd row counts
+    monkeypatch.setattr(config, "FAST_TILE", tile)
+    monkeypatch.setattr(config, "FAST_GENERIC_TILE", tile)
+    monkeypatch.setattr(config, "FAST_CHUNK_WORK", 1)  # one kernel call per tile-diagonal
+    pts = convex_polygon(37, tile)
+    for w, obj in (("perimeter", "sum"), ("diagonal", "sum"), ("max_angle", "max")):
+        a = optri.triangulate(pts, w, obj, method="fast")
+        b = optri.triangulate(pts, w, obj, method="memo")
+        assert close(a.weight, b.weight), (w, obj)
+    a = optri.triangulate(pts, LEX[0][0], LEX[0][1], method="fast")
+    b = optri.triangulate(pts, LEX[0][0], LEX[0][1], method="memo")
+    assert close(a.weight, b.weight)
+
+
+@pytest.mark.parametrize("n", [3, 4, 7, 10])
+def test_fast_equals_brute(n: int) -> None:
+    pts = convex_polygon(n, n)
+    for w in WEIGHTS:
+        for obj in OBJECTIVES:
+            a = optri.triangulate(pts, w, obj, method="fast")
+            b = optri.triangulate(pts, w, obj, method="brute")
+            assert close(a.weight, b.weight), (w, obj)
+    for ws, obj in LEX:
+        a = optri.triangulate(pts, ws, obj, method="fast")
+        b = optri.triangulate(pts, ws, obj, method="brute")
+        assert close(a.weight, b.weight), (ws, obj)
+
+
+def test_fast_3d_planar_and_product_weight() -> None:
+    pts = convex_polygon(25, 5, dims=3)
+    for w in ("perimeter", "area", "aspect_ratio"):
+        a = optri.triangulate(pts, w, "sum", method="fast")
+        b = optri.triangulate(pts, w, "sum", method="memo")
+        assert close(a.weight, b.weight)
+    dims = [30, 35, 15, 5, 10, 20, 25]  # CLRS 15.2: 15125 scalar multiplications
+    assert optri.triangulate(dims, "product", method="fast").weight == 15125.0
+
+
+def test_fast_known_square() -> None:
+    t = optri.triangulate([[0, 0], [1, 0], [1, 1], [0, 1]], method="fast")
+    assert math.isclose(t.weight, 4 + 2 * math.sqrt(2))
+    assert t.method == "fast"
+    t.check()
+
+
+@pytest.mark.parametrize("weight", ["perimeter", "max_angle"])
+def test_fast_float32_within_tolerance(weight: str) -> None:
+    pts = convex_polygon(300 if weight == "perimeter" else 120, 11)
+    a = optri.triangulate(pts, weight, method="fast", dtype=np.float32)
+    b = optri.triangulate(pts, weight, method="fast")
+    assert close(a.weight, b.weight, FLOAT32_RTOL)
+    assert a.weight != b.weight or weight == "max_angle"  # really ran in float32
+    a.check(rtol=1e-4)
+
+
+def test_fast_memory_estimator_refuses(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(config, "MEMORY_LIMIT_BYTES", 50 << 20)
+    with pytest.raises(TableTooLargeError, match="float32"):
+        optri.triangulate(convex_polygon(3000, 1), method="fast")
+    assert jit.estimate_bytes(3000, np.float32) < jit.estimate_bytes(3000)
+
+
+def test_fast_reproducible_across_runs_and_threads() -> None:
+    pts = convex_polygon(1000, 7)
+    old = numba.get_num_threads()
+    try:
+        results = []
+        for threads in (1, 2, 2):
+            numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+            results.append(optri.triangulate(pts, method="fast"))
+    finally:
+        numba.set_num_threads(old)
+    first = results[0]
+    for r in results[1:]:
+        assert r.weight == first.weight  # bit for bit: min is exact, sums are ordered
+        assert np.array_equal(r.triangles, first.triangles)
+    first.check()
+
+
+def test_fast_masked_chords_equal_memo() -> None:
+    rng = np.random.default_rng(3)
+    n = 14
+    pg = as_polygon(convex_polygon(n, 2))
+    allowed = rng.random((n, n)) < 0.6
+    allowed = allowed | allowed.T
+    # keep one fan triangulation possible so a solution always exists
+    allowed[0, :] = allowed[:, 0] = True
+    for w, obj in (
+        ("perimeter", "sum"),
+        ("max_angle", "max"),
+        (("area", "perimeter"), ("max", "sum")),
+    ):
+        pf = build_problem(pg, w, obj, allowed=allowed, keep_table=False)
+        pm = build_problem(pg, w, obj, allowed=allowed, keep_table=False)
+        a, b = jit.solve(pf), memo.solve(pm)
+        assert close(a.cost, b.cost), (w, obj)
+        ok = pm.allowed_rows()
+        assert all(ok[i][k] and ok[k][j] and ok[i][j] for i, k, j in a.triangles.tolist())
+
+
+def test_fast_progress_and_table() -> None:
+    calls: list[tuple[int, int]] = []
+    pts = convex_polygon(12, 4)
+    a = optri.triangulate(
+        pts, method="fast", keep_table=True, progress=lambda d, t: calls.append((d, t))
+    )
+    b = optri.triangulate(pts, method="memo", keep_table=True)
+    assert calls and calls[-1][0] == calls[-1][1] == 55
+    assert [d for d, _ in calls] == sorted(d for d, _ in calls)
+    np.testing.assert_allclose(np.triu(a.table), np.triu(b.table), rtol=1e-9, atol=1e-9)
+    np.testing.assert_array_equal(np.tril(a.table), np.tril(b.table))
+
+
+@numba.njit(cache=False)
+def _njit_perimeter(v, i, k, j):
+    if v.shape[0] == 13:  # a NaN for one polygon size, to test detection
+        return math.nan
+    a = math.hypot(v[i, 0] - v[k, 0], v[i, 1] - v[k, 1])
+    b = math.hypot(v[k, 0] - v[j, 0], v[k, 1] - v[j, 1])
+    c = math.hypot(v[j, 0] - v[i, 0], v[j, 1] - v[i, 1])
+    return a + b + c
+
+
+def test_fast_custom_njit_weight_and_nan() -> None:
+    pts = convex_polygon(30, 9)[::-1]  # clockwise input: indices are the caller's
+    w = optri.custom_weight(_njit_perimeter)
+    assert w.compiled is not None
+    a = optri.triangulate(pts, w, method="fast")
+    b = optri.triangulate(pts, "perimeter", method="fast")
+    assert close(a.weight, b.weight)
+    a.check()
+    with pytest.raises(WeightError, match="NaN"):
+        optri.triangulate(convex_polygon(13, 1), w, method="fast")
+
+
+def test_fast_plain_python_weight_falls_back(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(config, "FAST_AUTO_MIN_N", 0)
+    pts = convex_polygon(8, 1)
+
+    def py_weight(i: int, k: int, j: int) -> float:
+        return float(i * k + j)
+
+    with pytest.warns(RuntimeWarning, match="plain Python callable"):
+        t = optri.triangulate(pts, py_weight)
+    assert t.method != "fast"
+    with pytest.raises(EngineUnavailableError, match="numba.njit"):
+        optri.triangulate(pts, py_weight, method="fast")
+
+
+def test_fast_is_auto_default_above_threshold() -> None:
+    pts = convex_polygon(config.FAST_AUTO_MIN_N, 1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert optri.triangulate(pts).method == "fast"
+
+
+def test_fast_unavailable_without_numba(monkeypatch: pytest.MonkeyPatch) -> None:
+    import sys
+
+    monkeypatch.setitem(sys.modules, "numba", None)
+    assert "numba" in (jit.unavailable() or "")
+
+
+def test_fast_bench_cli_small() -> None:
+    import shutil
+
+    from click.testing import CliRunner
+
+    from optri.benchmark import find_yardsticks
+    from optri.cli import main
+
+    if find_yardsticks() is None or shutil.which("gcc") is None:
+        pytest.skip("yardsticks or gcc not available")
+    out = CliRunner().invoke(main, ["bench", "60", "--naive-max", "60", "--repeats", "1"])
+    assert out.exit_code == 0, out.output
+    row = out.output.strip().splitlines()[-1].split()
+    assert row[0] == "60" and row[-1] == "True"  # same optimum as the C yardstick
