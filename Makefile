@@ -23,7 +23,7 @@ demo: $(STAMP)
 	@if $(BIN)/optri paper --help >/dev/null 2>&1; then $(BIN)/optri paper --out $(OUT)/paper; fi
 
 test: $(STAMP)
-	NUMBA_CACHE_DIR=$(CURDIR)/.numba-cache $(BIN)/python -m pytest -n 2 tests src/optri
+	NUMBA_CACHE_DIR=$(CURDIR)/.numba-cache $(BIN)/python -m pytest -n 2 tests src/optri README.md docs
 	$(BIN)/ruff check src tests benchmarks
 
 lint: $(STAMP)
