@@ -7,6 +7,7 @@
 
 from __future__ import annotations
 
+from .batch import BatchSummary, batch
 from .chain import ChainOrder, matrix_chain
 from .errors import (
     EngineUnavailableError,
@@ -25,6 +26,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "WEIGHTS",
+    "BatchSummary",
     "ChainOrder",
     "EngineUnavailableError",
     "InvalidPolygonError",
@@ -36,6 +38,7 @@ __all__ = [
     "WeightError",
     "__version__",
     "as_polygon",
+    "batch",
     "custom_weight",
     "format_table",
     "matrix_chain",

@@ -46,7 +46,7 @@ def main() -> None:
 
 
 def _register() -> None:
-    from . import solve_cmd  # noqa: F401  (each module adds its commands to main)
+    from . import batch_cmd, solve_cmd  # noqa: F401  (each module adds its commands to main)
 
 
 _register()
