@@ -134,7 +134,7 @@ def batch(
     >>> d = pathlib.Path(tempfile.mkdtemp())
     >>> _ = (d / "in.ndjson").write_text(
     ...     '{"id": "a", "coordinates": [[0, 0], [1, 0], [1, 1], [0, 1]]}\n'
-    ...     '{"id": "b", "coordinates": [[0, 0], [1, 1]]}\\n')
+    ...     '{"id": "b", "coordinates": [[0, 0], [1, 1]]}\n')
     >>> s = batch(d / "in.ndjson", d / "out.ndjson", workers=1)
     >>> s.ok, s.errors
     (1, 1)
