@@ -129,7 +129,10 @@ def write_parquet(fh: IO[bytes], records: Sequence[dict], coords: Sequence[Any])
     meta = {
         "version": "1.0.0",
         "primary_column": "geometry",
-        "columns": {"geometry": {"encoding": "WKB", "geometry_types": ["MultiPolygon"]}},
+        # crs null = "unknown": the input's CRS is not tracked through the batch
+        "columns": {
+            "geometry": {"encoding": "WKB", "geometry_types": ["MultiPolygon"], "crs": None}
+        },
     }
     table = table.replace_schema_metadata({"geo": json.dumps(meta)})
     pq.write_table(table, fh)
