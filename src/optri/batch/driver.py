@@ -141,8 +141,40 @@ def batch(
     >>> [(r["id"], r["status"], r["diagonals"]) for r in iter_records(d / "out.ndjson")]
     [('a', 'ok', [[1, 3]]), ('b', 'error', None)]
     """
+    options = dict(weight=weight, objective=objective, method=method)
+    with _sigterm_interrupts():
+        summary = _run(
+            Path(inp),
+            out,
+            options,
+            workers,
+            chunk_size,
+            scheduler,
+            resume,
+            overwrite,
+            progress,
+            fmt,
+            out_fmt,
+        )
+    if strict and summary.errors:
+        raise BatchFailedError(f"{summary.errors} of {summary.total} polygons failed", summary)
+    return summary
+
+
+def _run(
+    inp: Path,
+    out: str | os.PathLike[str],
+    options: dict[str, Any],
+    workers: int | None,
+    chunk_size: int | None,
+    scheduler: Any,
+    resume: bool,
+    overwrite: bool,
+    progress: Callable[[int, int], None] | None,
+    fmt: str | None,
+    out_fmt: str | None,
+) -> BatchSummary:
     start = time.perf_counter()
-    inp = Path(inp)
     kind = detect_input_format(inp, fmt)
     if not inp.is_file():
         raise BatchInputError(f"{inp}: no such file")
@@ -152,33 +184,27 @@ def batch(
     elif layout.started() and not resume:
         raise BatchInputError(f"{layout.target} exists; pass --overwrite or --resume")
     if layout.single and layout.target.exists():
-        return _finish(_summary_of_existing(layout, start), strict)
+        return _summary_of_existing(layout, start)
     items = read_items(inp, kind)
     items, size = _choose_chunk_size(items, chunk_size, layout)
     layout.parts_dir.mkdir(parents=True, exist_ok=True)
-    layout.check_manifest(_manifest(inp, kind, layout, weight, objective, method, size))
+    layout.check_manifest(_manifest(inp, kind, layout, options, size))
     layout.remove_stale_temporaries()
     total = count_items(inp, kind) if progress is not None else 0
     counter = _Counter(progress, total)
-    tasks = _pending_tasks(items, size, layout, weight, objective, method, counter)
+    tasks = _pending_tasks(items, size, layout, options, counter)
 
     def done(task: ChunkTask, records: list[dict]) -> None:
         write_part(layout.part(task.index), layout.fmt, records, [it.coords for it in task.items])
         counter.add(records, reused=False)
 
-    with _sigterm_interrupts(), open_backend(scheduler, workers) as backend:
+    with open_backend(scheduler, workers) as backend:
         run_tasks(backend, tasks, done)
     write_json(layout.success, {"ok": counter.ok, "errors": counter.errors, "total": counter.n})
     if layout.single:
         assemble(layout.parts(), layout.fmt, layout.target)
         shutil.rmtree(layout.parts_dir, ignore_errors=True)
-    return _finish(counter.summary(layout.target, time.perf_counter() - start), strict)
-
-
-def _finish(summary: BatchSummary, strict: bool) -> BatchSummary:
-    if strict and summary.errors:
-        raise BatchFailedError(f"{summary.errors} of {summary.total} polygons failed", summary)
-    return summary
+    return counter.summary(layout.target, time.perf_counter() - start)
 
 
 def iter_records(path: str | os.PathLike[str], fmt: str | None = None) -> Iterator[dict]:
@@ -226,9 +252,7 @@ def _pending_tasks(
     items: Iterable[Item],
     size: int,
     layout: Layout,
-    weight: Any,
-    objective: Any,
-    method: str,
+    options: dict[str, Any],
     counter: _Counter,
 ) -> Iterator[ChunkTask]:
     """Chunk tasks by input position, skipping (and counting) parts already written."""
@@ -241,7 +265,7 @@ def _pending_tasks(
         if part.exists():
             counter.add(read_part(part, layout.fmt), reused=True)
             continue
-        yield ChunkTask(index, chunk, weight, objective, method)
+        yield ChunkTask(index, chunk, **options)
 
 
 def _choose_chunk_size(
@@ -272,7 +296,7 @@ def auto_chunk_size(sample: list[Item]) -> int:
 
 
 def _manifest(
-    inp: Path, kind: str, layout: Layout, weight: Any, objective: Any, method: str, size: int
+    inp: Path, kind: str, layout: Layout, options: dict[str, Any], size: int
 ) -> dict[str, Any]:
     from .. import __version__  # optri/__init__ imports this package before defining it
 
@@ -283,9 +307,9 @@ def _manifest(
         "input_mtime_ns": st.st_mtime_ns,
         "input_format": kind,
         "format": layout.fmt,
-        "weight": repr(weight),
-        "objective": repr(objective),
-        "method": method,
+        "weight": repr(options["weight"]),
+        "objective": repr(options["objective"]),
+        "method": options["method"],
         "chunk_size": size,
         "optri": __version__,
     }

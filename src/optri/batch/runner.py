@@ -9,6 +9,7 @@ grow with the input.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import logging
 import multiprocessing
 import os
 import signal
@@ -135,7 +136,11 @@ def _dask_client(scheduler: Any, workers: int | None) -> Iterator[Any]:
     if scheduler == "dask":
         n = workers or default_workers()
         cluster = distributed.LocalCluster(
-            n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=logging.ERROR,  # its INFO/WARNING chatter would bury the progress bar
         )
         with cluster, distributed.Client(cluster) as client:
             yield client
