@@ -29,19 +29,30 @@ BAD = {
         {
             "type": "Feature",
             "id": "hole",
-            "geometry": {"type": "Polygon", "coordinates": [SQUARE, [[0.2, 0.2], [0.4, 0.2], [0.3, 0.4]]]},
+            "geometry": {
+                "type": "Polygon",
+                "coordinates": [SQUARE, [[0.2, 0.2], [0.4, 0.2], [0.3, 0.4]]],
+            },
             "properties": {},
         },
         "1 hole",
     ),
     "multi": (
-        {"type": "Feature", "id": "multi", "properties": {},
-         "geometry": {"type": "MultiPolygon", "coordinates": [[SQUARE], [GOOD]]}},
+        {
+            "type": "Feature",
+            "id": "multi",
+            "properties": {},
+            "geometry": {"type": "MultiPolygon", "coordinates": [[SQUARE], [GOOD]]},
+        },
         "2 parts",
     ),
     "point": (
-        {"type": "Feature", "id": "point", "properties": {},
-         "geometry": {"type": "Point", "coordinates": [1, 2]}},
+        {
+            "type": "Feature",
+            "id": "point",
+            "properties": {},
+            "geometry": {"type": "Point", "coordinates": [1, 2]},
+        },
         "not a Polygon",
     ),
     "null_geometry": ({"type": "Feature", "id": "null_geometry", "geometry": None}, "no geometry"),
@@ -72,8 +83,12 @@ def test_each_bad_kind_gives_an_error_record_and_good_ones_survive(tmp_path):
 
 
 def test_single_part_multipolygon_is_its_polygon(tmp_path):
-    row = {"type": "Feature", "id": 1, "properties": {},
-           "geometry": {"type": "MultiPolygon", "coordinates": [[GOOD + [GOOD[0]]]]}}
+    row = {
+        "type": "Feature",
+        "id": 1,
+        "properties": {},
+        "geometry": {"type": "MultiPolygon", "coordinates": [[GOOD + [GOOD[0]]]]},
+    }
     src = write_ndjson(tmp_path / "in.ndjson", [row])
     optri.batch(src, tmp_path / "o.ndjson", workers=1)
     rec = next(iter_records(tmp_path / "o.ndjson"))
@@ -105,10 +120,25 @@ def test_cli_exit_codes(tmp_path):
 @pytest.mark.parametrize(
     "name, text, where, words",
     [
-        ("trunc.ndjson", '{"id": 1, "coordinates": [[0,0],[1,0],[0,1]]}\n{"id": 2, "coo', ":2:", "invalid JSON"),
-        ("trunc.geojson", '{"type": "FeatureCollection",\n "features": [\n {"type": "Feature", "geometry": nul', ":3:", "JSON"),
+        (
+            "trunc.ndjson",
+            '{"id": 1, "coordinates": [[0,0],[1,0],[0,1]]}\n{"id": 2, "coo',
+            ":2:",
+            "invalid JSON",
+        ),
+        (
+            "trunc.geojson",
+            '{"type": "FeatureCollection",\n "features": [\n {"type": "Feature", "geometry": nul',
+            ":3:",
+            "JSON",
+        ),
         ("unclosed.geojson", '{"type": "FeatureCollection", "features": [\n', ":2:", "end of file"),
-        ("garbage.geojson", '{"type": "FeatureCollection",\n"features": [\n{"a": 1},\n{"b": }]}', ":4:", "invalid JSON"),
+        (
+            "garbage.geojson",
+            '{"type": "FeatureCollection",\n"features": [\n{"a": 1},\n{"b": }]}',
+            ":4:",
+            "invalid JSON",
+        ),
         ("point.geojson", '{"type": "Point", "coordinates": [1, 2]}', ":1:", "not a polygon layer"),
         ("list.json", "[1, 2, 3]", ":1:", "expected '{'"),
         ("nofeatures.geojson", '{"type": "FeatureCollection"}', ":1:", "no 'features'"),

@@ -65,20 +65,25 @@ def test_inline_max_objective_and_other_weight(tmp_path, rows):
 
 def test_lexicographic_cost_is_a_list(tmp_path, rows):
     src = write_ndjson(tmp_path / "in.ndjson", rows[:3])
-    optri.batch(src, tmp_path / "o", workers=1, weight=("max_angle", "perimeter"),
-                objective=("max", "sum"))
+    optri.batch(
+        src, tmp_path / "o", workers=1, weight=("max_angle", "perimeter"), objective=("max", "sum")
+    )
     rec = next(iter_records(tmp_path / "o"))
-    t = optri.triangulate(rows[0]["coordinates"], weight=("max_angle", "perimeter"),
-                          objective=("max", "sum"))
+    t = optri.triangulate(
+        rows[0]["coordinates"], weight=("max_angle", "perimeter"), objective=("max", "sum")
+    )
     assert rec["cost"] == pytest.approx(list(t.weight))
 
 
 def test_dask_local_cluster_matches_triangulate(tmp_path, rows):
     distributed = pytest.importorskip("distributed")
     src = write_ndjson(tmp_path / "in.ndjson", rows)
-    with distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
-    ) as cluster, distributed.Client(cluster) as client:
+    with (
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
         s = optri.batch(src, tmp_path / "out.geojson", scheduler=client, chunk_size=11)
     assert s.total == 60
     _same(_expected(rows), _got(tmp_path / "out.geojson"))

@@ -74,8 +74,12 @@ def test_feature_collection_is_streamed_across_block_edges(tmp_path, monkeypatch
     monkeypatch.setattr(readers, "READ_BLOCK", block)
     src = write_feature_collection(tmp_path / "in.geojson", ROWS[:4])
     data = json.loads(src.read_text())
-    data = {"bbox": [0, 0, 1, 1], "features": data["features"], "type": "FeatureCollection",
-            "n": 123456}
+    data = {
+        "bbox": [0, 0, 1, 1],
+        "features": data["features"],
+        "type": "FeatureCollection",
+        "n": 123456,
+    }
     src.write_text(json.dumps(data, indent=2))
     items = list(readers.read_items(src))
     assert [it.coords for it in items] == [r["coordinates"] for r in ROWS[:4]]
@@ -90,8 +94,10 @@ def test_geoparquet_in_and_out(tmp_path):
     gpd = pytest.importorskip("geopandas")
     back = gpd.read_parquet(tmp_path / "out.parquet")
     ok = back[back.status == "ok"]
-    areas = [abs(optri.geometry.signed_area(__import__("numpy").array(ROWS[i]["coordinates"])))
-             for i in ok.index]
+    areas = [
+        abs(optri.geometry.signed_area(__import__("numpy").array(ROWS[i]["coordinates"])))
+        for i in ok.index
+    ]
     assert ok.geometry.area.tolist() == pytest.approx(areas)
 
 
@@ -119,10 +125,14 @@ def test_parquet_that_is_not_a_polygon_layer(tmp_path):
     pa = pytest.importorskip("pyarrow")
     pq = pytest.importorskip("pyarrow.parquet")
     pq.write_table(pa.table({"x": [1, 2]}), tmp_path / "t.parquet")
-    res = CliRunner().invoke(main, ["batch", str(tmp_path / "t.parquet"), "-o", str(tmp_path / "o")])
+    res = CliRunner().invoke(
+        main, ["batch", str(tmp_path / "t.parquet"), "-o", str(tmp_path / "o")]
+    )
     assert res.exit_code == 2 and "not a polygon layer" in res.output
     (tmp_path / "junk.parquet").write_text("not parquet")
-    res = CliRunner().invoke(main, ["batch", str(tmp_path / "junk.parquet"), "-o", str(tmp_path / "o")])
+    res = CliRunner().invoke(
+        main, ["batch", str(tmp_path / "junk.parquet"), "-o", str(tmp_path / "o")]
+    )
     assert res.exit_code == 2 and "junk.parquet" in res.output and "Traceback" not in res.output
 
 

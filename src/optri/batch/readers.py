@@ -199,17 +199,18 @@ class _JsonStream:
     def _more(self) -> bool:
         if self.eof:
             return False
-        self.lines_before += self.buf.count("\n", 0, self.pos)
         try:
             block = self.fh.read(READ_BLOCK)
         except UnicodeDecodeError as exc:
             self.fail(f"not UTF-8 text ({exc.reason})")
-        self.buf = self.buf[self.pos :] + block
-        self.pos = 0
-        if not block:
+        if not block:  # keep buf as is: error positions still point into it
             self.eof = True
             self.fh.close()
-        return bool(block)
+            return False
+        self.lines_before += self.buf.count("\n", 0, self.pos)
+        self.buf = self.buf[self.pos :] + block
+        self.pos = 0
+        return True
 
     def _skip_space(self) -> None:
         while True:
@@ -238,6 +239,8 @@ class _JsonStream:
             except json.JSONDecodeError as exc:
                 if self._more():
                     continue
+                if not self.buf[exc.pos :].strip():
+                    self.fail("unexpected end of file (truncated JSON?)", exc.pos)
                 self.fail(f"invalid JSON ({exc.msg})", exc.pos)
             # a number could continue in the next block: only trust a value that ends early
             if end < len(self.buf) or not self._more():

@@ -81,7 +81,8 @@ def batch_command(
     seconds). Bad polygons get status "error" and a reason; the run goes on.
     Rerunning the same command resumes an interrupted run.
     """
-    with _batch_progress(not quiet) as progress:
+    # no bar when stderr is a file or pipe: it would only add blank lines to logs
+    with _batch_progress(not quiet and sys.stderr.isatty()) as progress:
         try:
             summary = batch(
                 inp,
