@@ -5,15 +5,20 @@ from __future__ import annotations
 import json
 
 import pytest
-from batch_polys import write_feature_collection, write_ndjson
 from click.testing import CliRunner
 
 import optri
+from batch_polys import write_feature_collection, write_ndjson
 from optri.batch import BatchFailedError, BatchInputError, iter_records
 from optri.cli import main
 
 GOOD = [[0, 0], [4, 0], [5, 3], [2, 5], [-1, 3]]
 SQUARE = [[0, 0], [1, 0], [1, 1], [0, 1]]
+HOLE = [[0.2, 0.2], [0.4, 0.2], [0.3, 0.4]]
+TRUNC_FEATURE = (
+    '{"type": "FeatureCollection",\n "features": [\n {"type": "Feature", "geometry": nul'
+)
+GARBAGE = '{"type": "FeatureCollection",\n"features": [\n{"a": 1},\n{"b": }]}'
 
 BAD = {
     "too_few": ({"id": "too_few", "coordinates": [[0, 0], [1, 1]]}, "at least 3 vertices"),

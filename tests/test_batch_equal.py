@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import pytest
-from batch_polys import mixed_polygons, write_ndjson
 
 import optri
+from batch_polys import mixed_polygons, write_ndjson
 from optri.batch import iter_records
 from optri.batch.records import solve_chunk
 

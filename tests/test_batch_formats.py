@@ -5,10 +5,10 @@ from __future__ import annotations
 import json
 
 import pytest
-from batch_polys import mixed_polygons, write_feature_collection, write_ndjson
 from click.testing import CliRunner
 
 import optri
+from batch_polys import mixed_polygons, write_feature_collection, write_ndjson
 from optri.batch import iter_records, readers
 from optri.cli import main
 
@@ -129,6 +129,7 @@ def test_parquet_that_is_not_a_polygon_layer(tmp_path):
         main, ["batch", str(tmp_path / "t.parquet"), "-o", str(tmp_path / "o")]
     )
     assert res.exit_code == 2 and "not a polygon layer" in res.output
+    assert not (tmp_path / "o").exists()  # a bad input leaves no output behind
     (tmp_path / "junk.parquet").write_text("not parquet")
     res = CliRunner().invoke(
         main, ["batch", str(tmp_path / "junk.parquet"), "-o", str(tmp_path / "o")]

@@ -11,9 +11,9 @@ import time
 from pathlib import Path
 
 import pytest
-from batch_polys import mixed_polygons, write_ndjson
 
 import optri
+from batch_polys import mixed_polygons, write_ndjson
 from optri.batch import BatchInputError, iter_records
 
 SRC = str(Path(__file__).resolve().parents[1] / "src")

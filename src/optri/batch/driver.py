@@ -179,14 +179,15 @@ def _run(
     if not inp.is_file():
         raise BatchInputError(f"{inp}: no such file")
     layout = plan_layout(out, out_fmt)
-    if overwrite:
-        layout.clear()
-    elif layout.started() and not resume:
-        raise BatchInputError(f"{layout.target} exists; pass --overwrite or --resume")
-    if layout.single and layout.target.exists():
-        return _summary_of_existing(layout, start)
+    if not overwrite:
+        if layout.started() and not resume:
+            raise BatchInputError(f"{layout.target} exists; pass --overwrite or --resume")
+        if layout.single and layout.target.exists():
+            return _summary_of_existing(layout, start)
     items = read_items(inp, kind)
-    items, size = _choose_chunk_size(items, chunk_size, layout)
+    items, size = _choose_chunk_size(items, chunk_size, None if overwrite else layout)
+    if overwrite:  # only now: a bad input file must not cost the earlier output
+        layout.clear()
     layout.parts_dir.mkdir(parents=True, exist_ok=True)
     layout.check_manifest(_manifest(inp, kind, layout, options, size))
     layout.remove_stale_temporaries()
@@ -269,13 +270,15 @@ def _pending_tasks(
 
 
 def _choose_chunk_size(
-    items: Iterator[Item], chunk_size: int | None, layout: Layout
+    items: Iterator[Item], chunk_size: int | None, layout: Layout | None
 ) -> tuple[Iterator[Item], int]:
+    # read the first polygon now: an unreadable file fails before any output is made
+    items = itertools.chain(list(itertools.islice(items, 1)), items)
     if chunk_size is not None:
         if chunk_size < 1:
             raise BatchInputError(f"chunk size must be at least 1, got {chunk_size}")
         return items, chunk_size
-    previous = _manifest_value(layout, "chunk_size")
+    previous = None if layout is None else _manifest_value(layout, "chunk_size")
     if isinstance(previous, int):  # resuming: the parts on disk fix the partitioning
         return items, previous
     sample = list(itertools.islice(items, CHUNK_SAMPLE))
