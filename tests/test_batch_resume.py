@@ -31,30 +31,33 @@ def _snapshot(directory: Path) -> dict[str, bytes]:
     return {p.name: TIMING.sub(b'"seconds":0', p.read_bytes()) for p in sorted(directory.iterdir())}
 
 
-@pytest.fixture(scope="module")
-def clean(tmp_path_factory):
-    tmp = tmp_path_factory.mktemp("clean")
-    src = write_ndjson(tmp / "in.ndjson", mixed_polygons(1500, seed=11, lo=4, hi=6))
-    proc = _cli(src, "-o", tmp / "out", "--workers", "2", "--chunk-size", "25")
-    assert proc.wait(120) == 0, proc.stderr.read()
-    return src, _snapshot(tmp / "out")
+ARGS = ("--workers", "2", "--chunk-size", "16")
+PARTS = 50  # 800 polygons / 16
 
 
-@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
-def test_kill_midway_then_rerun_equals_clean_run(tmp_path, clean, sig):
-    src, expected = clean
-    out = tmp_path / "out"
-    args = (src, "-o", out, "--workers", "2", "--chunk-size", "25")
+def _interrupt(args, out: Path, sig: int, after: int) -> int:
+    """Start the CLI, send ``sig`` once ``after`` parts exist; return the parts then."""
     proc = _cli(*args)
     deadline = time.monotonic() + 60
-    while len(list(out.glob("part-*"))) < 5 and time.monotonic() < deadline:
-        time.sleep(0.02)
+    while len(list(out.glob("part-*"))) < after and time.monotonic() < deadline:
+        time.sleep(0.01)
     proc.send_signal(sig)
     code = proc.wait(60)
-    done = list(out.glob("part-*.ndjson"))
     assert code == 130, proc.stderr.read()
-    assert not (out / "_SUCCESS").exists() and 0 < len(done) < 60
+    done = len(list(out.glob("part-*.ndjson")))
+    assert not (out / "_SUCCESS").exists() and after <= done < PARTS
     assert not list(out.glob(".part-*"))  # no half-written part is left behind
+    return done
+
+
+def test_sigint_then_sigterm_then_rerun_equals_clean_run(tmp_path):
+    src = write_ndjson(tmp_path / "in.ndjson", mixed_polygons(800, seed=11, lo=4, hi=6))
+    optri.batch(src, tmp_path / "clean", workers=2, chunk_size=16)
+    expected = _snapshot(tmp_path / "clean")
+    out = tmp_path / "out"
+    args = (src, "-o", out, *ARGS)
+    first = _interrupt(args, out, signal.SIGINT, after=3)
+    _interrupt(args, out, signal.SIGTERM, after=first + 3)
     rerun = _cli(*args)
     assert rerun.wait(120) == 0, rerun.stderr.read()
     assert _snapshot(out) == expected
