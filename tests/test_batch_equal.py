@@ -52,8 +52,12 @@ def rows():
 
 def test_pool_matches_triangulate(tmp_path, rows):
     src = write_ndjson(tmp_path / "in.ndjson", rows)
-    s = optri.batch(src, tmp_path / "out", workers=2, chunk_size=7)
+    calls = []
+    s = optri.batch(
+        src, tmp_path / "out", workers=2, chunk_size=7, progress=lambda *a: calls.append(a)
+    )
     assert s.total == 60 and s.ok + s.errors == 60 and s.partitions == 9
+    assert calls[0] == (0, 60) and calls[-1] == (60, 60) and len(calls) == 10
     _same(_expected(rows), _got(tmp_path / "out"))
 
 
@@ -80,13 +84,21 @@ def test_dask_local_cluster_matches_triangulate(tmp_path, rows):
     src = write_ndjson(tmp_path / "in.ndjson", rows)
     with (
         distributed.LocalCluster(
-            n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
+            n_workers=2,
+            threads_per_worker=1,
+            processes=False,
+            dashboard_address=None,
+            protocol="tcp",
         ) as cluster,
         distributed.Client(cluster) as client,
     ):
         s = optri.batch(src, tmp_path / "out.geojson", scheduler=client, chunk_size=11)
+        # the same cluster reached by address, as `--scheduler dask://host:port` does
+        address = "dask://" + cluster.scheduler_address.split("://")[1]
+        optri.batch(src, tmp_path / "out2", scheduler=address, chunk_size=13)
     assert s.total == 60
     _same(_expected(rows), _got(tmp_path / "out.geojson"))
+    _same(_expected(rows), _got(tmp_path / "out2"))
 
 
 def test_chunk_function_keeps_input_order():

@@ -145,8 +145,9 @@ def _dask_client(scheduler: Any, workers: int | None) -> Iterator[Any]:
         with cluster, distributed.Client(cluster) as client:
             yield client
         return
-    if scheduler.startswith("dask://"):
-        with distributed.Client("tcp://" + scheduler[len("dask://") :]) as client:
+    if scheduler.startswith(("dask://", "tcp://", "tls://", "inproc://")):
+        address = scheduler.replace("dask://", "tcp://", 1)
+        with distributed.Client(address) as client:
             yield client
         return
     raise BatchInputError(
