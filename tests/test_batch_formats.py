@@ -67,6 +67,7 @@ def test_geojson_directory_parts_are_each_valid(tmp_path):
     parts = sorted((tmp_path / "out").glob("part-*.geojson"))
     assert len(parts) == 3
     assert sum(len(json.loads(p.read_text())["features"]) for p in parts) == len(ROWS)
+    _check(tmp_path / "out", [r["id"] for r in ROWS])
 
 
 @pytest.mark.parametrize("block", [1, 7, 64])

@@ -213,12 +213,12 @@ def iter_records(path: str | os.PathLike[str], fmt: str | None = None) -> Iterat
     """Records of a batch output (a directory of parts or a single file), in input order."""
     p = Path(path)
     if p.is_dir():
-        for name in ("ndjson", "geojson", "parquet"):
-            layout = Layout(p, p, fmt or name, False)
-            parts = layout.parts()
+        kinds = [fmt] if fmt else [_manifest_value(Layout(p, p, "ndjson", False), "format")]
+        for kind in kinds if kinds[0] else ["ndjson", "geojson", "parquet"]:
+            parts = Layout(p, p, kind, False).parts()
             if parts:
                 for part in parts:
-                    yield from read_part(part, layout.fmt)
+                    yield from read_part(part, kind)
                 return
         return
     kind = fmt or SINGLE_FILE_SUFFIXES.get(p.suffix.lower())
