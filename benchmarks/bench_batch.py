@@ -172,7 +172,11 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=2024)
     ap.add_argument("--method", default="auto")
     ap.add_argument("--cores", type=int, default=len(os.sched_getaffinity(0)))
-    ap.add_argument("--no-dask", action="store_true")
+    ap.add_argument(
+        "--configs",
+        default="1,2,all,dask",
+        help="which runs: 1 (worker), 2 (workers), all (cores), dask (LocalCluster)",
+    )
     ap.add_argument(
         "--memory-ratio",
         type=int,
@@ -204,12 +208,13 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         inp = Path(tmp) / "polygons.ndjson"
         write_input(inp, args.n, args.min_vertices, args.max_vertices, shape, args.seed)
-        configs = [("1 worker", 1, "local")]
-        if args.cores >= 2:
+        wanted = args.configs.split(",")
+        configs = [("1 worker", 1, "local")] if "1" in wanted else []
+        if "2" in wanted and args.cores >= 2:
             configs.append(("2 workers", 2, "local"))
-        if args.cores > 2:
+        if "all" in wanted and args.cores > 2 or "2" not in wanted and "all" in wanted:
             configs.append((f"{args.cores} workers", args.cores, "local"))
-        if not args.no_dask:
+        if "dask" in wanted:
             configs.append((f"dask LocalCluster x{args.cores}", args.cores, "dask"))
         base = None
         print(
@@ -223,7 +228,7 @@ def main() -> None:
         for name, workers, sched in configs:
             r = run_config(inp, workers, sched, args.method)
             rate = r["total"] / r["seconds"]
-            base = base or rate
+            base = base or rate  # the first configuration is the baseline
             r.update(rate=rate, speedup=rate / base, per_core=rate / base / workers)
             results["runs"][name] = r
             print(
@@ -237,7 +242,10 @@ def main() -> None:
             n_small = args.n // args.memory_ratio
             write_input(small, n_small, args.min_vertices, args.max_vertices, shape, args.seed)
             r = run_config(small, args.cores, "local", args.method)
-            big = results["runs"][configs[-2 if not args.no_dask else -1][0]]
+            local = [c for c in configs if c[2] == "local" and c[1] == args.cores]
+            if not local:
+                raise SystemExit("--memory-ratio needs the all-cores run in --configs")
+            big = results["runs"][local[-1][0]]
             results["memory"] = {"small_n": n_small, "small": r, "big": big}
             for label, n_run, rr in ((" small", n_small, r), (" big", args.n, big)):
                 print(
