@@ -82,7 +82,7 @@ def test_resume_overwrite_and_option_checks(tmp_path):
     first = optri.batch(src, out, workers=1, chunk_size=6)
     again = optri.batch(src, out, workers=1)
     assert (again.reused, again.total, again.ok) == (4, 20, first.ok)
-    with pytest.raises(BatchInputError, match="weight differ"):
+    with pytest.raises(BatchInputError, match="changed: weight"):
         optri.batch(src, out, workers=1, weight="area")
     with pytest.raises(BatchInputError, match="overwrite"):
         optri.batch(src, out, workers=1, resume=False)

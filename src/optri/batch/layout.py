@@ -97,7 +97,7 @@ class Layout:
             if diff:
                 raise BatchInputError(
                     f"{self.target} was written from a different input or options "
-                    f"({', '.join(diff)} differ); pass --overwrite to redo it"
+                    f"(changed: {', '.join(diff)}); pass --overwrite to redo it"
                 )
             return
         write_json(self.manifest, manifest)
