@@ -189,7 +189,7 @@ class _JsonStream:
 
     def __init__(self, path: Path) -> None:
         self.path = path
-        self.fh = path.open(encoding="utf-8")
+        self.fh = path.open(encoding="utf-8-sig")  # tolerate a byte-order mark
         self.buf = ""
         self.pos = 0
         self.lines_before = 0  # newlines in text already dropped from buf
