@@ -73,6 +73,7 @@ class TreeRss(threading.Thread):
     def __init__(self, every: float = 0.1) -> None:
         super().__init__(daemon=True)
         self.every, self.stop, self.total, self.largest = every, threading.Event(), 0, 0
+        self.cpu: dict[int, float] = {}  # pid -> last seen CPU seconds
 
     def run(self) -> None:
         import psutil
@@ -83,6 +84,8 @@ class TreeRss(threading.Thread):
             for p in [me, *me.children(recursive=True)]:
                 try:
                     rss.append(p.memory_info().rss)
+                    t = p.cpu_times()
+                    self.cpu[p.pid] = t.user + t.system
                 except psutil.Error:
                     pass
             self.total = max(self.total, sum(rss))
@@ -112,11 +115,12 @@ def child(args: argparse.Namespace) -> None:
     seconds = time.perf_counter() - start
     own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     kids = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
-    tree = own
+    tree, cpu = own, float("nan")
     if sampler is not None:
         sampler.stop.set()
         sampler.join()
         kids, tree = max(kids, sampler.largest / 2**20), sampler.total / 2**20
+        cpu = sum(sampler.cpu.values())
     print(
         json.dumps(
             {
@@ -127,6 +131,7 @@ def child(args: argparse.Namespace) -> None:
                 "rss_self_mb": own,
                 "rss_child_mb": kids,
                 "rss_tree_mb": tree,
+                "cpu_seconds": cpu,
             }
         )
     )
@@ -224,7 +229,7 @@ def main() -> None:
         )
         print(
             f"{'configuration':<26}{'polygons/s':>12}{'speed-up':>10}{'per core':>10}"
-            f"{'peak RSS parent':>17}{'largest child':>15}{'whole tree':>12}"
+            f"{'peak RSS parent':>17}{'largest child':>15}{'whole tree':>12}{'CPU s':>8}"
         )
         # rounds interleave the configurations, so load from other jobs hits them alike;
         # each configuration keeps its best round
@@ -243,7 +248,7 @@ def main() -> None:
             print(
                 f"{name:<26}{rate:>12.0f}{rate / base:>9.2f}x{rate / base / workers:>10.2f}"
                 f"{r['rss_self_mb']:>14.0f} MB{r['rss_child_mb']:>12.0f} MB"
-                f"{r['rss_tree_mb']:>9.0f} MB",
+                f"{r['rss_tree_mb']:>9.0f} MB{r['cpu_seconds']:>8.1f}",
                 flush=True,
             )
         if args.memory_ratio > 1:
