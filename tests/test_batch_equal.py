@@ -6,7 +6,7 @@ import pytest
 
 import optri
 from batch_polys import mixed_polygons, write_ndjson
-from optri.batch import iter_records
+from optri.batch import BatchInputError, iter_records
 from optri.batch.records import solve_chunk
 
 
@@ -107,3 +107,13 @@ def test_chunk_function_keeps_input_order():
     items = [Item(i, r["coordinates"]) for i, r in enumerate(mixed_polygons(5))]
     index, recs = solve_chunk(ChunkTask(4, items))
     assert index == 4 and [r["id"] for r in recs] == [0, 1, 2, 3, 4]
+
+
+def test_custom_weight_in_process_and_a_clear_error_for_a_pool(tmp_path, rows):
+    src = write_ndjson(tmp_path / "in.ndjson", rows[:4])
+    s = optri.batch(src, tmp_path / "o", workers=1, weight=lambda i, k, j: 1.0)
+    assert s.total == 4
+    rec = next(iter_records(tmp_path / "o"))
+    assert rec["status"] == "ok" and rec["cost"] == rec["n"] - 2  # n - 2 triangles of weight 1
+    with pytest.raises(BatchInputError, match="workers=1"):
+        optri.batch(src, tmp_path / "p", workers=2, weight=lambda i, k, j: 1.0)

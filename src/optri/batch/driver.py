@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import itertools
 import os
+import pickle
 import shutil
 import signal
 import threading
@@ -141,6 +142,8 @@ def batch(
     [('a', 'ok', [[1, 3]]), ('b', 'error', None)]
     """
     options = dict(weight=weight, objective=objective, method=method)
+    if not (workers == 1 and scheduler in (None, "local")):
+        _require_picklable(options)
     with _sigterm_interrupts():
         summary = _run(
             Path(inp),
@@ -158,6 +161,17 @@ def batch(
     if strict and summary.errors:
         raise BatchFailedError(f"{summary.errors} of {summary.total} polygons failed", summary)
     return summary
+
+
+def _require_picklable(options: dict[str, Any]) -> None:
+    # worker processes receive the options by pickle: say so now, not deep in a pool
+    try:
+        pickle.dumps(options)
+    except Exception as exc:
+        raise BatchInputError(
+            f"the weight or objective cannot be sent to worker processes ({exc}); "
+            "use workers=1 or a module-level function"
+        ) from None
 
 
 def _run(
