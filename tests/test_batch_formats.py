@@ -147,3 +147,16 @@ def test_holes_in_geoparquet_are_errors(tmp_path):
     recs = list(iter_records(tmp_path / "o.ndjson"))
     assert recs[0]["status"] == "error" and "1 hole" in recs[0]["reason"]
     assert recs[1]["status"] == "ok" and recs[1]["id"] == 1
+
+
+def test_import_loads_no_optional_batch_dependency():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, optri, optri.batch.driver; "
+        "print(sorted(m for m in ('dask', 'distributed', 'pyarrow', 'geopandas', 'pyogrio',"
+        " 'shapely', 'rich', 'concurrent.futures.process') if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
