@@ -7,6 +7,7 @@
 
 from __future__ import annotations
 
+from .batch import BatchSummary, batch
 from .chain import ChainOrder, matrix_chain
 from .enumerate import count_triangulations, enumerate_triangulations, random_triangulation
 from .errors import (
@@ -30,6 +31,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "WEIGHTS",
+    "BatchSummary",
     "ChainOrder",
     "EngineUnavailableError",
     "InvalidPolygonError",
@@ -43,6 +45,7 @@ __all__ = [
     "as_polygon",
     "best_triangulations",
     "count_triangulations",
+    "batch",
     "custom_weight",
     "enumerate_triangulations",
     "fill_holes",

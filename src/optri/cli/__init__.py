@@ -47,7 +47,7 @@ def main() -> None:
 
 def _register() -> None:
     # each module adds its commands to main
-    from . import bench_cmd, enumerate_cmd, fill_cmd, paper_cmd, solve_cmd  # noqa: F401
+    from . import batch_cmd, bench_cmd, enumerate_cmd, fill_cmd, paper_cmd, solve_cmd  # noqa: F401
 
 
 _register()

@@ -1,0 +1,162 @@
+"""CLI round trip on every input format and every output format."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from click.testing import CliRunner
+
+import optri
+from batch_polys import mixed_polygons, write_feature_collection, write_ndjson
+from optri.batch import iter_records, readers
+from optri.cli import main
+
+ROWS = mixed_polygons(12, seed=5)
+
+
+def _expected():
+    out = []
+    for r in ROWS:
+        try:
+            out.append(optri.triangulate(r["coordinates"]).triangles.tolist())
+        except optri.OptriError:
+            out.append(None)
+    return out
+
+
+def _run(*args):
+    res = CliRunner().invoke(main, ["batch", *map(str, args), "-q", "-j", "1"])
+    assert res.exit_code == 0, res.output
+    return res
+
+
+def _check(out, ids=None):
+    recs = list(iter_records(out))
+    assert [r["triangles"] for r in recs] == _expected()
+    if ids is not None:
+        assert [r["id"] for r in recs] == ids
+
+
+def _geodataframe():
+    gpd = pytest.importorskip("geopandas")
+    shapely = pytest.importorskip("shapely")
+    geoms = [shapely.Polygon(r["coordinates"]) for r in ROWS]
+    return gpd.GeoDataFrame({"id": [r["id"] for r in ROWS]}, geometry=geoms)
+
+
+def test_ndjson_in(tmp_path):
+    _run(write_ndjson(tmp_path / "in.jsonl", ROWS), "-o", tmp_path / "out")
+    _check(tmp_path / "out", [r["id"] for r in ROWS])
+
+
+def test_geojson_in_geojson_out_is_valid_geojson(tmp_path):
+    src = write_feature_collection(tmp_path / "in.geojson", ROWS)
+    _run(src, "-o", tmp_path / "out.geojson", "--chunk-size", "5")
+    _check(tmp_path / "out.geojson", [r["id"] for r in ROWS])
+    fc = json.loads((tmp_path / "out.geojson").read_text())
+    assert fc["type"] == "FeatureCollection" and len(fc["features"]) == len(ROWS)
+    feat = next(f for f in fc["features"] if f["geometry"])
+    assert feat["geometry"]["type"] == "MultiPolygon"
+    assert len(feat["geometry"]["coordinates"]) == feat["properties"]["n"] - 2
+
+
+def test_geojson_directory_parts_are_each_valid(tmp_path):
+    src = write_feature_collection(tmp_path / "in.geojson", ROWS)
+    _run(src, "-o", tmp_path / "out", "--out-format", "geojson", "--chunk-size", "5")
+    parts = sorted((tmp_path / "out").glob("part-*.geojson"))
+    assert len(parts) == 3
+    assert sum(len(json.loads(p.read_text())["features"]) for p in parts) == len(ROWS)
+    _check(tmp_path / "out", [r["id"] for r in ROWS])
+
+
+@pytest.mark.parametrize("block", [1, 7, 64])
+def test_feature_collection_is_streamed_across_block_edges(tmp_path, monkeypatch, block):
+    monkeypatch.setattr(readers, "READ_BLOCK", block)
+    src = write_feature_collection(tmp_path / "in.geojson", ROWS[:4])
+    data = json.loads(src.read_text())
+    data = {
+        "bbox": [0, 0, 1, 1],
+        "features": data["features"],
+        "type": "FeatureCollection",
+        "n": 123456,
+    }
+    src.write_text(json.dumps(data, indent=2))
+    items = list(readers.read_items(src))
+    assert [it.coords for it in items] == [r["coordinates"] for r in ROWS[:4]]
+
+
+def test_geoparquet_in_and_out(tmp_path):
+    gdf = _geodataframe()
+    pytest.importorskip("pyarrow")
+    gdf.to_parquet(tmp_path / "in.parquet")
+    _run(tmp_path / "in.parquet", "-o", tmp_path / "out.parquet", "--chunk-size", "4")
+    _check(tmp_path / "out.parquet", [r["id"] for r in ROWS])
+    gpd = pytest.importorskip("geopandas")
+    back = gpd.read_parquet(tmp_path / "out.parquet")
+    ok = back[back.status == "ok"]
+    areas = [
+        abs(optri.geometry.signed_area(__import__("numpy").array(ROWS[i]["coordinates"])))
+        for i in ok.index
+    ]
+    assert ok.geometry.area.tolist() == pytest.approx(areas)
+
+
+def test_geoparquet_small_row_groups(tmp_path, monkeypatch):
+    from optri.batch import geo
+
+    monkeypatch.setattr(geo, "ROWS_PER_READ", 5)
+    _geodataframe().to_parquet(tmp_path / "in.parquet", row_group_size=3)
+    _run(tmp_path / "in.parquet", "-o", tmp_path / "out")
+    _check(tmp_path / "out", [r["id"] for r in ROWS])
+
+
+def test_geopackage_in(tmp_path, monkeypatch):
+    pytest.importorskip("pyogrio")
+    from optri.batch import geo
+
+    monkeypatch.setattr(geo, "ROWS_PER_READ", 5)  # several pages
+    gdf = _geodataframe()
+    gdf.set_crs("EPSG:3857").to_file(tmp_path / "in.gpkg", driver="GPKG", engine="pyogrio")
+    _run(tmp_path / "in.gpkg", "-o", tmp_path / "out.ndjson")
+    _check(tmp_path / "out.ndjson", [r["id"] for r in ROWS])
+
+
+def test_parquet_that_is_not_a_polygon_layer(tmp_path):
+    pa = pytest.importorskip("pyarrow")
+    pq = pytest.importorskip("pyarrow.parquet")
+    pq.write_table(pa.table({"x": [1, 2]}), tmp_path / "t.parquet")
+    res = CliRunner().invoke(
+        main, ["batch", str(tmp_path / "t.parquet"), "-o", str(tmp_path / "o")]
+    )
+    assert res.exit_code == 2 and "not a polygon layer" in res.output
+    assert not (tmp_path / "o").exists()  # a bad input leaves no output behind
+    (tmp_path / "junk.parquet").write_text("not parquet")
+    res = CliRunner().invoke(
+        main, ["batch", str(tmp_path / "junk.parquet"), "-o", str(tmp_path / "o")]
+    )
+    assert res.exit_code == 2 and "junk.parquet" in res.output and "Traceback" not in res.output
+
+
+def test_holes_in_geoparquet_are_errors(tmp_path):
+    gpd = pytest.importorskip("geopandas")
+    shapely = pytest.importorskip("shapely")
+    holed = shapely.Polygon([[0, 0], [4, 0], [4, 4], [0, 4]], [[[1, 1], [2, 1], [1, 2]]])
+    gpd.GeoDataFrame(geometry=[holed, shapely.box(0, 0, 1, 1)]).to_parquet(tmp_path / "h.parquet")
+    _run(tmp_path / "h.parquet", "-o", tmp_path / "o.ndjson")
+    recs = list(iter_records(tmp_path / "o.ndjson"))
+    assert recs[0]["status"] == "error" and "1 hole" in recs[0]["reason"]
+    assert recs[1]["status"] == "ok" and recs[1]["id"] == 1
+
+
+def test_import_loads_no_optional_batch_dependency():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, optri, optri.batch.driver; "
+        "print(sorted(m for m in ('dask', 'distributed', 'pyarrow', 'geopandas', 'pyogrio',"
+        " 'shapely', 'rich', 'concurrent.futures.process') if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
