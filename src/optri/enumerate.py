@@ -27,6 +27,7 @@ from .geometry import Polygon, as_polygon
 from .hurtado_noy import hn_index_triangulations
 from .objective import ObjectiveLike
 from .result import Triangulation
+from .simple import count_table
 from .triangulations import TriangulationBuilder, usable_chords
 
 __all__ = [
@@ -107,23 +108,7 @@ def count_triangulations(vertices_or_n: PolygonOrN) -> int:
     ok = usable_chords(polygon)
     if ok is None:
         return catalan(polygon.n - 2)
-    return _count_table(ok)[0][polygon.n - 1]
-
-
-def _count_table(ok: list[list[bool]]) -> list[list[int]]:
-    """count[i][j] of sub-polygon i..j over the allowed chords (0 if chord (i, j) is not)."""
-    n = len(ok)
-    cnt = [[0] * n for _ in range(n)]
-    for i in range(n - 1):
-        cnt[i][i + 1] = 1
-    for d in range(2, n):
-        for i in range(n - d):
-            j = i + d
-            if not ok[i][j]:
-                continue
-            row_i = cnt[i]
-            cnt[i][j] = sum(row_i[k] * cnt[k][j] for k in range(i + 1, j) if ok[i][k] and ok[k][j])
-    return cnt
+    return count_table(ok)[0][polygon.n - 1]
 
 
 def index_triangulations(polygon: Polygon) -> Iterator[list[list[int]]]:
@@ -222,7 +207,7 @@ def random_triangulation(
         def usable(i: int, k: int, j: int) -> bool:
             return True
     else:
-        table = _count_table(ok)
+        table = count_table(ok)
         if table[0][n - 1] == 0:
             raise InvalidPolygonError("the polygon has no triangulation with its allowed chords")
 

@@ -18,6 +18,7 @@ from .errors import InvalidPolygonError
 from .geometry import Polygon, as_polygon
 
 __all__ = [
+    "count_table",
     "count_triangulations_mask",
     "find_self_intersection",
     "not_simple_error",
@@ -209,16 +210,27 @@ def count_triangulations_mask(ok: NDArray[np.bool_]) -> int:
     n = ok.shape[0]
     allow = np.array(ok, dtype=bool)
     _set_sides(allow)
-    rows = allow.tolist()
-    count = [[0] * n for _ in range(n)]
+    return count_table(allow.tolist())[0][n - 1]
+
+
+def count_table(ok: list[list[bool]]) -> list[list[int]]:
+    """``count[i][j]``: triangulations of sub-polygon i..j over the allowed chords.
+
+    ``count[i][j]`` is 0 when chord (i, j) is not allowed; sides count 1. The
+    recurrence is count(i, j) = sum_k count(i, k) count(k, j) (Klincsek 1980).
+    """
+    n = len(ok)
+    cnt = [[0] * n for _ in range(n)]
     for i in range(n - 1):
-        count[i][i + 1] = 1
+        cnt[i][i + 1] = 1
     for d in range(2, n):
-        for a in range(n - d):
-            b = a + d
-            if rows[a][b]:
-                count[a][b] = sum(count[a][k] * count[k][b] for k in range(a + 1, b))
-    return count[0][n - 1]
+        for i in range(n - d):
+            j = i + d
+            if not ok[i][j]:
+                continue
+            row_i = cnt[i]
+            cnt[i][j] = sum(row_i[k] * cnt[k][j] for k in range(i + 1, j) if ok[i][k] and ok[k][j])
+    return cnt
 
 
 def zero_area_triangles(points: NDArray[np.float64], triangles: NDArray[np.int64]) -> int:

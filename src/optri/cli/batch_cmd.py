@@ -11,11 +11,9 @@ import click
 from ..batch import BatchFailedError, batch
 from ..batch.readers import INPUT_FORMATS
 from ..batch.writers import OUTPUT_FORMATS
-from ..engines import ENGINES
 from ..engines.problem import ProgressFn
-from ..weights import WEIGHTS
 from . import main
-from .solve_cmd import _parse_pair
+from .options import engine_options, parse_pair
 
 __all__ = ["batch_command"]
 
@@ -34,22 +32,7 @@ __all__ = ["batch_command"]
 @click.option(
     "--out-format", type=click.Choice(list(OUTPUT_FORMATS)), help="Output format (directories)."
 )
-@click.option(
-    "--weight",
-    "-w",
-    default="perimeter",
-    show_default=True,
-    help=f"Triangle weight ({', '.join(sorted(WEIGHTS))}); 'a,b' for a lexicographic pair.",
-)
-@click.option("--objective", default="sum", show_default=True, help="sum, max, or e.g. max,sum.")
-@click.option(
-    "--method",
-    "-m",
-    default="auto",
-    show_default=True,
-    type=click.Choice(["auto", *ENGINES]),
-    help="Engine.",
-)
+@engine_options
 @click.option("--workers", "-j", type=click.IntRange(min=1), help="Processes (default: all cores).")
 @click.option("--chunk-size", type=click.IntRange(min=1), help="Polygons per part (default: auto).")
 @click.option(
@@ -87,8 +70,8 @@ def batch_command(
             summary = batch(
                 inp,
                 out,
-                weight=_parse_pair(weight),
-                objective=_parse_pair(objective),
+                weight=parse_pair(weight),
+                objective=parse_pair(objective),
                 method=method,
                 workers=workers,
                 chunk_size=chunk_size,

@@ -8,47 +8,20 @@ import time
 import click
 
 from ..chain import matrix_chain
-from ..engines import ENGINES
 from ..io import atomic_write, read_polygon
 from ..papertable import format_table
 from ..solve import triangulate
-from ..weights import WEIGHTS
 from . import main
+from .options import engine_options, parse_pair
 from .progress import progress_bar
 
 #: Show a progress bar from this many vertices on.
 PROGRESS_MIN_N = 1500
 
 
-def _parse_pair(value: str) -> str | tuple[str, ...]:
-    parts = tuple(p.strip() for p in value.split(","))
-    return parts if len(parts) > 1 else parts[0]
-
-
 @main.command()
 @click.argument("file", type=click.Path(dir_okay=False))
-@click.option(
-    "--weight",
-    "-w",
-    default="perimeter",
-    show_default=True,
-    help=f"Triangle weight ({', '.join(sorted(WEIGHTS))}); 'a,b' for a lexicographic pair.",
-)
-@click.option(
-    "--objective",
-    "-o",
-    default="sum",
-    show_default=True,
-    help="sum, max, or a lexicographic pair such as max,sum.",
-)
-@click.option(
-    "--method",
-    "-m",
-    default="auto",
-    show_default=True,
-    type=click.Choice(["auto", *ENGINES]),
-    help="Engine.",
-)
+@engine_options
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @click.option(
     "--plot",
@@ -79,8 +52,8 @@ def solve(
     with progress_bar(f"solving n={len(vertices)}", show_bar) as progress:
         tri = triangulate(
             vertices,
-            weight=_parse_pair(weight),
-            objective=_parse_pair(objective),
+            weight=parse_pair(weight),
+            objective=parse_pair(objective),
             method=method,
             progress=progress,
             keep_table=True if show_table else None,
