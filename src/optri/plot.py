@@ -17,7 +17,7 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["plot_table", "plot_triangulation", "save_figure"]
 
 
-def _axes(ax: Any) -> Any:
+def _axes(ax: Any, figsize: tuple[float, float] = (6, 6)) -> Any:
     if ax is not None:
         return ax
     import_optional("matplotlib")
@@ -27,7 +27,7 @@ def _axes(ax: Any) -> Any:
         matplotlib.use("Agg")  # headless by default; callers may pass their own ax
     import matplotlib.pyplot as plt
 
-    _, ax = plt.subplots(figsize=(6, 6))
+    _, ax = plt.subplots(figsize=figsize)
     return ax
 
 
@@ -84,8 +84,9 @@ def plot_table(tri: Triangulation, ax: Any = None, *, style: str = "paper") -> A
     from .papertable import table_cells
 
     cells, marks = table_cells(tri, style=style)
-    ax = _axes(ax)
     rows = len(cells)
+    width = max(len(text) for row in cells for text in row)
+    ax = _axes(ax, figsize=(1.0 + rows * max(0.9, 0.12 * width), 0.9 + 0.42 * rows))
     colours = [
         ["#fff4d6" if r < c else "#e3efff" if r > c else "#eeeeee" for c in range(rows)]
         for r in range(rows)
