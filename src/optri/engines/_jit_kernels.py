@@ -103,18 +103,38 @@ def _block11(T, i, j, k0, k1):
     T[i, j] = _rowmin(T[i, j], T[i, k0:k1], T[j, k0:k1])
 
 
+@njit(cache=True, fastmath=_FASTMATH, inline="always")
+def _any_allowed(mask, use_mask, i0, i1, j0, j1):
+    """Whether any cell of rows i0..i1-1, columns j0..j1-1 is an allowed chord."""
+    if not use_mask:
+        return True
+    for i in range(i0, i1):
+        for j in range(j0, j1):
+            if mask[i, j]:
+                return True
+    return False
+
+
 @njit(cache=True, fastmath=_FASTMATH)
-def _far(T, i0, i1, j0, j1):
-    """``T[i, j] = min over i1 <= k < j0 of T[i, k] + T[j, k]`` for the tile's cells."""
+def _far(T, mask, use_mask, i0, i1, j0, j1):
+    """``T[i, j] = min over i1 <= k < j0 of T[i, k] + T[j, k]`` for the tile's cells.
+
+    With a chord mask, blocks of cells that are all disallowed are skipped: a
+    simple polygon has few valid diagonals, so most of the product is never
+    needed (disallowed cells end up +inf either way).
+    """
     for i in range(i0, i1):
         for j in range(j0, j1):
             T[i, j] = np.inf
+    if not _any_allowed(mask, use_mask, i0, i1, j0, j1):
+        return
     for k0 in range(i1, j0, _KBLOCK):
         k1 = min(j0, k0 + _KBLOCK)
         for i in range(i0, i1 - 1, 2):
             j = j0
             while j + 4 <= j1:
-                _block24(T, i, j, k0, k1)
+                if _any_allowed(mask, use_mask, i, i + 2, j, j + 4):
+                    _block24(T, i, j, k0, k1)
                 j += 4
             for jj in range(j, j1):
                 _block11(T, i, jj, k0, k1)
@@ -130,13 +150,15 @@ def _tile(T, pts, code, mask, use_mask, tile, ti, tj):
     i0, i1 = ti * tile, min(n, ti * tile + tile)
     j0, j1 = tj * tile, min(n, tj * tile + tile)
     if tj > ti + 1:
-        _far(T, i0, i1, j0, j1)
+        _far(T, mask, use_mask, i0, i1, j0, j1)
     # near splits, in dependency order: rows upwards, columns rightwards
     for i in range(i1 - 1, i0 - 1, -1):
         ri = T[i]
         for j in range(max(j0, i + 1), j1):
             if j == i + 1:
                 v = edge_weight(code, pts, i, j)  # a side: cost 0, so E = e
+            elif use_mask and not mask[i, j]:
+                v = np.inf  # not a diagonal: never computed
             else:
                 rj = T[j]
                 if tj <= ti + 1:
@@ -145,8 +167,6 @@ def _tile(T, pts, code, mask, use_mask, tile, ti, tj):
                 best = _rowmin(ri[j], ri[i + 1 : lo], rj[i + 1 : lo])
                 best = _rowmin(best, ri[hi:j], rj[hi:j])
                 v = best + 2.0 * edge_weight(code, pts, i, j)
-                if use_mask and not mask[i, j]:
-                    v = np.inf
             ri[j] = v
             T[j, i] = v
 
@@ -207,6 +227,8 @@ def best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, wfng, gat
         r2i, r2j = r1i, r1j
     for kk in range(r1i.shape[0]):
         k = i + 1 + kk
+        if r1i[kk] == np.inf or r1j[kk] == np.inf:
+            continue  # a half with no triangulation (not a diagonal): skip its weight
         w1 = _weight(codes[0], pts, i, k, j, wfn1, verts, order)
         if codes[2] != NO_GATE:  # a triangle above the gate's threshold is forbidden
             if _weight(codes[2], pts, i, k, j, wfng, verts, order) > gate[0]:
