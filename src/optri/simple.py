@@ -10,6 +10,8 @@ no zero-area triangle can be produced.
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -141,8 +143,8 @@ def valid_diagonals(polygon: ArrayLike | Polygon) -> NDArray[np.bool_]:
     inconsistent rounding, a direct check is used instead: each chord against
     the edges outward from its first endpoint, stopping at the first blocker
     (O(n^3) in the worst case).
-    Up to ``NUMPY_MAX_N`` vertices, and without numba,
-    :func:`valid_diagonals_numpy` is used.
+    Up to ``NUMPY_MAX_N`` vertices while numba is not loaded yet, and without
+    numba, :func:`valid_diagonals_numpy` is used (same result).
 
     Examples
     --------
@@ -157,8 +159,8 @@ def valid_diagonals(polygon: ArrayLike | Polygon) -> NDArray[np.bool_]:
     pts = poly.planar_points
     if pts is None:
         raise InvalidPolygonError("valid diagonals need planar vertex coordinates")
-    if poly.n <= NUMPY_MAX_N:
-        return valid_diagonals_numpy(pts)
+    if poly.n <= NUMPY_MAX_N and "numba" not in sys.modules:
+        return valid_diagonals_numpy(pts)  # small: not worth starting numba for
     try:
         return valid_diagonals_compiled(pts)
     except ImportError:  # pragma: no cover - numba is a core dependency
