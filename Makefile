@@ -26,6 +26,9 @@ test: $(STAMP)
 	NUMBA_CACHE_DIR=$(CURDIR)/.numba-cache $(BIN)/python -m pytest -n 2 tests src/optri README.md docs
 	$(BIN)/ruff check src tests benchmarks
 
+bench: $(STAMP)
+	NUMBA_CACHE_DIR=$(CURDIR)/.numba-cache $(BIN)/python benchmarks/bench_fast.py
+
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks
 
