@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from .engines.problem import chord_rows
 from .geometry import Polygon
 from .objective import Cost, ObjectiveLike, as_objective
 from .result import Triangulation, recompute_cost
@@ -28,14 +29,7 @@ def usable_chords(polygon: Polygon) -> list[list[bool]] | None:
     from .solve import allowed_chords
 
     mask = allowed_chords(polygon)
-    if mask is None:
-        return None
-    ok = np.array(mask, dtype=bool, copy=True)
-    n = polygon.n
-    idx = np.arange(n - 1)
-    ok[idx, idx + 1] = ok[idx + 1, idx] = True
-    ok[0, n - 1] = ok[n - 1, 0] = True
-    return ok.tolist()  # type: ignore[no-any-return]
+    return None if mask is None else chord_rows(mask)
 
 
 class TriangulationBuilder:

@@ -15,7 +15,7 @@ from ..geometry import Polygon
 from ..objective import Cost, Objective
 from ..weights import Weight
 
-__all__ = ["Problem", "ProgressFn", "Solution", "triangles_from_splits"]
+__all__ = ["Problem", "ProgressFn", "Solution", "chord_rows", "triangles_from_splits"]
 
 ProgressFn = Callable[[int, int], None]
 
@@ -109,13 +109,15 @@ class Problem:
 
     def allowed_rows(self) -> list[list[bool]] | None:
         """``allowed`` as nested lists (fast to index from Python), sides set True."""
-        if self.allowed is None:
-            return None
-        ok = np.array(self.allowed, dtype=bool, copy=True)
-        idx = np.arange(self.n - 1)
-        ok[idx, idx + 1] = ok[idx + 1, idx] = True
-        ok[0, self.n - 1] = ok[self.n - 1, 0] = True
-        return ok.tolist()
+        return None if self.allowed is None else chord_rows(self.allowed)
+
+
+def chord_rows(mask: NDArray[np.bool_]) -> list[list[bool]]:
+    """A copy of chord mask ``mask`` as nested lists, with every polygon side allowed."""
+    ok = np.array(mask, dtype=bool, copy=True)
+    k = np.arange(ok.shape[0])
+    ok[k, (k + 1) % len(k)] = ok[(k + 1) % len(k), k] = True
+    return ok.tolist()  # type: ignore[no-any-return]
 
 
 @dataclass
