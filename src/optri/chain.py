@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -78,7 +79,8 @@ def matrix_chain(dims: Sequence[int], method: str = "auto") -> ChainOrder:
         raise InvalidPolygonError(f"matrix dimensions must be positive integers, got {list(dims)}")
     t = triangulate(d.astype(np.float64), weight="product", method=method)
     splits = {(int(i), int(j)): int(k) for i, k, j in np.sort(t.triangles, axis=1).tolist()}
-    return ChainOrder(int(round(t.weight)), _parens(splits, 0, len(d) - 1), splits)
+    cost = cast(float, t.weight)  # a scalar objective
+    return ChainOrder(int(round(cost)), _parens(splits, 0, len(d) - 1), splits)
 
 
 def _parens(splits: dict[tuple[int, int], int], i: int, j: int) -> str:

@@ -40,7 +40,7 @@ def delaunay_faces(points: NDArray[np.float64]) -> NDArray[np.int64]:
             simplices = spatial.Delaunay(centred @ basis.T).simplices
         except (spatial.QhullError, ValueError):
             return np.zeros((0, 3), dtype=np.int64)
-        combos = ((0, 1, 2),)
+        combos = ((0, 1, 2),)  # type: ignore[assignment]  # a planar hole: triangles only
     faces = np.sort(np.concatenate([simplices[:, list(c)] for c in combos]), axis=1)
     n = len(points)
     # one int64 key per triple, ordered (first, last, middle): chord then apex

@@ -150,7 +150,9 @@ def fill_polyline(
     if method == "delaunay":
         tris, used = _fill_delaunay(hole, stats)
     else:
-        tris, used = _fill_all(hole, method)
+        found, used = _fill_all(hole, method)
+        assert found is not None  # the full search always admits a triangulation
+        tris = found
     seconds = time.perf_counter() - start
     return _result(P, Q, has_third, tris, weight, objective, liepa, used, stats, seconds)
 
@@ -305,13 +307,14 @@ def _result(
 ) -> Triangulation:
     n = len(P)
     tris = tris[np.lexsort((tris[:, 2], tris[:, 1], tris[:, 0]))]
+    again: Callable[[NDArray[np.int64]], Cost]
     if liepa:
 
-        def again(t: NDArray[np.int64]) -> Cost:
+        def liepa_cost(t: NDArray[np.int64]) -> Cost:
             key, area = _liepa_keys(Q, n, has_third, t)
             return (_angle(key), area)
 
-        value: Cost = again(tris)
+        again = liepa_cost
         name: Any = ("liepa_dihedral", "area")
         obj_name: Any = ("max", "sum")
     else:
@@ -319,10 +322,10 @@ def _result(
 
         problem = _problem(P, weight, objective)
         again = recompute_cost(problem.evaluator(), problem.objective, problem.polygon.order)
-        value = again(tris)
         names = tuple(w.name for w in problem.weights)
         name = names[0] if len(names) == 1 else names
         obj_name = problem.objective.name
+    value = again(tris)
     if isinstance(value, float) and math.isnan(value):
         raise WeightError("the weight returned NaN")
     return Triangulation(

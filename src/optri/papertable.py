@@ -49,12 +49,12 @@ def table_cells(
             ]
             for r in range(n)
         ]
-        marks = [(i, j) for i, j in chords] + [(j, i) for i, j in chords]
+        marks: list[tuple[int, int]] = [(i, j) for i, j in chords] + [(j, i) for i, j in chords]
         return cells, marks
     if style != "paper":
         raise OptriError(f"unknown table style {style!r}; use 'paper' or 'vertex'")
     cells = [["" for _ in range(n)] for _ in range(n)]
-    marks: list[tuple[int, int]] = []
+    marks = []
     for r in range(n):  # 0-based row/col of the printed table
         for c in range(n):
             if r == c:

@@ -7,7 +7,7 @@ import time
 import warnings
 from collections.abc import Sequence
 from dataclasses import replace
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -157,7 +157,7 @@ def solve_problem(problem: Problem, method: str = "auto") -> tuple[str, Solution
             problem,
             weights=problem.weights[1:],
             objective=Objective(objective.components[1:]),
-            gates=(*problem.gates, (problem.weights[0], bottleneck.cost)),
+            gates=(*problem.gates, (problem.weights[0], float(bottleneck.cost))),  # type: ignore[arg-type]
         )
         name, second = solve_problem(rest, method)
         tail = second.cost if isinstance(second.cost, tuple) else (second.cost,)
@@ -165,7 +165,8 @@ def solve_problem(problem: Problem, method: str = "auto") -> tuple[str, Solution
             k: bottleneck.stats.get(k, 0) + second.stats.get(k, 0)
             for k in {*bottleneck.stats, *second.stats}
         }
-        return name, Solution((bottleneck.cost, *tail), second.triangles, second.table, stats)
+        first_cost = cast(float, bottleneck.cost)  # a scalar "max" objective
+        return name, Solution((first_cost, *tail), second.triangles, second.table, stats)
     name, solve = select_engine(method, problem)
     if problem.keep_table is None:
         problem.keep_table = name in ("memo", "table")
@@ -255,6 +256,7 @@ def _report_degenerate(problem: Problem, triangles: NDArray[np.int64], stats: An
     count = zero_area_triangles(pts, triangles) if pts is not None else 0
     if isinstance(stats, dict):
         stats["zero_area_triangles"] = count
+        assert problem.allowed is not None
         stats["valid_diagonals"] = int(np.count_nonzero(problem.allowed)) // 2 - problem.n
         if "mask_seconds" in problem.options:
             stats["mask_seconds"] = problem.options["mask_seconds"]

@@ -206,7 +206,7 @@ def _run(
     layout.parts_dir.mkdir(parents=True, exist_ok=True)
     layout.check_manifest(_manifest(inp, kind, layout, options, size))
     layout.remove_stale_temporaries()
-    total = count_items(inp, kind) if progress is not None else 0
+    total = (count_items(inp, kind) or 0) if progress is not None else 0
     counter = _Counter(progress, total)
     tasks = _pending_tasks(items, size, layout, options, counter)
 

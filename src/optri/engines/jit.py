@@ -304,8 +304,9 @@ def _fill_generic(
 ) -> None:
     n = problem.n
     neutral = problem.objective.neutral
+    neutrals = neutral if isinstance(neutral, tuple) else (neutral,)
     idx = np.arange(n - 1)
-    for T, v in zip((T1, T2), neutral if args.lex else (neutral,)):
+    for T, v in zip((T1, T2), neutrals):
         T[idx, idx + 1] = T[idx + 1, idx] = v
     kernel = args.kernel("generic_tiles")
     # a weight evaluation costs about 20 min-plus steps

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 from ..enumerate import catalan, enumerate_triangulations
 from ..hurtado_noy import hn_operation_counts
@@ -45,15 +45,16 @@ def table2(vertices: Any, weight: str) -> list[Table2Row]:
     [(((1, 3), (1, 4)), 75.0, False), (((1, 3), (3, 5)), 175.0, False)]
     """
     tris = list(enumerate_triangulations(vertices, weight=weight))
-    best = min(t.weight for t in tris)
+    weights = [cast(float, t.weight) for t in tris]  # a scalar objective
+    best = min(weights)
     return [
         Table2Row(
             i + 1,
             tuple((a + 1, b + 1) for a, b in t.diagonals.tolist()),
-            float(t.weight),
-            bool(abs(t.weight - best) <= 1e-9 * max(1.0, abs(best))),
+            w,
+            bool(abs(w - best) <= 1e-9 * max(1.0, abs(best))),
         )
-        for i, t in enumerate(tris)
+        for i, (t, w) in enumerate(zip(tris, weights))
     ]
 
 
