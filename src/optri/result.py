@@ -119,6 +119,33 @@ class Triangulation:
         polys = [[[pts[a], pts[b], pts[c], pts[a]]] for a, b, c in self.triangles.tolist()]
         return {"type": "MultiPolygon", "coordinates": polys}
 
+    def _repr_svg_(self) -> str:
+        """SVG drawing for notebooks: triangles filled, polygon outlined (2-D input).
+
+        >>> import optri
+        >>> svg = optri.triangulate([[0, 0], [1, 0], [1, 1], [0, 1]])._repr_svg_()
+        >>> svg.startswith("<svg") and svg.count("<polygon") == 3
+        True
+        """
+        if self.vertices.ndim != 2:
+            return ""
+        pts = self.vertices[:, :2]
+        lo, span = pts.min(axis=0), float(np.ptp(pts, axis=0).max()) or 1.0
+        xy = (pts - lo) / span * 280 + 10
+        xy[:, 1] = 300 - xy[:, 1]  # SVG's y axis points down
+
+        def poly(idx: Any, style: str) -> str:
+            coords = " ".join(f"{x:.2f},{y:.2f}" for x, y in xy[idx])
+            return f'<polygon points="{coords}" style="{style}"/>'
+
+        body = [poly(t, "fill:#cfe3ff;stroke:#3070c0;stroke-width:1") for t in self.triangles]
+        body.append(poly(np.arange(self.n), "fill:none;stroke:black;stroke-width:2"))
+        return (
+            '<svg xmlns="http://www.w3.org/2000/svg" width="300" height="300">'
+            + "".join(body)
+            + "</svg>"
+        )
+
     def __repr__(self) -> str:
         return (
             f"Triangulation(n={self.n}, weight={self.weight!r}, method={self.method!r}, "
