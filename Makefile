@@ -20,17 +20,19 @@ demo: $(STAMP)
 	mkdir -p $(OUT)
 	$(BIN)/optri solve examples/octagon.csv --method memo --table --plot $(OUT)/octagon.png
 	$(BIN)/optri chain 30 35 15 5 10 20 25
-	@if $(BIN)/optri paper --help >/dev/null 2>&1; then $(BIN)/optri paper --out $(OUT)/paper; fi
+	$(BIN)/optri paper --out $(OUT)/paper
 
 test: $(STAMP)
 	NUMBA_CACHE_DIR=$(CURDIR)/.numba-cache $(BIN)/python -m pytest -n 2 tests src/optri README.md docs
 	$(BIN)/ruff check src tests benchmarks
+	$(BIN)/mypy src/optri
 
 bench: $(STAMP)
 	NUMBA_CACHE_DIR=$(CURDIR)/.numba-cache $(BIN)/python benchmarks/bench_fast.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks
+	$(BIN)/mypy src/optri
 
 clean:
 	rm -rf $(VENV) $(OUT) .numba-cache .pytest_cache
