@@ -1,7 +1,7 @@
 # optri: two commands on a fresh machine.
 #   make demo   set up .venv, solve the bundled octagon, print it and its table,
 #               plot it, and reproduce the paper's tables into demo-output/
-#   make test   set up .venv and run the whole test suite
+#   make test   set up .venv, lint (ruff, mypy) and run the whole test suite
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
@@ -23,9 +23,9 @@ demo: $(STAMP)
 	$(BIN)/optri paper --out $(OUT)/paper
 
 test: $(STAMP)
-	NUMBA_CACHE_DIR=$(CURDIR)/.numba-cache $(BIN)/python -m pytest -n 2 tests src/optri README.md docs
 	$(BIN)/ruff check src tests benchmarks
 	$(BIN)/mypy src/optri
+	NUMBA_CACHE_DIR=$(CURDIR)/.numba-cache $(BIN)/python -m pytest -n 2 tests src/optri README.md docs
 
 bench: $(STAMP)
 	NUMBA_CACHE_DIR=$(CURDIR)/.numba-cache $(BIN)/python benchmarks/bench_fast.py
