@@ -36,7 +36,7 @@ TARGETS = {20000: 2.0, 50000: 30.0}
 
 
 def convex_polygon(n: int, seed: int = 1) -> np.ndarray:
-    """n random angles on a 1000 x 600 ellipse (as /work/shared/bench/gen.py)."""
+    """n random angles on a 1000 x 600 ellipse (as ../shared/bench/gen.py)."""
     rng = np.random.default_rng(seed)
     ang = np.sort(rng.uniform(0.0, 2.0 * math.pi, n))
     return np.c_[1000.0 * np.cos(ang), 600.0 * np.sin(ang)]

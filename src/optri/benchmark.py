@@ -23,8 +23,12 @@ from pathlib import Path
 
 __all__ = ["BenchRow", "find_yardsticks", "format_rows", "run_benchmark"]
 
-#: Where the yardsticks live, tried in turn (the second relative to the repository root).
-_BENCH_DIRS = ("/work/shared/bench", str(Path(__file__).resolve().parents[2] / "../shared/bench"))
+#: Where the yardsticks live, tried in turn: ``shared/bench`` beside the repository
+#: root, then beside the current directory (``$OPTRI_BENCH_DIR`` comes first).
+_BENCH_DIRS = (
+    str(Path(__file__).resolve().parents[3] / "shared" / "bench"),
+    str(Path.cwd().parent / "shared" / "bench"),
+)
 
 
 @dataclass

@@ -24,7 +24,7 @@ def bench(
     """Time method='fast', ref_mwt.c and naive_memo.py on the same polygons.
 
     SIZES default to 500 1000 2000 4000. The yardsticks are looked up in
-    $OPTRI_BENCH_DIR, /work/shared/bench and ../shared/bench.
+    $OPTRI_BENCH_DIR, then ../shared/bench beside the repository.
     """
     from ..benchmark import run_benchmark
 
