@@ -2,18 +2,16 @@
 
 from __future__ import annotations
 
-import contextlib
 import sys
-from collections.abc import Iterator
 
 import click
 
 from ..batch import BatchFailedError, batch
 from ..batch.readers import INPUT_FORMATS
 from ..batch.writers import OUTPUT_FORMATS
-from ..engines.problem import ProgressFn
 from . import main
 from .options import engine_options, parse_pair
+from .progress import progress_bar
 
 __all__ = ["batch_command"]
 
@@ -65,7 +63,7 @@ def batch_command(
     Rerunning the same command resumes an interrupted run.
     """
     # no bar when stderr is a file or pipe: it would only add blank lines to logs
-    with _batch_progress(not quiet and sys.stderr.isatty()) as progress:
+    with progress_bar("polygons", not quiet and sys.stderr.isatty(), counts=True) as progress:
         try:
             summary = batch(
                 inp,
@@ -89,41 +87,3 @@ def batch_command(
             sys.exit(1)
     if not quiet:
         click.echo(str(summary), err=True)
-
-
-@contextlib.contextmanager
-def _batch_progress(enabled: bool) -> Iterator[ProgressFn | None]:
-    """A rich bar on stderr: polygons done / total, polygons per second, ETA."""
-    if not enabled:
-        yield None
-        return
-    from rich.console import Console
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        TaskProgressColumn,
-        TextColumn,
-        TimeElapsedColumn,
-        TimeRemainingColumn,
-    )
-
-    with Progress(
-        "[progress.description]{task.description}",
-        BarColumn(),
-        MofNCompleteColumn(),
-        TaskProgressColumn(),
-        TextColumn("{task.fields[rate]}"),
-        TimeElapsedColumn(),
-        TimeRemainingColumn(),
-        console=Console(stderr=True),
-        transient=True,
-    ) as bar:
-        task = bar.add_task("polygons", total=None, rate="")
-
-        def update(done: int, total: int) -> None:
-            bar.update(task, completed=done, total=total)
-            speed = bar.tasks[0].speed
-            bar.update(task, rate=f"{speed:,.0f}/s" if speed else "")
-
-        yield update
