@@ -25,7 +25,7 @@ from ..errors import EngineUnavailableError, TableTooLargeError, WeightError
 from ..weights import CODE_CUSTOM, CODE_DIAGONAL, CODE_PERIMETER
 from .gpu_device import OBJ_MAX, OBJ_SUM
 from .memory import require_memory
-from .problem import Problem, Solution
+from .problem import Problem, Solution, with_sides
 
 __all__ = [
     "auto_accepts",
@@ -217,10 +217,7 @@ def _mask(problem: Problem, size: int) -> np.ndarray:
         return np.ones((1, 1), dtype=np.uint8)
     n = problem.n
     mask = np.ones((size, size), dtype=np.uint8)
-    mask[:n, :n] = np.asarray(problem.allowed, dtype=bool)
-    idx = np.arange(n - 1)
-    mask[idx, idx + 1] = mask[idx + 1, idx] = 1  # polygon sides are always usable
-    mask[0, n - 1] = mask[n - 1, 0] = 1
+    mask[:n, :n] = with_sides(problem.allowed)  # polygon sides are always usable
     return mask
 
 

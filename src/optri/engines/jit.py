@@ -29,7 +29,7 @@ from .. import config
 from ..errors import EngineUnavailableError, WeightError
 from ..weights import CODE_CUSTOM, CODE_DIAGONAL, CODE_PERIMETER, Weight
 from .memory import require_memory
-from .problem import Problem, Solution
+from .problem import Problem, Solution, with_sides
 
 __all__ = [
     "SUPPORTS_GATES",
@@ -206,13 +206,7 @@ def _vertex_array(problem: Problem) -> NDArray[np.float64]:
 def _mask(problem: Problem) -> tuple[NDArray[np.bool_], bool]:
     if problem.allowed is None:
         return np.ones((1, 1), dtype=np.bool_), False
-    ok = np.ascontiguousarray(problem.allowed, dtype=np.bool_)
-    n, idx = problem.n, np.arange(problem.n - 1)
-    if not (ok[idx, idx + 1].all() and ok[0, n - 1]):
-        ok = ok.copy()  # polygon sides are always usable; never write the caller's mask
-        ok[idx, idx + 1] = ok[idx + 1, idx] = True
-        ok[0, n - 1] = ok[n - 1, 0] = True
-    return ok, True
+    return with_sides(problem.allowed), True
 
 
 def _edge(code: int, pts: NDArray[np.float64], a: int, b: int) -> float:

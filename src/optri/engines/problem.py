@@ -15,7 +15,7 @@ from ..geometry import Polygon
 from ..objective import Cost, Objective
 from ..weights import Weight
 
-__all__ = ["Problem", "ProgressFn", "Solution", "chord_rows", "triangles_from_splits"]
+__all__ = ["Problem", "ProgressFn", "Solution", "chord_rows", "triangles_from_splits", "with_sides"]
 
 ProgressFn = Callable[[int, int], None]
 
@@ -112,12 +112,24 @@ class Problem:
         return None if self.allowed is None else chord_rows(self.allowed)
 
 
-def chord_rows(mask: NDArray[np.bool_]) -> list[list[bool]]:
-    """A copy of chord mask ``mask`` as nested lists, with every polygon side allowed."""
-    ok = np.array(mask, dtype=bool, copy=True)
+def with_sides(mask: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Chord mask ``mask`` as a C-contiguous bool array with every polygon side allowed.
+
+    Returns ``mask`` itself when it already qualifies; never writes the caller's
+    array.
+    """
+    ok = np.ascontiguousarray(mask, dtype=np.bool_)
     k = np.arange(ok.shape[0])
-    ok[k, (k + 1) % len(k)] = ok[(k + 1) % len(k), k] = True
-    return ok.tolist()  # type: ignore[no-any-return]
+    nxt = (k + 1) % len(k)
+    if not ok[k, nxt].all():
+        ok = ok.copy()
+        ok[k, nxt] = ok[nxt, k] = True
+    return ok
+
+
+def chord_rows(mask: NDArray[np.bool_]) -> list[list[bool]]:
+    """``mask`` with the sides allowed, as nested lists (fast to index from Python)."""
+    return with_sides(mask).tolist()  # type: ignore[no-any-return]
 
 
 @dataclass
