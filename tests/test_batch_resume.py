@@ -32,7 +32,8 @@ def _snapshot(directory: Path) -> dict[str, bytes]:
 
 
 ARGS = ("--workers", "2", "--chunk-size", "16")
-PARTS = 50  # 800 polygons / 16
+N_POLYGONS = 3000  # enough parts that a signal lands well before the end, even on a busy CI
+PARTS = -(-N_POLYGONS // 16)
 
 
 def _interrupt(args, out: Path, sig: int, after: int) -> int:
@@ -51,7 +52,7 @@ def _interrupt(args, out: Path, sig: int, after: int) -> int:
 
 
 def test_sigint_then_sigterm_then_rerun_equals_clean_run(tmp_path):
-    src = write_ndjson(tmp_path / "in.ndjson", mixed_polygons(800, seed=11, lo=4, hi=6))
+    src = write_ndjson(tmp_path / "in.ndjson", mixed_polygons(N_POLYGONS, seed=11, lo=4, hi=6))
     optri.batch(src, tmp_path / "clean", workers=2, chunk_size=16)
     expected = _snapshot(tmp_path / "clean")
     out = tmp_path / "out"
