@@ -1,23 +1,49 @@
-"""Compile every GPU kernel to PTX for sm_90 without a GPU (needs libnvvm + libdevice).
+"""Compile every GPU kernel for sm_90 without a GPU, and check what a real launch needs.
 
-The CUDA simulator runs the kernels as Python and never type-checks them; this
-script does numba's real CUDA compilation (typing, lowering, NVVM) for both
-table dtypes at the default tile / threads settings, and reports each kernel's
-local-memory use (the min-plus product must keep its accumulators in registers).
+The CUDA simulator runs the kernels as Python: it never types them, never
+allocates registers and never overflows an index. This script does numba-cuda's
+real compilation (typing, lowering, NVVM) to PTX for sm_90 (H100), at the default
+settings in both table dtypes and at 1024 threads a block in float64, and checks:
 
-Exit status: 0 all compiled, 1 a kernel failed to compile, 77 this machine cannot
-compile PTX at all (no libnvvm / libdevice, or numba internals moved).
+1. every kernel is declared with launch bounds equal to the block it is launched
+   with (ptxas then caps its registers so that such a block fits one SM);
+2. no integer variable is 16- or 32-bit except thread and block indices, so no
+   index into a 50,000-vertex table (2.5e9 cells, more than 2**31) can overflow
+   (the only 8-bit values are chord-mask entries);
+3. the min-plus product keeps its accumulators in registers (no local memory);
+4. where ptxas is found (PATH or $CUDA_HOME/bin): registers x block threads fit
+   the 65,536 registers of one SM (otherwise CUDA refuses the launch), static
+   shared memory fits 48 KB, and the min-plus product neither spills nor has a
+   stack frame. It prints each kernel's registers, shared memory and resident
+   blocks per SM on an H100.
+
+Exit status: 0 all checks pass, 1 a check failed, 77 this machine cannot compile
+PTX at all (no libnvvm / libdevice, or numba internals moved).
 Run: ``PYTHONPATH=src python tests/gpu_sim/ptx_compile.py``.
 """
 
 from __future__ import annotations
 
 import glob
+import math
 import os
+import re
+import shutil
+import subprocess
 import sys
+import tempfile
 import traceback
 
 SKIP = 77
+
+#: sm_90 (H100) limits per SM: registers, register allocation unit (per warp),
+#: threads, resident blocks, shared memory and the share each block reserves.
+SM_REGISTERS, REG_UNIT, SM_THREADS, SM_BLOCKS = 65536, 256, 2048, 32
+SM_SHARED, BLOCK_RESERVED_SHARED, STATIC_SHARED = 228 * 1024, 1024, 48 * 1024
+
+#: 32-bit integers allowed in a kernel: the thread index and the block size
+#: (and numba's temporaries that read them), never a table index.
+SMALL_INT_OK = re.compile(r"^(tid|nth|\$\w*load_attr[\w.]*)$")
 
 
 def _patch_for_offline_compile() -> None:
@@ -51,6 +77,78 @@ def _patch_for_offline_compile() -> None:
     libs.open_libdevice = nvvm.open_libdevice = read
 
 
+def _ptxas() -> str | None:
+    found = shutil.which("ptxas")
+    if found:
+        return found
+    home = os.environ.get("CUDA_HOME", "")
+    candidates = [f"{home}/bin/ptxas"] if home else []
+    candidates += sorted(glob.glob("/usr/local/cuda*/bin/ptxas"))
+    return next((c for c in candidates if os.access(c, os.X_OK)), None)
+
+
+def ptxas_usage(ptxas: str, ptx: str) -> dict[str, int]:
+    """Registers, spill bytes, stack frame and static shared memory from ``ptxas -v``."""
+    with tempfile.TemporaryDirectory() as tmp:
+        src = os.path.join(tmp, "kernel.ptx")
+        with open(src, "w") as fh:
+            fh.write(ptx)
+        proc = subprocess.run(
+            [ptxas, "-arch=sm_90", "-v", src, "-o", os.path.join(tmp, "kernel.cubin")],
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+    text = proc.stderr + proc.stdout
+
+    def number(pattern: str) -> int:
+        hit = re.search(pattern, text)
+        return int(hit.group(1)) if hit else 0
+
+    return {
+        "registers": number(r"Used (\d+) registers"),
+        "spill": number(r"(\d+) bytes spill stores") + number(r"(\d+) bytes spill loads"),
+        "stack": number(r"(\d+) bytes stack frame"),
+        "smem": number(r"(\d+) bytes smem"),
+    }
+
+
+def blocks_per_sm(registers: int, smem: int, threads: int) -> int:
+    """Resident blocks of ``threads`` threads on one sm_90 SM (0: cannot launch)."""
+    warps = math.ceil(threads / 32)
+    per_warp = math.ceil(max(registers, 1) * 32 / REG_UNIT) * REG_UNIT
+    by_regs = (SM_REGISTERS // per_warp) // warps
+    by_smem = SM_SHARED // (smem + BLOCK_RESERVED_SHARED)
+    return min(by_regs, by_smem, SM_THREADS // (warps * 32), SM_BLOCKS)
+
+
+def signatures(nt, dtype: str) -> dict[str, tuple]:
+    i64, u8 = nt.int64, nt.uint8[:, :]
+    tab, pts = getattr(nt, dtype)[:, :], nt.float64[:, :]
+    return {
+        "init": (tab, pts) + (i64,) * 4,
+        "product_minplus": (tab, pts) + (i64,) * 7,
+        "product": (tab, pts) + (i64,) * 7,
+        "finish": (tab, pts, u8) + (i64,) * 8,
+        "rebuild": (tab, pts) + (i64,) * 5 + (nt.int64[:, :], nt.int64[:, :], nt.float64[:]),
+        "export": (tab, pts, u8) + (i64,) * 6 + (nt.float64[:, :],),
+    }
+
+
+def small_integers(py_func, sig) -> list[str]:
+    """Variables typed as 16- or 32-bit integers, other than thread indices."""
+    from numba import types as nt
+    from numba.cuda.compiler import compile_cuda
+
+    cres = compile_cuda(py_func, None, sig, cc=(9, 0))
+    typemap = cres.type_annotation.typemap
+    return sorted(
+        f"{name}: {ty}"
+        for name, ty in typemap.items()
+        if isinstance(ty, nt.Integer) and 16 <= ty.bitwidth < 64 and not SMALL_INT_OK.match(name)
+    )
+
+
 def main() -> int:
     try:
         from numba import cuda
@@ -69,31 +167,48 @@ def main() -> int:
     from optri import config
     from optri.engines.gpu_kernels import build_kernels
 
-    i64, u8 = nt.int64, nt.uint8[:, :]
-    failed = 0
-    for dtype in ("float64", "float32"):
-        k = build_kernels(config.GPU_TILE, config.GPU_K_CHUNK, config.GPU_THREADS_PER_BLOCK, dtype)
-        tab, pts = getattr(nt, dtype)[:, :], nt.float64[:, :]
-        sigs = {
-            "init": (tab, pts, i64, i64, i64, i64),
-            "product_minplus": (tab, pts) + (i64,) * 7,
-            "product": (tab, pts) + (i64,) * 7,
-            "finish": (tab, pts, u8) + (i64,) * 8,
-            "rebuild": (tab, pts) + (i64,) * 5 + (nt.int64[:, :], nt.int64[:, :], nt.float64[:]),
-            "export": (tab, pts, u8) + (i64,) * 6 + (nt.float64[:, :],),
-        }
-        for name, sig in sigs.items():
+    ptxas = _ptxas()
+    print(f"ptxas: {ptxas or 'not found (register checks skipped)'}")
+    default = config.GPU_THREADS_PER_BLOCK
+    settings = [(default, "float64"), (default, "float32"), (1024, "float64")]
+    failed: list[str] = []
+    for threads, dtype in settings:
+        k = build_kernels(config.GPU_TILE, config.GPU_K_CHUNK, threads, dtype)
+        for name, sig in signatures(nt, dtype).items():
+            what = f"{dtype} {threads:4d} threads {name}"
+            kernel = getattr(k, name)
+            block = k.finish_threads if name == "finish" else threads
+            bounds = kernel.targetoptions.get("launch_bounds")
+            if bounds != block:
+                failed.append(f"{what}: launch bounds {bounds!r}, launched with {block}")
             try:
-                ptx, _ = cuda.compile_ptx(getattr(k, name).py_func, sig, cc=(9, 0))
+                ptx, _ = cuda.compile_ptx(kernel.py_func, sig, cc=(9, 0), launch_bounds=bounds)
+                narrow = small_integers(kernel.py_func, sig) if threads == default else []
             except Exception:  # report every kernel, not just the first failure
-                failed += 1
-                print(f"FAIL {dtype} {name}\n{traceback.format_exc()}")
+                failed.append(f"{what}: does not compile\n{traceback.format_exc()}")
                 continue
+            if narrow:
+                failed.append(f"{what}: 32-bit integers may overflow an index: {narrow}")
             local = ptx.count("ld.local") + ptx.count("st.local")
-            print(f"ok   {dtype:8s} {name:16s} ptx {len(ptx):7d} chars, local-memory ops {local}")
             if name == "product_minplus" and local:
-                failed += 1
-                print("FAIL the min-plus accumulators spilled to local memory")
+                failed.append(f"{what}: the min-plus accumulators spill to local memory")
+            line = f"ok   {what:40s} ptx {len(ptx):7d} chars, local-memory ops {local:3d}"
+            if ptxas:
+                use = ptxas_usage(ptxas, ptx)
+                fits = blocks_per_sm(use["registers"], use["smem"], block)
+                line += (
+                    f" | {use['registers']:3d} regs x {block:4d} threads, smem {use['smem']:5d} B,"
+                    f" spill {use['spill']} B, stack {use['stack']} B, {fits} blocks/SM"
+                )
+                if fits < 1:
+                    failed.append(f"{what}: a block of {block} threads cannot launch ({use})")
+                if use["smem"] > STATIC_SHARED:
+                    failed.append(f"{what}: {use['smem']} B of static shared memory")
+                if name == "product_minplus" and (use["spill"] or use["stack"]):
+                    failed.append(f"{what}: the min-plus product spills ({use})")
+            print(line)
+    for message in failed:
+        print(f"FAIL {message}")
     return 1 if failed else 0
 
 

@@ -14,6 +14,8 @@ import sys
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 if os.environ.get("NUMBA_ENABLE_CUDASIM") != "1":  # pragma: no cover
     pytest.skip("run through tests/test_gpu_sim.py (needs the simulator)", allow_module_level=True)
@@ -51,14 +53,24 @@ def convex(n, seed):
     return as_polygon(np.c_[r * np.cos(ang), 0.7 * r * np.sin(ang)])
 
 
-def comb(teeth, seed):
-    """A comb (simple, non-convex): its short tip-to-tip chords lie outside it.
-
-    Returns the polygon and its usable chords, found by brute force with shapely.
-    """
+def usable_chords(poly):
+    """Chords (a, b) that lie inside ``poly``, by brute force with shapely."""
     from shapely.geometry import LineString
     from shapely.geometry import Polygon as ShapelyPolygon
 
+    n, pts, shape = poly.n, poly.data, ShapelyPolygon(poly.data)
+    ok = np.zeros((n, n), dtype=bool)
+    for a in range(n):
+        for b in range(a + 2, n):
+            ok[a, b] = ok[b, a] = shape.contains(LineString([pts[a], pts[b]]))
+    return ok
+
+
+def comb(teeth, seed):
+    """A comb (simple, non-convex): its short tip-to-tip chords lie outside it.
+
+    Returns the polygon and its usable chords.
+    """
     rng = np.random.default_rng(seed)
     top = []
     for t in range(teeth, 0, -1):
@@ -66,11 +78,18 @@ def comb(teeth, seed):
         top.append((t - 0.5 + rng.uniform(-0.1, 0.1), 0.5 + rng.uniform(0.0, 0.3)))  # valley
     poly = as_polygon(np.array([(0.0, 0.0), (teeth + 0.5, 0.0), *top]))
     assert not poly.convex
-    n, pts, shape = poly.n, poly.data, ShapelyPolygon(poly.data)
-    ok = np.zeros((n, n), dtype=bool)
-    for a in range(n):
-        for b in range(a + 2, n):
-            ok[a, b] = ok[b, a] = shape.contains(LineString([pts[a], pts[b]]))
+    return poly, usable_chords(poly)
+
+
+def star(n, seed):
+    """A random star-shaped polygon (simple, not convex) and its usable chords."""
+    rng = np.random.default_rng(seed)
+    ang = (np.arange(n) + rng.uniform(0.1, 0.9, n)) * (2.0 * math.pi / n)
+    r = rng.uniform(0.3, 1.0, n)
+    poly = as_polygon(np.c_[r * np.cos(ang), r * np.sin(ang)])
+    ok = usable_chords(poly)
+    if poly.convex or ok[np.triu_indices(n, 2)].all():
+        return star(n, seed + 1000)  # every chord usable: not the case under test
     return poly, ok
 
 
@@ -135,6 +154,30 @@ def test_simple_polygon_mask(weight, objective):
     _, want = check_against_memo(build_problem(poly, weight, objective, allowed=ok))
     free = memo.solve(build_problem(poly, weight, objective, allowed=np.ones_like(ok)))
     assert want.cost != pytest.approx(free.cost)  # the mask changes the optimum
+
+
+@pytest.mark.parametrize("objective", ["sum", "max"])
+@pytest.mark.parametrize("weight", POINT_WEIGHTS)
+def test_random_simple_polygon_each_weight(weight, objective):
+    poly, ok = star(9 + len(weight) % 7, seed=3 * len(weight) + len(objective))
+    check_against_memo(build_problem(poly, weight, objective, allowed=ok))
+
+
+@settings(max_examples=12, deadline=None, derandomize=True)
+@given(
+    n=st.integers(5, 22),
+    seed=st.integers(0, 10_000),
+    shape=st.sampled_from(["convex", "star"]),
+    weight=st.sampled_from(POINT_WEIGHTS),
+    objective=st.sampled_from(["sum", "max"]),
+)
+def test_property_random_polygons(n, seed, shape, weight, objective):
+    if shape == "convex":
+        problem = build_problem(convex(n, seed), weight, objective)
+    else:
+        poly, ok = star(n, seed)
+        problem = build_problem(poly, weight, objective, allowed=ok)
+    check_against_memo(problem)
 
 
 def test_simple_polygon_matches_brute_force():

@@ -168,8 +168,7 @@ def solve(problem: Problem) -> Solution:
             product = k.product_minplus if eform else k.product
             product[_blocks(total), threads](tab, d_pts, dim, n, code, obj, d, splits, total)
             launches += 1
-        # one cell per thread and local diagonal: more threads than T would idle
-        k.finish[_blocks(count), min(threads, tile)](
+        k.finish[_blocks(count), k.finish_threads](
             tab, d_pts, d_mask, has_mask, dim, n, code, obj, eform, d, count
         )
         launches += 1

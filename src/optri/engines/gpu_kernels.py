@@ -18,7 +18,10 @@ Tile (I, J) (I <= J) is finished once every tile on an earlier tile diagonal is:
 
 Kernels take the weight code and objective as arguments (one design for all
 weights, computed in-kernel from coordinates); tile, slice depth, threads and
-dtype are compile-time constants of :func:`build_kernels`. ``eform`` selects
+dtype are compile-time constants of :func:`build_kernels`. Every kernel is
+declared with launch bounds (its block size), so ptxas caps its registers at
+what a block of that size can get on one SM: without them the generic
+``product`` (138 registers a thread on sm_90) could not launch 512 threads. ``eform`` selects
 the min-plus form of edge-decomposable weights under "sum": ``E = C + e`` and
 ``E(i, j) = min_k E(i, k) + E(k, j) + 2 e(i, j)`` (no weight in the inner loop).
 The product kernel is built twice from one source: ``product_minplus`` (E form,
@@ -75,33 +78,38 @@ def build_kernels(tile: int, kchunk: int, threads: int, dtype: str) -> SimpleNam
     T, KC = tile, kchunk
     TX, TY, RH, CW = thread_layout(T, threads)
     NACT = TX * TY
+    FT = min(threads, T)  # finish: one thread per cell of a local diagonal, at most T
     KCP, TP = KC + 1, T + 1  # padded row lengths: shapes must be plain constants
     RC = RH * CW
     ft = numba.from_dtype(np.dtype(dtype))
     f64, i64 = numba.float64, numba.int64
     inf = math.inf
 
-    @cuda.jit
+    def bounded(max_threads):
+        # cuda.jit with launch bounds; the simulator's jit takes none
+        if numba.config.ENABLE_CUDASIM:
+            return cuda.jit
+        return cuda.jit(launch_bounds=max_threads)
+
+    @bounded(threads)
     def init(tab, pts, n, code, obj, eform):
-        # sides get their base cost; every other chord starts at +inf (the
-        # identity of atomic.min)
+        # sides get their base cost; every other cell starts at +inf (the
+        # identity of atomic.min). Each thread writes only its own cells, in
+        # row order, so the writes coalesce; edge() is symmetric bit for bit.
         size = tab.shape[0]
         neutral = 0.0 if obj == OBJ_SUM else -inf
         for e in range(cuda.grid(1), size * size, cuda.gridsize(1)):
             i = e // size
             j = e - i * size
-            if j == i + 1:
-                v = edge(code, n, pts, i, j) if eform else neutral
-                tab[i, j] = v
-                tab[j, i] = v
-            elif i < j:
+            if j == i + 1 or i == j + 1:
+                tab[i, j] = edge(code, n, pts, i, j) if eform else neutral
+            else:
                 tab[i, j] = inf
-                tab[j, i] = inf
 
     def make_product(EFORM):
         # EFORM is a compile-time constant, so each specialization keeps one inner
         # loop: the min-plus one has no calls and its accumulators stay in registers
-        @cuda.jit
+        @bounded(threads)
         def product(tab, pts, dim, n, code, obj, D, splits, total):
             As = cuda.shared.array((T, KCP), ft)  # +1: no bank conflicts across rows
             Bs = cuda.shared.array((T, KCP), ft)
@@ -163,7 +171,7 @@ def build_kernels(tile: int, kchunk: int, threads: int, dtype: str) -> SimpleNam
 
         return product
 
-    @cuda.jit
+    @bounded(FT)
     def finish(tab, pts, mask, has_mask, dim, n, code, obj, eform, D, count):
         Cs = cuda.shared.array((T, TP), ft)
         tid = cuda.threadIdx.x
@@ -223,7 +231,7 @@ def build_kernels(tile: int, kchunk: int, threads: int, dtype: str) -> SimpleNam
                     tab[j0 + c, i0 + r] = Cs[r, c]
             cuda.syncthreads()
 
-    @cuda.jit
+    @bounded(threads)
     def rebuild(tab, pts, dim, n, code, obj, eform, stack, tris, out):
         # one block walks the optimal splits from (0, n-1) down; the O(n)
         # re-scan of each chord is shared by the threads and reduced in shared memory
@@ -285,7 +293,7 @@ def build_kernels(tile: int, kchunk: int, threads: int, dtype: str) -> SimpleNam
                     st[0] = top
             cuda.syncthreads()
 
-    @cuda.jit
+    @bounded(threads)
     def export(tab, pts, mask, has_mask, dim, n, code, obj, eform, out):
         # the paper's table: cost above the diagonal, optimal split below
         for e in range(cuda.grid(1), n * n, cuda.gridsize(1)):
@@ -310,6 +318,7 @@ def build_kernels(tile: int, kchunk: int, threads: int, dtype: str) -> SimpleNam
         product_minplus=make_product(True),
         product=make_product(False),
         finish=finish,
+        finish_threads=FT,
         rebuild=rebuild,
         export=export,
     )
