@@ -57,6 +57,30 @@ def test_auto_falls_back_without_gpu(monkeypatch):
     assert name != "gpu"
 
 
+@pytest.fixture
+def driver_without_nvvm(monkeypatch, tmp_path):
+    """Pretend a GPU and its driver are present but libNVVM is not."""
+    cuda = pytest.importorskip("numba.cuda")
+    from numba.cuda.cudadrv import nvvm
+
+    node = tmp_path / "nvidiactl"
+    node.touch()
+    monkeypatch.setattr(gpu, "_DRIVER_NODES", (str(node),))
+    monkeypatch.setattr(cuda, "is_available", lambda: True)
+    monkeypatch.setattr(nvvm, "is_available", lambda: False)
+    gpu._probe.cache_clear()
+    yield nvvm
+    gpu._probe.cache_clear()
+
+
+def test_gpu_without_libnvvm_names_the_toolkit_extras(driver_without_nvvm, monkeypatch):
+    reason = gpu._probe(False)
+    assert reason is not None and "libNVVM" in reason and "optri[gpu-cu13]" in reason
+    monkeypatch.setattr(driver_without_nvvm, "is_available", lambda: True)
+    gpu._probe.cache_clear()
+    assert gpu._probe(False) is None  # driver and libNVVM: the engine may run
+
+
 def test_unsupported_reasons():
     assert gpu.unsupported(problem()) is None
     assert gpu.unsupported(problem("max_angle", "max")) is None

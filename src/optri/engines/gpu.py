@@ -49,13 +49,17 @@ def unavailable() -> str | None:
     return _probe(simulated())
 
 
+#: Device nodes of the NVIDIA driver (Linux, WSL).
+_DRIVER_NODES = ("/dev/nvidiactl", "/dev/dxg")
+
+
 @functools.cache
 def _probe(simulate: bool) -> str | None:
     if importlib.util.find_spec("numba") is None:
         return "method='gpu' needs numba-cuda; install it with: pip install 'optri[gpu]'"
     # a cheap look for the driver's device nodes first: importing numba.cuda
     # costs ~0.4 s, too much for every method="auto" call on a machine without GPU
-    nodes = ("/dev/nvidiactl", "/dev/dxg")
+    nodes = _DRIVER_NODES
     if not simulate and sys.platform.startswith("linux") and not any(map(os.path.exists, nodes)):
         return "no CUDA GPU found (no NVIDIA driver device); method='gpu' needs an NVIDIA GPU"
     try:
@@ -68,7 +72,23 @@ def _probe(simulate: bool) -> str | None:
         return f"no usable CUDA GPU ({exc})"
     if not ok:
         return "no CUDA GPU found (numba.cuda.is_available() is False); method='gpu' needs one"
+    if not simulate and not _nvvm_found():
+        return (
+            "numba-cuda found a GPU but not libNVVM, so it cannot compile kernels; install "
+            f"the CUDA toolkit or the wheels: {_TOOLKIT_HINT}"
+        )
     return None
+
+
+#: How to get numba-cuda with the CUDA toolkit wheels (libNVVM) for the driver.
+_TOOLKIT_HINT = "pip install 'optri[gpu-cu13]' (driver >= 580) or 'optri[gpu-cu12]'"
+
+
+def _nvvm_found() -> bool:
+    """True when numba-cuda can load libNVVM, which compiles the kernels (not simulated)."""
+    from numba.cuda.cudadrv import nvvm
+
+    return bool(nvvm.is_available())
 
 
 def unsupported(problem: Problem) -> str | None:
