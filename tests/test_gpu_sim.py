@@ -21,12 +21,17 @@ pytest.importorskip("numba_cuda", reason="the CUDA simulator comes with numba-cu
 CASES = Path(__file__).parent / "gpu_sim" / "sim_gpu_cases.py"
 
 
-def test_gpu_kernels_under_the_simulator(tmp_path):
+@pytest.mark.parametrize(
+    "selection",
+    ["not shipped", "shipped"],
+    ids=["small-tiles", "shipped-settings"],  # two processes: xdist runs them side by side
+)
+def test_gpu_kernels_under_the_simulator(tmp_path, selection):
     src = str(Path(optri.__file__).resolve().parents[1])
     env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
     env["PYTHONPATH"] = os.pathsep.join([src, env.get("PYTHONPATH", "")]).rstrip(os.pathsep)
     cmd = [sys.executable, "-m", "pytest", "-q", "-o", "addopts=", "-p", "no:cacheprovider",
-           "--rootdir", str(tmp_path), str(CASES)]  # fmt: skip
-    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
+           "--rootdir", str(tmp_path), "-k", selection, str(CASES)]  # fmt: skip
+    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=900)
     assert proc.returncode == 0, proc.stdout[-6000:] + proc.stderr[-2000:]
     assert " passed" in proc.stdout and "skipped" not in proc.stdout

@@ -36,6 +36,9 @@ from optri.geometry import as_polygon  # noqa: E402
 from optri.result import chords_cross_free, diagonals_of  # noqa: E402
 from optri.solve import build_problem, triangulate  # noqa: E402
 
+#: The shipped kernel settings, read before any test patches them.
+SHIPPED = {name: getattr(config, name) for name in ("GPU_TILE", "GPU_K_CHUNK",
+           "GPU_THREADS_PER_BLOCK", "GPU_MIN_BLOCKS")}  # fmt: skip
 SMALL = {"GPU_TILE": 4, "GPU_K_CHUNK": 2, "GPU_THREADS_PER_BLOCK": 4, "GPU_MIN_BLOCKS": 6,
          "GPU_MAX_BLOCKS": 3}  # fmt: skip
 
@@ -144,6 +147,32 @@ def test_other_kernel_shapes(monkeypatch, tile, chunk, threads):
     monkeypatch.setattr(config, "GPU_K_CHUNK", chunk)
     monkeypatch.setattr(config, "GPU_THREADS_PER_BLOCK", threads)
     check_against_memo(build_problem(convex(23, seed=tile + threads), "max_angle", "max"))
+
+
+def test_shipped_settings_n130_equal_the_compiled_cpu_engine(monkeypatch):
+    # the exact tile / slice / threads the engine ships with (64 / 16 / 256), on
+    # 3 x 3 tiles: one min-plus product launch, finish on 3 tile diagonals; only
+    # the grid is kept small (the kernels stride over blocks), to spare the
+    # simulator thousands of Python threads. Slow (~40 s), so E form only.
+    for name, value in SHIPPED.items():
+        monkeypatch.setattr(config, name, value)
+    monkeypatch.setattr(config, "GPU_MAX_BLOCKS", 2)
+    got, _ = check_against_memo(build_problem(convex(130, seed=21), "perimeter", "sum"))
+    assert got.stats["padded_n"] == 192 and got.stats["tiles"] == 6
+
+
+@pytest.mark.parametrize(("weight", "objective"), [("perimeter", "sum"), ("max_angle", "max")])
+def test_default_register_block_and_slice(monkeypatch, weight, objective):
+    # T = 16 with 16 threads gives the default's 4 x 4 cells a thread and a slice
+    # as deep as the tile (KC = 16, fully unrolled); n = 40 spans 3 tile diagonals
+    monkeypatch.setattr(config, "GPU_TILE", 16)
+    monkeypatch.setattr(config, "GPU_K_CHUNK", 16)
+    monkeypatch.setattr(config, "GPU_THREADS_PER_BLOCK", 16)
+    from optri.engines.gpu_kernels import thread_layout
+
+    assert thread_layout(16, 16)[2:] == thread_layout(64, 256)[2:] == (4, 4)
+    got, _ = check_against_memo(build_problem(convex(40, seed=12), weight, objective))
+    assert got.stats["tiles"] == 6
 
 
 @pytest.mark.parametrize(
