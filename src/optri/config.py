@@ -22,7 +22,11 @@ PYTHON_ENGINE_SOFT_MAX_N = 300
 #: Relative tolerance for geometric predicates (collinearity, convexity).
 GEOMETRY_RTOL = 1e-12
 #: method="auto" picks the GPU engine (when a GPU is present) from this many vertices on.
-GPU_AUTO_MIN_N = 3000
+#: An estimate, not yet measured on a GPU: a process's first GPU solve compiles its
+#: kernels (about 2 s of NVVM, measured offline), about what the compiled CPU
+#: engine should take at n = 8000 on 16 cores (16.6 s measured on 2).
+#: Retune with benchmarks/bench_gpu.py.
+GPU_AUTO_MIN_N = 8000
 #: Side of the square table tiles the GPU engine works on (shared-memory blocking).
 GPU_TILE = 64
 #: Depth of the k-slices of a tile product staged in shared memory at a time.
