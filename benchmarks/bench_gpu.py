@@ -12,6 +12,7 @@ Usage (on a machine with an NVIDIA GPU and `pip install 'optri[gpu]'`)::
     python benchmarks/bench_gpu.py                       # n = 2000 5000 10000 20000 50000
     python benchmarks/bench_gpu.py 20000 --cpu-max-n 20000 --json gpu.json
     python benchmarks/bench_gpu.py 20000 --dtype float32
+    python benchmarks/bench_gpu.py 20000 --tile 32 --threads 128   # a tuning point
 
 Under NUMBA_ENABLE_CUDASIM=1 it only runs with --allow-simulator (a smoke test
 of the script; the simulator's timings mean nothing).
@@ -28,6 +29,7 @@ import time
 
 import numpy as np
 
+import gpu_settings
 import optri
 from optri import config
 from optri.engines import gpu
@@ -67,7 +69,12 @@ def main() -> int:
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--json", help="also write the rows to this JSON file")
     ap.add_argument("--allow-simulator", action="store_true")
+    gpu_settings.add_arguments(ap)
     args = ap.parse_args()
+    bad = gpu_settings.apply(args, args.dtype)
+    if bad:
+        print(f"bad kernel settings: {bad}", file=sys.stderr)
+        return 2
 
     reason = gpu.unavailable()
     if reason:
@@ -78,8 +85,7 @@ def main() -> int:
         return 2
     has_cpu = importlib.util.find_spec("optri.engines.jit") is not None
     model = gpu_model()
-    print(f"GPU: {model}   tile {config.GPU_TILE}, k-slice {config.GPU_K_CHUNK}, "
-          f"{config.GPU_THREADS_PER_BLOCK} threads/block, dtype {args.dtype}")  # fmt: skip
+    print(f"GPU: {model}   {gpu_settings.describe()}, dtype {args.dtype}")
     if not has_cpu:
         print("CPU column skipped: optri.engines.jit (method='fast') is not in this build")
 

@@ -12,6 +12,7 @@ Usage::
 
     python benchmarks/gpu_check.py              # default sizes
     python benchmarks/gpu_check.py --sizes 5 17 64 300 2000 --seed 3
+    python benchmarks/gpu_check.py --tile 32 --threads 128    # a tuning point
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
+import gpu_settings
 from optri.engines import gpu, select_engine
 from optri.engines.problem import Problem
 from optri.errors import OptriError
@@ -113,18 +115,32 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--sizes", nargs="*", type=int, default=[5, 17, 64, 65, 130, 300, 1000])
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument(
+        "--cpu-method",
+        choices=["fast", "table"],
+        default="fast",
+        help="CPU engine to compare with (table: pure Python, sizes <= 130)",
+    )
+    gpu_settings.add_arguments(ap)
     args = ap.parse_args()
+    bad = gpu_settings.apply(args)
+    if bad:
+        print(f"bad kernel settings: {bad}", file=sys.stderr)
+        return 2
     reason = gpu.unavailable()
     if reason:
         print(f"no GPU check possible: {reason}", file=sys.stderr)
         return 2
     if gpu.simulated():
         print("note: NUMBA_ENABLE_CUDASIM is set, this checks the simulator, not a GPU")
+    print(f"kernel settings: {gpu_settings.describe()}")
     fast = importlib.util.find_spec("optri.engines.jit") is not None
+    if args.cpu_method == "table":
+        fast = False
     cpu_method, python_max_n = ("fast", 10**9) if fast else ("table", 130)
     sizes = [n for n in args.sizes if fast or n <= python_max_n]
     if sizes != args.sizes:
-        print(f"no method='fast' in this build: CPU engine 'table', sizes cut to {sizes}")
+        print(f"CPU engine 'table' (pure Python): sizes cut to {sizes}")
     rng = np.random.default_rng(args.seed)
     bad = total = 0
     for label, problem in cases(sizes, rng, python_max_n):

@@ -21,8 +21,13 @@ if os.environ.get("NUMBA_ENABLE_CUDASIM") != "1":  # pragma: no cover
     pytest.skip("run through tests/test_gpu_sim.py (needs the simulator)", allow_module_level=True)
 
 # the simulator runs each CUDA thread as a Python thread; frequent switching
-# makes its barriers (syncthreads) cheap
+# makes its barriers (syncthreads) cheap, and exposed a race in its shared-array
+# allocation, which sim_shared fixes
 sys.setswitchinterval(1e-4)
+sys.path.insert(0, os.path.dirname(__file__))
+import sim_shared  # noqa: E402
+
+sim_shared.install()
 
 from optri import config  # noqa: E402
 from optri.engines import gpu, memo, select_engine  # noqa: E402

@@ -29,6 +29,7 @@ from .problem import Problem, Solution, with_sides
 
 __all__ = [
     "auto_accepts",
+    "bad_settings",
     "device_bytes",
     "simulated",
     "solve",
@@ -103,15 +104,23 @@ def unsupported(problem: Problem) -> str | None:
         )
     if np.dtype(problem.dtype).name not in _DTYPES:
         return f"dtype must be float32 or float64, got {np.dtype(problem.dtype)}"
-    return _bad_config(np.dtype(problem.dtype).itemsize)
+    return bad_settings(problem.dtype)
 
 
 #: Static shared memory a CUDA block may declare.
 _SHARED_LIMIT = 48 * 1024
 
 
-def _bad_config(itemsize: int) -> str | None:
-    """Why the tile / slice / threads settings cannot compile or launch, or None."""
+def bad_settings(dtype: str | np.dtype = "float64") -> str | None:
+    """Why the ``config.GPU_*`` kernel settings cannot compile or launch, or None.
+
+    Checked: the slice depth divides the tile, 1 to 1024 threads a block, and at
+    most 48 KB of static shared memory for a table of ``dtype``.
+
+    >>> bad_settings("float64") is None
+    True
+    """
+    itemsize = np.dtype(dtype).itemsize
     tile, chunk, threads = config.GPU_TILE, config.GPU_K_CHUNK, config.GPU_THREADS_PER_BLOCK
     if tile < 1 or chunk < 1 or tile % chunk:
         return "config.GPU_K_CHUNK must divide config.GPU_TILE"
