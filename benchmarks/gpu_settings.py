@@ -32,12 +32,19 @@ def add_arguments(ap: argparse.ArgumentParser) -> None:
 
 
 def apply(args: argparse.Namespace, dtype: str = "float64") -> str | None:
-    """Set the overridden settings; return why the kernels cannot take them, or None."""
+    """Set the overridden settings; return why no GPU run can follow, or None.
+
+    The reason is either settings the kernels cannot take or no usable GPU.
+    """
     for option, name in SETTINGS.items():
         value = getattr(args, option)
         if value is not None:
             setattr(config, name, value)
-    return gpu.bad_settings(dtype)
+    bad = gpu.bad_settings(dtype)
+    if bad:
+        return f"bad kernel settings: {bad}"
+    reason = gpu.unavailable()
+    return f"no GPU run possible: {reason}" if reason else None
 
 
 def describe() -> str:
