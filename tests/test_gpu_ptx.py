@@ -7,14 +7,13 @@ libdevice is missing.
 
 from __future__ import annotations
 
-import os
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
 
-import optri
+from gpu_env import subprocess_env
 
 pytest.importorskip("numba_cuda", reason="kernels compile with numba-cuda")
 
@@ -22,9 +21,7 @@ SCRIPT = Path(__file__).parent / "gpu_sim" / "ptx_compile.py"
 
 
 def test_every_kernel_compiles_to_ptx():
-    src = str(Path(optri.__file__).resolve().parents[1])
-    env = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
-    env["PYTHONPATH"] = os.pathsep.join([src, env.get("PYTHONPATH", "")]).rstrip(os.pathsep)
+    env = subprocess_env(simulator=False)
     proc = subprocess.run(
         [sys.executable, str(SCRIPT)], env=env, capture_output=True, text=True, timeout=600
     )

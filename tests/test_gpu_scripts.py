@@ -8,14 +8,13 @@ here first. Tiny kernel settings (``--tile 4 ...``) keep the simulator quick.
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
 
-import optri
+from gpu_env import subprocess_env
 
 pytest.importorskip("numba_cuda", reason="the CUDA simulator comes with numba-cuda")
 
@@ -36,9 +35,7 @@ runpy.run_path(sys.argv[0], run_name="__main__")
 
 
 def run_script(name, *args):
-    src = str(Path(optri.__file__).resolve().parents[1])
-    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
-    env["PYTHONPATH"] = os.pathsep.join([src, env.get("PYTHONPATH", "")]).rstrip(os.pathsep)
+    env = subprocess_env(simulator=True)
     harness = str(Path(__file__).parent / "gpu_sim")
     return subprocess.run(
         [sys.executable, "-c", LAUNCH, str(BENCH), harness, str(BENCH / name), *args],

@@ -7,14 +7,13 @@ rest of the suite keeps running in normal mode.
 
 from __future__ import annotations
 
-import os
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
 
-import optri
+from gpu_env import subprocess_env
 
 pytest.importorskip("numba_cuda", reason="the CUDA simulator comes with numba-cuda")
 
@@ -27,9 +26,7 @@ CASES = Path(__file__).parent / "gpu_sim" / "sim_gpu_cases.py"
     ids=["small-tiles", "shipped-settings"],  # two processes: xdist runs them side by side
 )
 def test_gpu_kernels_under_the_simulator(tmp_path, selection):
-    src = str(Path(optri.__file__).resolve().parents[1])
-    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
-    env["PYTHONPATH"] = os.pathsep.join([src, env.get("PYTHONPATH", "")]).rstrip(os.pathsep)
+    env = subprocess_env(simulator=True)
     cmd = [sys.executable, "-m", "pytest", "-q", "-o", "addopts=", "-p", "no:cacheprovider",
            "--rootdir", str(tmp_path), "-k", selection, str(CASES)]  # fmt: skip
     proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=900)

@@ -60,8 +60,8 @@ def _probe(simulate: bool) -> str | None:
         return "method='gpu' needs numba-cuda; install it with: pip install 'optri[gpu]'"
     # a cheap look for the driver's device nodes first: importing numba.cuda
     # costs ~0.4 s, too much for every method="auto" call on a machine without GPU
-    nodes = _DRIVER_NODES
-    if not simulate and sys.platform.startswith("linux") and not any(map(os.path.exists, nodes)):
+    drivers = map(os.path.exists, _DRIVER_NODES)
+    if not simulate and sys.platform.startswith("linux") and not any(drivers):
         return "no CUDA GPU found (no NVIDIA driver device); method='gpu' needs an NVIDIA GPU"
     try:
         cuda = import_optional("numba.cuda")

@@ -21,9 +21,11 @@ weights, computed in-kernel from coordinates); tile, slice depth, threads and
 dtype are compile-time constants of :func:`build_kernels`. Every kernel is
 declared with launch bounds (its block size), so ptxas caps its registers at
 what a block of that size can get on one SM: without them the generic
-``product`` (138 registers a thread on sm_90) could not launch 512 threads. ``eform`` selects
-the min-plus form of edge-decomposable weights under "sum": ``E = C + e`` and
-``E(i, j) = min_k E(i, k) + E(k, j) + 2 e(i, j)`` (no weight in the inner loop).
+``product`` (138 registers a thread on sm_90) could not launch 512 threads.
+
+``eform`` selects the min-plus form of edge-decomposable weights under "sum":
+``E = C + e`` and ``E(i, j) = min_k E(i, k) + E(k, j) + 2 e(i, j)`` (no weight in
+the inner loop).
 The product kernel is built twice from one source: ``product_minplus`` (E form,
 accumulators in registers) and ``product`` (weight computed per candidate).
 """
