@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from optri.benchmark import run_benchmark
+from optri.bench import run_benchmark
 
 DEFAULT_SIZES = (500, 1000, 2000, 4000)
 QUICK_SIZES = (100, 200, 500)

@@ -23,8 +23,7 @@ import time
 import numpy as np
 
 from optri import fill_polyline
-from optri.holes import liepa_objective
-from optri.mesh import boundary_loops
+from optri.holes import boundary_loops, liepa_objective
 
 
 def wavy_loop(n: int, seed: int = 0) -> np.ndarray:

@@ -26,7 +26,7 @@ import numpy as np
 
 import optri
 from optri.errors import EngineUnavailableError
-from optri.geometry import as_polygon
+from optri.polygon import as_polygon
 from optri.simple import require_simple, valid_diagonals
 
 

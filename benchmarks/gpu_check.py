@@ -29,7 +29,7 @@ import gpu_settings
 from optri.engines import gpu, select_engine
 from optri.engines.problem import Problem
 from optri.errors import OptriError
-from optri.geometry import Polygon, as_polygon
+from optri.polygon import Polygon, as_polygon
 from optri.result import chords_cross_free, diagonals_of
 from optri.solve import build_problem
 

@@ -72,7 +72,7 @@ def test_geojson_directory_parts_are_each_valid(tmp_path):
 
 @pytest.mark.parametrize("block", [1, 7, 64])
 def test_feature_collection_is_streamed_across_block_edges(tmp_path, monkeypatch, block):
-    monkeypatch.setattr(readers, "READ_BLOCK", block)
+    monkeypatch.setattr(optri.config, "BATCH_READ_BLOCK", block)
     src = write_feature_collection(tmp_path / "in.geojson", ROWS[:4])
     data = json.loads(src.read_text())
     data = {
@@ -96,16 +96,15 @@ def test_geoparquet_in_and_out(tmp_path):
     back = gpd.read_parquet(tmp_path / "out.parquet")
     ok = back[back.status == "ok"]
     areas = [
-        abs(optri.geometry.signed_area(__import__("numpy").array(ROWS[i]["coordinates"])))
+        abs(optri.polygon.signed_area(__import__("numpy").array(ROWS[i]["coordinates"])))
         for i in ok.index
     ]
     assert ok.geometry.area.tolist() == pytest.approx(areas)
 
 
 def test_geoparquet_small_row_groups(tmp_path, monkeypatch):
-    from optri.batch import geo
 
-    monkeypatch.setattr(geo, "ROWS_PER_READ", 5)
+    monkeypatch.setattr(optri.config, "BATCH_ROWS_PER_READ", 5)
     _geodataframe().to_parquet(tmp_path / "in.parquet", row_group_size=3)
     _run(tmp_path / "in.parquet", "-o", tmp_path / "out")
     _check(tmp_path / "out", [r["id"] for r in ROWS])
@@ -113,9 +112,8 @@ def test_geoparquet_small_row_groups(tmp_path, monkeypatch):
 
 def test_geopackage_in(tmp_path, monkeypatch):
     pytest.importorskip("pyogrio")
-    from optri.batch import geo
 
-    monkeypatch.setattr(geo, "ROWS_PER_READ", 5)  # several pages
+    monkeypatch.setattr(optri.config, "BATCH_ROWS_PER_READ", 5)  # several pages
     gdf = _geodataframe()
     gdf.set_crs("EPSG:3857").to_file(tmp_path / "in.gpkg", driver="GPKG", engine="pyogrio")
     _run(tmp_path / "in.gpkg", "-o", tmp_path / "out.ndjson")

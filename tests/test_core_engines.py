@@ -92,7 +92,7 @@ def test_perimeter_and_diagonal_share_the_optimum():
 def test_area_sum_is_polygon_area():
     poly = np.array([[0, 0], [4, 0], [5, 3], [2, 5], [-1, 3]], float)
     t = optri.triangulate(poly, "area", method="memo")
-    assert t.weight == pytest.approx(abs(optri.geometry.signed_area(poly)))
+    assert t.weight == pytest.approx(abs(optri.polygon.signed_area(poly)))
 
 
 def test_triangle_has_no_diagonal():

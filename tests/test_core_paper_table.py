@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 import optri
-from optri.papertable import table_cells
+from optri.drawing.table import table_cells
 
 
 def test_table1_upper_part_cell_by_cell():
@@ -30,7 +30,7 @@ def test_no_table_error_and_plot():
     with pytest.raises(optri.OptriError, match="no table"):
         optri.format_table(t)
     t2 = optri.triangulate([5, 1, 5, 1, 5], "product", method="memo")
-    from optri.plot import plot_table
+    from optri.drawing import plot_table
 
     assert plot_table(t2) is not None
     assert t2.plot() is not None

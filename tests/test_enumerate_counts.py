@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import optri
-from optri.enumerate import catalan, regular_polygon
+from optri.enumeration import catalan, regular_polygon
 
 
 def test_catalan_closed_form_big():
@@ -27,15 +27,15 @@ def test_count_rejects_too_few():
 
 
 def test_count_dp_over_mask(monkeypatch):
-    import optri.solve
+    import optri.enumeration.builder
 
     n = 7
     rng = np.random.default_rng(3)
     mask = rng.random((n, n)) < 0.6
     mask = mask | mask.T
-    monkeypatch.setattr(optri.solve, "allowed_chords", lambda polygon: mask)
+    monkeypatch.setattr(optri.enumeration.builder, "allowed_chords", lambda polygon: mask)
     from optri.engines.brute import all_index_triangulations
-    from optri.triangulations import usable_chords
+    from optri.enumeration.builder import usable_chords
 
     poly = optri.as_polygon(regular_polygon(n))
     expected = sum(1 for _ in all_index_triangulations(n, usable_chords(poly)))

@@ -7,8 +7,8 @@ from hypothesis import strategies as st
 
 import optri
 from optri.engines.brute import all_index_triangulations
-from optri.enumerate import catalan, index_triangulations, regular_polygon
-from optri.hurtado_noy import hn_index_triangulations, hn_operation_counts
+from optri.enumeration import catalan, index_triangulations, regular_polygon
+from optri.enumeration.hurtado_noy import hn_index_triangulations, hn_operation_counts
 
 
 def _key(tri):
@@ -96,11 +96,11 @@ def test_min_over_enumeration_is_dp_optimum(angles, weight, objective):
 
 def test_index_triangulations_uses_mask(monkeypatch):
     # With a mask forbidding chord (0, 2) the square keeps one triangulation.
-    import optri.solve
+    import optri.enumeration.builder
 
     mask = np.ones((4, 4), dtype=bool)
     mask[0, 2] = mask[2, 0] = False
-    monkeypatch.setattr(optri.solve, "allowed_chords", lambda polygon: mask)
+    monkeypatch.setattr(optri.enumeration.builder, "allowed_chords", lambda polygon: mask)
     poly = optri.as_polygon(regular_polygon(4))
     got = [sorted(map(tuple, t)) for t in index_triangulations(poly)]
     assert got == [[(0, 1, 3), (1, 2, 3)]]

@@ -14,7 +14,7 @@ import optri
 from optri import config
 from optri.engines import jit, memo
 from optri.errors import EngineUnavailableError, TableTooLargeError, WeightError
-from optri.geometry import as_polygon
+from optri.polygon import as_polygon
 from optri.solve import build_problem
 
 numba = pytest.importorskip("numba")
@@ -243,7 +243,7 @@ def test_fast_bench_cli_small() -> None:
 
     from click.testing import CliRunner
 
-    from optri.benchmark import find_yardsticks
+    from optri.bench import find_yardsticks
     from optri.cli import main
 
     if find_yardsticks() is None or shutil.which("gcc") is None:

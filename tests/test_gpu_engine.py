@@ -11,9 +11,9 @@ import pytest
 import optri
 from optri import config
 from optri.engines import gpu, select_engine
-from optri.engines.gpu_kernels import thread_layout
+from optri.engines._gpu_kernels import thread_layout
 from optri.errors import EngineUnavailableError
-from optri.geometry import as_polygon
+from optri.polygon import as_polygon
 from optri.solve import build_problem
 
 SQUARE = [[0, 0], [1, 0], [1, 1], [0, 1]]

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from optri import fill_holes
-from optri.errors import InvalidPolygonError, WeightError
-from optri.mesh import HoleSkippedWarning, boundary_loops
+from optri.errors import HoleSkippedWarning, InvalidPolygonError, WeightError
+from optri.holes import boundary_loops
 
 trimesh = pytest.importorskip("trimesh")
 

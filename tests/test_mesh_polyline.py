@@ -12,8 +12,8 @@ from hypothesis import strategies as st
 import optri
 from optri.engines.brute import all_index_triangulations
 from optri.errors import InvalidPolygonError, TableTooLargeError
-from optri.geometry import signed_area
 from optri.holes import fill_polyline, liepa_objective
+from optri.polygon import signed_area
 
 
 @st.composite

@@ -25,7 +25,7 @@ def test_formulas_match_paper_and_closed_forms():
 
 def test_table4_published_columns_consistent():
     for n, (t, sa, sb, ma, mb, ra, rb) in published.TABLE4.items():
-        from optri.enumerate import catalan
+        from optri.enumeration import catalan
 
         assert t == catalan(n - 2)
         assert abs(sa / ma - ra) < 0.011 and abs(sb / mb - rb) < 0.011

@@ -12,8 +12,8 @@ from click.testing import CliRunner
 import optri
 from optri import InvalidPolygonError
 from optri.cli import main
-from optri.interop import polygon_from_geojson, polygon_from_wkt
 from optri.io import read_polygon
+from optri.io.geo import polygon_from_geojson, polygon_from_wkt
 
 shapely = pytest.importorskip("shapely")
 

@@ -7,27 +7,31 @@
 
 from __future__ import annotations
 
+from ._version import __version__
 from .batch import BatchSummary, batch
 from .chain import ChainOrder, matrix_chain
-from .enumerate import count_triangulations, enumerate_triangulations, random_triangulation
+from .drawing import format_table
+from .enumeration import (
+    best_triangulations,
+    count_triangulations,
+    enumerate_triangulations,
+    random_triangulation,
+)
 from .errors import (
     EngineUnavailableError,
     InvalidPolygonError,
+    MissingDependencyError,
+    NoTriangulationError,
     OptriError,
     TableTooLargeError,
     WeightError,
 )
-from .geometry import Polygon, as_polygon
-from .holes import fill_polyline
-from .kbest import best_triangulations
-from .mesh import fill_holes
-from .papertable import format_table
+from .holes import fill_holes, fill_polyline
+from .polygon import Polygon, as_polygon, require_simple
 from .result import Triangulation
-from .simple import require_simple, valid_diagonals
+from .simple import valid_diagonals
 from .solve import triangulate
 from .weights import WEIGHTS, Weight, custom_weight
-
-__version__ = "0.1.0"
 
 __all__ = [
     "WEIGHTS",
@@ -35,6 +39,8 @@ __all__ = [
     "ChainOrder",
     "EngineUnavailableError",
     "InvalidPolygonError",
+    "MissingDependencyError",
+    "NoTriangulationError",
     "OptriError",
     "Polygon",
     "TableTooLargeError",
@@ -43,9 +49,9 @@ __all__ = [
     "WeightError",
     "__version__",
     "as_polygon",
+    "batch",
     "best_triangulations",
     "count_triangulations",
-    "batch",
     "custom_weight",
     "enumerate_triangulations",
     "fill_holes",

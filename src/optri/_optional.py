@@ -1,22 +1,20 @@
-"""Import optional dependencies lazily, with an error that names the extra."""
+"""Import optional dependencies lazily, with an error that names the extra to install."""
 
 from __future__ import annotations
 
 import importlib
 from types import ModuleType
 
-from .errors import EngineUnavailableError
+from .errors import MissingDependencyError
 
-__all__ = ["import_optional"]
+__all__ = ["EXTRAS", "import_optional"]
 
-#: module name -> extra that installs it
-_EXTRAS = {
-    "matplotlib": "plot",
+#: top-level module name -> the extra of ``pyproject.toml`` that installs it
+EXTRAS = {
     "trimesh": "mesh",
-    "shapely": "shapely",
-    "numba": "fast",
-    "numba.cuda": "gpu",
     "scipy": "mesh",
+    "shapely": "shapely",
+    "numba_cuda": "gpu",
     "dask": "dask",
     "distributed": "dask",
     "geopandas": "geo",
@@ -27,13 +25,20 @@ _EXTRAS = {
 
 
 def import_optional(name: str) -> ModuleType:
-    """Import module ``name`` or raise :class:`EngineUnavailableError`.
+    """Import module ``name`` or raise :class:`~optri.errors.MissingDependencyError`.
 
-    The message names the ``pip install optri[extra]`` that brings it.
+    The message names the ``pip install 'optri[extra]'`` that brings it; core
+    dependencies (numpy, numba, matplotlib, click, rich) are named as packages.
+
+    >>> import_optional("math").pi > 3
+    True
     """
     try:
         return importlib.import_module(name)
     except ImportError as exc:
-        extra = _EXTRAS.get(name, _EXTRAS.get(name.split(".")[0], ""))
-        hint = f"; install it with: pip install 'optri[{extra}]'" if extra else ""
-        raise EngineUnavailableError(f"{name} is not available ({exc}){hint}") from exc
+        top = name.split(".")[0]
+        extra = EXTRAS.get("numba_cuda" if name.startswith("numba.cuda") else top)
+        hint = f"pip install 'optri[{extra}]'" if extra else f"pip install {top}"
+        raise MissingDependencyError(
+            f"{name} is not available ({exc}); install it with: {hint}"
+        ) from exc

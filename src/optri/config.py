@@ -1,7 +1,12 @@
-"""Tunables in one place: memory ceiling, thresholds, JIT cache.
+"""Every tunable of optri in one place: memory ceiling, thresholds, tile sizes, limits.
 
-Values are plain module attributes so tests and callers can patch them; call
-:func:`reset` to restore the defaults.
+Values are plain module attributes so tests and callers can patch them
+(``optri.config.BRUTE_MAX_N = 10``); :func:`reset` restores the defaults.
+
+>>> from optri import config
+>>> config.BRUTE_MAX_N = 9
+>>> config.reset(); config.BRUTE_MAX_N
+13
 """
 
 from __future__ import annotations
@@ -16,11 +21,32 @@ MEMORY_FRACTION = 0.8
 MEMORY_LIMIT_BYTES: int | None = None
 #: Largest n the brute-force oracle accepts (Catalan(n-2) triangulations).
 BRUTE_MAX_N = 13
-#: Python engines are O(n^3) in the interpreter; "auto" never picks them above this
-#: when a compiled engine exists.
-PYTHON_ENGINE_SOFT_MAX_N = 300
 #: Relative tolerance for geometric predicates (collinearity, convexity).
 GEOMETRY_RTOL = 1e-12
+#: Valid-diagonal mask: up to this n the numpy O(n^3) mask is used while numba is not
+#: loaded yet: it is instant there, and starting numba is not.
+MASK_NUMPY_MAX_N = 48
+#: k-best for objectives led by "max" (not monotone) enumerates every triangulation;
+#: it refuses polygons with more triangulations than this.
+KBEST_ENUMERATION_LIMIT = 2_000_000
+#: 3-D holes: ``method="auto"`` runs the exact O(n^4) Liepa search up to this many vertices.
+HOLES_EXACT_MAX_N = 120
+#: Batch: work per chunk, in units of one weight evaluation (about a microsecond in Python).
+BATCH_CHUNK_WORK = 400_000
+#: Batch: fixed per-polygon work (validation, result building) in the same units.
+BATCH_POLYGON_WORK = 600
+#: Batch: chunk size bounds, and how many polygons are sampled to pick a size.
+BATCH_CHUNK_MIN = 8
+BATCH_CHUNK_MAX = 2000
+BATCH_CHUNK_SAMPLE = 256
+#: Batch: chunks in flight per worker (keeps workers busy without reading ahead far).
+BATCH_IN_FLIGHT_PER_WORKER = 2
+#: Batch: rows per Parquet record batch / GeoPackage page while reading.
+BATCH_ROWS_PER_READ = 4096
+#: Batch: bytes read at a time by the streaming GeoJSON parser.
+BATCH_READ_BLOCK = 1 << 20
+#: CLI: show a progress bar for ``optri solve`` from this many vertices on.
+CLI_PROGRESS_MIN_N = 1500
 #: method="auto" picks the GPU engine (when a GPU is present) from this many vertices on.
 #: An estimate, not yet measured on a GPU: a process's first GPU solve compiles its
 #: kernels (about 2 s of NVVM, measured offline), about what the compiled CPU

@@ -1,14 +1,30 @@
-"""Exception types raised by optri.
+"""Every exception and warning optri raises on purpose.
 
-Every error the library raises on purpose derives from :class:`OptriError`, so a
-caller can catch them all at once or pick one precisely.
+One root, :class:`OptriError`, so a caller can catch them all at once or pick
+one precisely. Input errors also derive from the built-in class a Python user
+would expect (``ValueError``, ``ImportError``, ``MemoryError``), so code written
+against those keeps working.
+
+>>> import optri
+>>> try:
+...     optri.triangulate([[0, 0], [1, 0]])
+... except optri.OptriError as exc:
+...     print(type(exc).__name__)
+InvalidPolygonError
 """
 
 from __future__ import annotations
 
+from typing import Any
+
 __all__ = [
+    "BatchFailedError",
+    "BatchInputError",
     "EngineUnavailableError",
+    "HoleSkippedWarning",
     "InvalidPolygonError",
+    "MissingDependencyError",
+    "NoTriangulationError",
     "OptriError",
     "TableTooLargeError",
     "WeightError",
@@ -27,9 +43,43 @@ class WeightError(OptriError, ValueError):
     """A weight is unknown, does not fit the input, or returned NaN."""
 
 
+class NoTriangulationError(InvalidPolygonError, WeightError):
+    """Every split of some sub-polygon has an infinite or invalid cost.
+
+    Cannot happen for a valid simple polygon and a finite weight; raised rather
+    than returning a partial triangulation. Both an input and a weight problem,
+    so either ``except`` catches it. ``chord`` is the sub-polygon
+    ``(i, j)`` (engine indices) where the search found no split.
+    """
+
+    def __init__(self, message: str, chord: tuple[int, int] | None = None) -> None:
+        super().__init__(message)
+        self.chord = chord
+
+
 class EngineUnavailableError(OptriError, RuntimeError):
-    """The requested engine cannot run here (missing package or device)."""
+    """The requested engine cannot run here (device missing, problem not supported)."""
+
+
+class MissingDependencyError(OptriError, ImportError):
+    """An optional package is not installed; the message names the extra that brings it."""
 
 
 class TableTooLargeError(OptriError, MemoryError):
     """The DP table would not fit in memory; raised before it is allocated."""
+
+
+class BatchInputError(OptriError, ValueError):
+    """A batch input or output file cannot be used at all; the message names file and line."""
+
+
+class BatchFailedError(OptriError):
+    """``strict=True`` and some polygons got error records; ``summary`` has the counts."""
+
+    def __init__(self, message: str, summary: Any = None) -> None:
+        super().__init__(message)
+        self.summary = summary
+
+
+class HoleSkippedWarning(UserWarning):
+    """A mesh hole was left open (over ``max_hole_edges``, or it cannot be filled)."""

@@ -57,6 +57,23 @@ class Objective:
         return self.components if self.is_lex else self.components[0]
 
     @property
+    def two_phase(self) -> bool:
+        """True for a lexicographic objective led by ``"max"``: solved in two phases.
+
+        Such a pair is not monotone under the recurrence (a sub-polygon with a
+        smaller maximum but a larger secondary cost can lose later, once a
+        larger maximum elsewhere dominates), so it is solved exactly in two
+        phases: first the bottleneck value M* of the primary weight alone, then
+        the remaining components over the triangulations whose triangles all
+        have primary weight <= M* (a *gate*, :attr:`optri.engines.problem.Problem.gates`).
+        A ``"sum"`` primary is monotone and runs as one lexicographic DP.
+
+        >>> as_objective(("max", "sum")).two_phase, as_objective(("sum", "max")).two_phase
+        (True, False)
+        """
+        return self.is_lex and self.components[0] == "max"
+
+    @property
     def neutral(self) -> Cost:
         """Cost of a polygon side (an empty triangulation)."""
         vals = tuple(0.0 if c == "sum" else -math.inf for c in self.components)

@@ -10,8 +10,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .geometry import signed_area
+from .drawing.figures import plot_triangulation
+from .drawing.svg import triangulation_svg
+from .io.geo import to_shapely
 from .objective import Cost, Objective
+from .polygon import signed_area
 
 __all__ = ["Triangulation", "diagonals_of", "chords_cross_free"]
 
@@ -98,16 +101,12 @@ class Triangulation:
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
         """Draw the triangulation with matplotlib; returns the Axes.
 
-        See :func:`optri.plot.plot_triangulation` for keyword options.
+        See :func:`optri.drawing.plot_triangulation` for keyword options.
         """
-        from .plot import plot_triangulation
-
         return plot_triangulation(self, ax=ax, **kwargs)
 
     def to_shapely(self) -> Any:
-        """The triangles as a ``shapely.GeometryCollection`` (:func:`optri.interop.to_shapely`)."""
-        from .interop import to_shapely
-
+        """The triangles as a ``shapely.GeometryCollection`` (:func:`optri.io.to_shapely`)."""
         return to_shapely(self)
 
     @property
@@ -129,22 +128,7 @@ class Triangulation:
         """
         if self.vertices.ndim != 2:
             return ""
-        pts = self.vertices[:, :2]
-        lo, span = pts.min(axis=0), float(np.ptp(pts, axis=0).max()) or 1.0
-        xy = (pts - lo) / span * 280 + 10
-        xy[:, 1] = 300 - xy[:, 1]  # SVG's y axis points down
-
-        def poly(idx: Any, style: str) -> str:
-            coords = " ".join(f"{x:.2f},{y:.2f}" for x, y in xy[idx])
-            return f'<polygon points="{coords}" style="{style}"/>'
-
-        body = [poly(t, "fill:#cfe3ff;stroke:#3070c0;stroke-width:1") for t in self.triangles]
-        body.append(poly(np.arange(self.n), "fill:none;stroke:black;stroke-width:2"))
-        return (
-            '<svg xmlns="http://www.w3.org/2000/svg" width="300" height="300">'
-            + "".join(body)
-            + "</svg>"
-        )
+        return triangulation_svg(self.vertices, self.triangles)
 
     def __repr__(self) -> str:
         return (

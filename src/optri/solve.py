@@ -14,13 +14,15 @@ from numpy.typing import ArrayLike, NDArray
 
 from .engines import select_engine
 from .engines.problem import Problem, ProgressFn, Solution
-from .errors import InvalidPolygonError, WeightError
-from .geometry import Polygon, as_polygon
+from .io.files import read_polygon
+from .io.geo import geo_polygon_coords
 from .objective import Objective, ObjectiveLike, as_objective
+from .polygon import Polygon, as_polygon
 from .result import Triangulation, recompute_cost
-from .weights import Weight, WeightLike, get_weight
+from .simple import allowed_chords, zero_area_triangles
+from .weights import WeightLike, resolve_weights
 
-__all__ = ["allowed_chords", "build_problem", "solve_problem", "triangulate"]
+__all__ = ["build_problem", "load_polygon", "solve_problem", "triangulate"]
 
 PolygonLike = ArrayLike | Polygon | str | os.PathLike[str]
 
@@ -115,18 +117,12 @@ def triangulate(
     >>> optri.triangulate([1, 3, 1, 4, 1, 5], weight="product").weight
     13.0
     """
-    polygon = _load(vertices)
+    polygon = load_polygon(vertices)
     problem = build_problem(
         polygon, weight, objective, progress=progress, keep_table=keep_table, dtype=dtype
     )
     start = time.perf_counter()
-    try:
-        name, solution = solve_problem(problem, method)
-    except WeightError as exc:
-        if problem.allowed is None or "no valid triangulation" not in str(exc):
-            raise
-        # cannot happen for a simple polygon; guards against inconsistent predicates
-        raise InvalidPolygonError(f"the polygon has no triangulation: {exc}") from exc
+    name, solution = solve_problem(problem, method)
     seconds = time.perf_counter() - start
     if problem.allowed is not None:
         _report_degenerate(problem, solution.triangles, solution.stats)
@@ -138,26 +134,23 @@ def triangulate(
 def solve_problem(problem: Problem, method: str = "auto") -> tuple[str, Solution]:
     """Run an engine on ``problem``; returns ``(engine name, Solution)``.
 
-    A lexicographic objective whose primary component is ``"max"`` is not
-    monotone under the recurrence (a sub-polygon with a smaller maximum but a
-    larger secondary cost can lose later, once a larger maximum elsewhere
-    dominates), so it is solved exactly in two phases: first the bottleneck
-    value M* of the primary weight alone, then the secondary objective over the
-    triangulations whose triangles all have primary weight <= M*. A ``"sum"``
-    primary is monotone and runs as one lexicographic DP. The brute-force
-    oracle always evaluates the objective directly.
+    A lexicographic objective led by ``"max"`` is solved in two phases
+    (:attr:`optri.objective.Objective.two_phase`): the bottleneck first, then
+    the rest gated by it. The brute-force oracle evaluates the objective
+    directly instead.
     """
     objective = problem.objective
-    if objective.is_lex and objective.components[0] == "max" and method != "brute":
+    if objective.two_phase and method != "brute":
         first = replace(
             problem, weights=problem.weights[:1], objective=Objective(("max",)), keep_table=False
         )
         _, bottleneck = solve_problem(first, method)
+        first_cost = cast(float, bottleneck.cost)  # a scalar "max" objective
         rest = replace(
             problem,
             weights=problem.weights[1:],
             objective=Objective(objective.components[1:]),
-            gates=(*problem.gates, (problem.weights[0], float(bottleneck.cost))),  # type: ignore[arg-type]
+            gates=(*problem.gates, (problem.weights[0], first_cost)),
         )
         name, second = solve_problem(rest, method)
         tail = second.cost if isinstance(second.cost, tuple) else (second.cost,)
@@ -165,7 +158,6 @@ def solve_problem(problem: Problem, method: str = "auto") -> tuple[str, Solution
             k: bottleneck.stats.get(k, 0) + second.stats.get(k, 0)
             for k in {*bottleneck.stats, *second.stats}
         }
-        first_cost = cast(float, bottleneck.cost)  # a scalar "max" objective
         return name, Solution((first_cost, *tail), second.triangles, second.table, stats)
     name, solve = select_engine(method, problem)
     if problem.keep_table is None:
@@ -185,7 +177,7 @@ def build_problem(
 ) -> Problem:
     """Resolve weights and objective and decide which chords are allowed."""
     obj = as_objective(objective)
-    weights = _weights_for(weight, obj)
+    weights = resolve_weights(weight, len(obj.components))
     options: dict[str, Any] = {}
     if allowed is None:
         start = time.perf_counter()
@@ -204,54 +196,22 @@ def build_problem(
     )
 
 
-def allowed_chords(polygon: Polygon) -> NDArray[np.bool_] | None:
-    """Chords a triangulation may use, in internal (counter-clockwise) indices.
+def load_polygon(vertices: PolygonLike) -> Polygon:
+    """A :class:`Polygon` from any input ``triangulate`` takes: array, path, geometry object.
 
-    None (every chord) for a strictly convex polygon, for vertex values and for
-    a skew 3-D polygon; otherwise the polygon must be simple and the result is
-    the ``(n, n)`` bool mask of its sides and internal diagonals
-    (:func:`optri.simple.valid_diagonals`, planar 3-D input in its own plane).
-
-    Raises
-    ------
-    InvalidPolygonError
-        The boundary crosses or touches itself (the message names the edges).
+    A path is read by :func:`optri.io.read_polygon`; an object with
+    ``__geo_interface__`` (a shapely Polygon, a GeoJSON-like dict wrapper) gives
+    its exterior ring.
     """
-    if polygon.convex:
-        return None
-    from .simple import require_simple, valid_diagonals
-
-    require_simple(polygon)
-    return valid_diagonals(polygon)
-
-
-def _weights_for(weight: Any, objective: Objective) -> tuple[Weight, ...]:
-    pair = isinstance(weight, (tuple, list)) and not isinstance(weight, str)
-    weights = tuple(get_weight(w) for w in weight) if pair else (get_weight(weight),)
-    if len(weights) != len(objective.components):
-        raise WeightError(
-            f"objective {objective.name!r} has {len(objective.components)} component(s) "
-            f"but {len(weights)} weight(s) were given; give one weight per component"
-        )
-    return weights
-
-
-def _load(vertices: PolygonLike) -> Polygon:
     if isinstance(vertices, (str, os.PathLike)):
-        from .io import read_polygon
-
         return as_polygon(read_polygon(vertices))
     if hasattr(vertices, "__geo_interface__"):  # shapely or any GeoJSON-like geometry
-        from .interop import geo_polygon_coords
-
         return as_polygon(geo_polygon_coords(vertices))
     return as_polygon(vertices)  # type: ignore[arg-type]
 
 
 def _report_degenerate(problem: Problem, triangles: NDArray[np.int64], stats: Any) -> None:
     """Record the mask's size and time and zero-area triangles (none for a simple polygon)."""
-    from .simple import zero_area_triangles
-
     pts = problem.polygon.planar_points
     count = zero_area_triangles(pts, triangles) if pts is not None else 0
     if isinstance(stats, dict):

@@ -1,4 +1,4 @@
-"""Triangle weight functions: named built-ins and user callables.
+"""Triangle weights: each built-in written once, for Python and compiled engines alike.
 
 A weight gives each candidate triangle ``(i, k, j)`` (vertex indices,
 ``i < k < j`` in the engines' internal order) a number; the objective then sums
@@ -25,42 +25,153 @@ or maximizes those numbers over the triangles of a triangulation. Built-ins:
 
 A custom weight is any callable ``w(i, k, j) -> float`` over *input* vertex
 indices, or ``w(vertices, i, k, j) -> float`` to receive the vertex array.
+
+One source
+----------
+The formulas below are plain Python over ``p[v][c]`` (coordinate ``c`` of
+vertex ``v``): the Python engines call them on rows of tuples, and the
+compiled engine compiles these very functions with numba
+(:mod:`optri.engines._jit_weights`), so both compute the same numbers. The
+CUDA device functions (:mod:`optri.engines._gpu_device`) are the one twin,
+checked against these formulas by the test suite.
+
+To add a weight: write its formula here, give it a :class:`WeightCode`, add
+its branch to :func:`triangle_weight` and register it at the end of this
+module; then add its CUDA twin and extend ``tests/test_weights.py``.
 """
 
 from __future__ import annotations
 
 import inspect
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Union
-
-import numpy as np
+from enum import IntEnum
+from typing import Any, Union
 
 from .errors import WeightError
-from .geometry import Polygon
+from .polygon import Polygon
 
 __all__ = [
     "WEIGHTS",
     "Weight",
+    "WeightCode",
     "WeightLike",
     "custom_weight",
+    "edge_weight",
     "get_weight",
     "register_weight",
+    "resolve_weights",
+    "triangle_weight",
 ]
 
 TriangleFn = Callable[[int, int, int], float]
-EdgeFn = Callable[[int, int], float]
 
-# Integer ids by which compiled engines select a built-in weight.
-CODE_CUSTOM = -1
-CODE_PERIMETER = 0
-CODE_DIAGONAL = 1
-CODE_AREA = 2
-CODE_PRODUCT = 3
-CODE_MAX_ANGLE = 4
-CODE_MIN_ANGLE = 5
-CODE_ASPECT_RATIO = 6
+
+class WeightCode(IntEnum):
+    """Id by which compiled engines select a built-in weight (``CUSTOM``: a callable)."""
+
+    CUSTOM = -1
+    PERIMETER = 0
+    DIAGONAL = 1
+    AREA = 2
+    PRODUCT = 3
+    MAX_ANGLE = 4
+    MIN_ANGLE = 5
+    ASPECT_RATIO = 6
+
+
+# --- formulas: plain Python that numba compiles too (no globals but math and WeightCode) ---
+
+
+def side_length(p, a, b):  # type: ignore[no-untyped-def]
+    """Euclidean distance of vertices a and b (any dimension)."""
+    s = 0.0
+    for c in range(len(p[a])):
+        d = p[a][c] - p[b][c]
+        s += d * d
+    return math.sqrt(s)
+
+
+def edge_weight(code, p, a, b):  # type: ignore[no-untyped-def]
+    """``e(a, b)``, ``a < b``, of an edge-decomposable weight.
+
+    Such a weight is w(i, k, j) = e(i, k) + e(k, j) + e(i, j). Perimeter: the
+    side length. Diagonal: half of it for a diagonal, 0 for a polygon side
+    (each diagonal is in two triangles, so a triangulation's total is its
+    diagonals' length).
+    """
+    d = side_length(p, a, b)
+    if code == WeightCode.DIAGONAL:
+        if b - a == 1 or (a == 0 and b == len(p) - 1):
+            return 0.0  # a polygon side is not a diagonal
+        return 0.5 * d
+    return d
+
+
+def _cosine(x, y, z):  # type: ignore[no-untyped-def]
+    """Clamped cosine of the angle opposite side ``x`` (law of cosines); -1 if degenerate."""
+    den = 2.0 * y * z
+    if den == 0.0:
+        return -1.0  # angle pi
+    return max(-1.0, min(1.0, (y * y + z * z - x * x) / den))
+
+
+def triangle_area(p, i, k, j):  # type: ignore[no-untyped-def]
+    """Area of triangle (i, k, j) in 2-D or 3-D."""
+    if len(p[i]) == 2:
+        ux, uy = p[k][0] - p[i][0], p[k][1] - p[i][1]
+        vx, vy = p[j][0] - p[i][0], p[j][1] - p[i][1]
+        return 0.5 * abs(ux * vy - uy * vx)
+    u0, u1, u2 = p[k][0] - p[i][0], p[k][1] - p[i][1], p[k][2] - p[i][2]
+    v0, v1, v2 = p[j][0] - p[i][0], p[j][1] - p[i][1], p[j][2] - p[i][2]
+    cx = u1 * v2 - u2 * v1
+    cy = u2 * v0 - u0 * v2
+    cz = u0 * v1 - u1 * v0
+    return 0.5 * math.sqrt(cx * cx + cy * cy + cz * cz)
+
+
+def _shape(code, p, i, k, j):  # type: ignore[no-untyped-def]
+    """The side-length weights: largest angle, minus smallest angle, aspect ratio."""
+    a, b, c = side_length(p, k, j), side_length(p, i, j), side_length(p, i, k)
+    # acos is decreasing: the largest angle has the smallest cosine (one acos, not three)
+    if code == WeightCode.MAX_ANGLE:
+        return math.acos(min(_cosine(a, b, c), _cosine(b, c, a), _cosine(c, a, b)))
+    if code == WeightCode.MIN_ANGLE:
+        return -math.acos(max(_cosine(a, b, c), _cosine(b, c, a), _cosine(c, a, b)))
+    s = 0.5 * (a + b + c)
+    q = (s - a) * (s - b) * (s - c)
+    if q <= 0.0:
+        return math.inf  # degenerate
+    return a * b * c / (8.0 * q)  # R / (2 r) = abc / (8 (s-a)(s-b)(s-c))
+
+
+def triangle_weight(code, p, i, k, j):  # type: ignore[no-untyped-def]
+    """Built-in weight ``code`` of triangle ``(i, k, j)``; NaN for an unknown code.
+
+    >>> triangle_weight(WeightCode.PERIMETER, [(0.0, 0.0), (3.0, 0.0), (0.0, 4.0)], 0, 1, 2)
+    12.0
+    """
+    if code == WeightCode.PERIMETER or code == WeightCode.DIAGONAL:
+        return edge_weight(code, p, i, k) + edge_weight(code, p, k, j) + edge_weight(code, p, i, j)
+    if code == WeightCode.AREA:
+        return triangle_area(p, i, k, j)
+    if code == WeightCode.PRODUCT:
+        return p[i][0] * p[k][0] * p[j][0]
+    if (
+        code == WeightCode.MAX_ANGLE
+        or code == WeightCode.MIN_ANGLE
+        or code == WeightCode.ASPECT_RATIO
+    ):
+        return _shape(code, p, i, k, j)
+    return math.nan
+
+
+#: The formulas the compiled engine registers with numba (helpers first).
+FORMULAS = (side_length, edge_weight, _cosine, triangle_area, _shape, triangle_weight)
+
+
+# --- the Weight type and the registry -------------------------------------------
 
 
 @dataclass(frozen=True)
@@ -71,16 +182,11 @@ class Weight:
     ----------
     name : str
         Registry name (``"custom"`` for user callables).
-    needs : {"points", "values"}
+    needs : {"points", "values", "any"}
         What vertex data the weight reads.
-    bind : callable
-        ``bind(polygon) -> w(i, k, j)`` over internal indices.
-    edge : callable or None
-        For edge-decomposable weights, ``edge(polygon) -> e(a, b)`` with
-        ``w(i, k, j) == e(i, k) + e(k, j) + e(i, j)``; compiled engines then use
-        the pure min-plus form.
-    code : int
-        Id of the compiled implementation (``CODE_CUSTOM`` if none).
+    code : WeightCode
+        Which built-in formula computes it (``CUSTOM`` for a user callable).
+    description : str
     func : callable or None
         The user's function, for custom weights.
     compiled : callable or None
@@ -90,17 +196,26 @@ class Weight:
 
     name: str
     needs: str
-    bind: Callable[[Polygon], TriangleFn]
-    edge: Callable[[Polygon], EdgeFn] | None = None
-    code: int = CODE_CUSTOM
-    func: Callable[..., float] | None = field(default=None, compare=False)
+    code: WeightCode = WeightCode.CUSTOM
     description: str = ""
+    func: Callable[..., float] | None = field(default=None, compare=False)
     compiled: Callable[..., float] | None = field(default=None, compare=False)
+
+    @property
+    def edge_decomposable(self) -> bool:
+        """True when w(i, k, j) = e(i, k) + e(k, j) + e(i, j) (:func:`edge_weight`)."""
+        return self.code in (WeightCode.PERIMETER, WeightCode.DIAGONAL)
 
     def evaluator(self, polygon: Polygon) -> TriangleFn:
         """Return ``w(i, k, j)`` over ``polygon``'s internal indices."""
         self.check(polygon)
-        return self.bind(polygon)
+        if self.code == WeightCode.CUSTOM:
+            return _bind_custom(self, polygon)
+        rows = _rows(polygon)
+        code = int(self.code)
+        if self.edge_decomposable:
+            return _edge_sum(code, rows)
+        return lambda i, k, j: triangle_weight(code, rows, i, k, j)
 
     def check(self, polygon: Polygon) -> None:
         """Raise :class:`WeightError` if the weight cannot read ``polygon``'s data."""
@@ -150,6 +265,27 @@ def get_weight(spec: WeightLike) -> Weight:
     raise WeightError(f"a weight must be a name or a callable, got {type(spec).__name__}")
 
 
+def resolve_weights(spec: Any, components: int) -> tuple[Weight, ...]:
+    """One :class:`Weight` per objective component from a weight or a sequence of them.
+
+    >>> [w.name for w in resolve_weights(("max_angle", "perimeter"), 2)]
+    ['max_angle', 'perimeter']
+
+    Raises
+    ------
+    WeightError
+        An unknown weight, or a count that does not match ``components``.
+    """
+    pair = isinstance(spec, Sequence) and not isinstance(spec, str)
+    weights = tuple(get_weight(w) for w in spec) if pair else (get_weight(spec),)
+    if len(weights) != components:
+        raise WeightError(
+            f"the objective has {components} component(s) but {len(weights)} weight(s) "
+            f"were given; give one weight per component"
+        )
+    return weights
+
+
 def custom_weight(func: Callable[..., float], name: str = "custom") -> Weight:
     """Wrap a user callable ``w(i, k, j)`` or ``w(vertices, i, k, j)``.
 
@@ -160,25 +296,43 @@ def custom_weight(func: Callable[..., float], name: str = "custom") -> Weight:
     makes ``method="auto"`` use a Python engine.
     """
     wants_vertices = _positional_arity(getattr(func, "py_func", func)) >= 4
-
-    def bind(polygon: Polygon) -> TriangleFn:
-        orig = polygon.order.tolist()
-        verts = polygon.vertices
-
-        if wants_vertices:
-
-            def w(i: int, k: int, j: int) -> float:
-                return float(func(verts, orig[i], orig[k], orig[j]))
-        else:
-
-            def w(i: int, k: int, j: int) -> float:
-                return float(func(orig[i], orig[k], orig[j]))
-
-        return w
-
     compiled = func if wants_vertices and _is_numba_function(func) else None
     kind = "numba-compiled user callable" if compiled is not None else "user callable"
-    return Weight(name, "any", bind, func=func, description=kind, compiled=compiled)
+    return Weight(name, "any", WeightCode.CUSTOM, kind, func=func, compiled=compiled)
+
+
+# --- Python evaluators -------------------------------------------------------------
+
+
+def _rows(polygon: Polygon) -> list[tuple[float, ...]]:
+    """Internal-order vertex rows as tuples (values as 1-tuples): fast to index in Python."""
+    data = polygon.data
+    return [tuple(r) for r in data.reshape(len(data), -1).tolist()]
+
+
+def _edge_sum(code: int, rows: list[tuple[float, ...]]) -> TriangleFn:
+    """``e(i, k) + e(k, j) + e(i, j)`` with each edge computed once (dense problems ask often)."""
+    n = len(rows)
+    cache: dict[int, float] = {}
+
+    def e(a: int, b: int) -> float:
+        key = a * n + b
+        v = cache.get(key)
+        if v is None:
+            v = cache[key] = edge_weight(code, rows, a, b)
+        return v
+
+    return lambda i, k, j: e(i, k) + e(k, j) + e(i, j)
+
+
+def _bind_custom(weight: Weight, polygon: Polygon) -> TriangleFn:
+    func = weight.func
+    assert func is not None
+    orig = polygon.order.tolist()
+    if _positional_arity(getattr(func, "py_func", func)) >= 4:
+        verts = polygon.vertices
+        return lambda i, k, j: float(func(verts, orig[i], orig[k], orig[j]))
+    return lambda i, k, j: float(func(orig[i], orig[k], orig[j]))
 
 
 def _is_numba_function(func: object) -> bool:
@@ -195,175 +349,15 @@ def _positional_arity(func: Callable[..., float]) -> int:
     return sum(p.kind in kinds for p in params)
 
 
-# --- built-ins ---------------------------------------------------------------
+# --- the built-ins ---------------------------------------------------------------------
 
-_DENSE_MAX_N = 1500  # below this, Python evaluators use a precomputed distance table
-
-
-def _distance_fn(polygon: Polygon) -> EdgeFn:
-    pts = polygon.data
-    if polygon.n <= _DENSE_MAX_N:
-        diff = pts[:, None, :] - pts[None, :, :]
-        table = np.sqrt((diff * diff).sum(axis=-1)).tolist()
-        return lambda a, b: table[a][b]
-    rows = [tuple(p) for p in pts.tolist()]
-    return lambda a, b: math.dist(rows[a], rows[b])
-
-
-def _perimeter_edge(polygon: Polygon) -> EdgeFn:
-    return _distance_fn(polygon)
-
-
-def _diagonal_edge(polygon: Polygon) -> EdgeFn:
-    d = _distance_fn(polygon)
-    last = polygon.n - 1
-
-    def e(a: int, b: int) -> float:
-        lo, hi = (a, b) if a < b else (b, a)
-        if hi - lo == 1 or (lo == 0 and hi == last):
-            return 0.0  # polygon side, not a diagonal
-        return 0.5 * d(a, b)
-
-    return e
-
-
-def _from_edge(edge: Callable[[Polygon], EdgeFn]) -> Callable[[Polygon], TriangleFn]:
-    def bind(polygon: Polygon) -> TriangleFn:
-        e = edge(polygon)
-        return lambda i, k, j: e(i, k) + e(k, j) + e(i, j)
-
-    return bind
-
-
-def _side_lengths(
-    pts: list[tuple[float, ...]], i: int, k: int, j: int
-) -> tuple[float, float, float]:
-    return math.dist(pts[k], pts[j]), math.dist(pts[i], pts[j]), math.dist(pts[i], pts[k])
-
-
-def _area_bind(polygon: Polygon) -> TriangleFn:
-    pts = polygon.data
-    if pts.shape[1] == 2:
-        xs, ys = pts[:, 0].tolist(), pts[:, 1].tolist()
-
-        def area2(i: int, k: int, j: int) -> float:
-            return 0.5 * abs((xs[k] - xs[i]) * (ys[j] - ys[i]) - (ys[k] - ys[i]) * (xs[j] - xs[i]))
-
-        return area2
-    rows = pts.tolist()
-
-    def area3(i: int, k: int, j: int) -> float:
-        a, b, c = rows[i], rows[k], rows[j]
-        u = (b[0] - a[0], b[1] - a[1], b[2] - a[2])
-        v = (c[0] - a[0], c[1] - a[1], c[2] - a[2])
-        cx = u[1] * v[2] - u[2] * v[1]
-        cy = u[2] * v[0] - u[0] * v[2]
-        cz = u[0] * v[1] - u[1] * v[0]
-        return 0.5 * math.sqrt(cx * cx + cy * cy + cz * cz)
-
-    return area3
-
-
-def _product_bind(polygon: Polygon) -> TriangleFn:
-    p = polygon.data.tolist()
-    return lambda i, k, j: p[i] * p[k] * p[j]
-
-
-def _angles(a: float, b: float, c: float) -> tuple[float, float, float]:
-    """Angles opposite sides a, b, c (law of cosines, clamped)."""
-
-    def ang(x: float, y: float, z: float) -> float:
-        den = 2.0 * y * z
-        if den == 0.0:
-            return math.pi
-        return math.acos(max(-1.0, min(1.0, (y * y + z * z - x * x) / den)))
-
-    return ang(a, b, c), ang(b, c, a), ang(c, a, b)
-
-
-def _angle_bind(
-    pick: Callable[[tuple[float, float, float]], float],
-) -> Callable[[Polygon], TriangleFn]:
-    def bind(polygon: Polygon) -> TriangleFn:
-        pts = [tuple(p) for p in polygon.data.tolist()]
-        return lambda i, k, j: pick(_angles(*_side_lengths(pts, i, k, j)))
-
-    return bind
-
-
-def _aspect_bind(polygon: Polygon) -> TriangleFn:
-    pts = [tuple(p) for p in polygon.data.tolist()]
-
-    def w(i: int, k: int, j: int) -> float:
-        a, b, c = _side_lengths(pts, i, k, j)
-        s = 0.5 * (a + b + c)
-        q = (s - a) * (s - b) * (s - c)
-        if q <= 0.0:
-            return math.inf
-        # R / (2 r) = a b c / (8 (s-a)(s-b)(s-c))
-        return a * b * c / (8.0 * q)
-
-    return w
-
-
-register_weight(
-    Weight(
-        "perimeter",
-        "points",
-        _from_edge(_perimeter_edge),
-        _perimeter_edge,
-        CODE_PERIMETER,
-        description="triangle perimeter (paper Eq. 1)",
-    )
-)
-register_weight(
-    Weight(
-        "diagonal",
-        "points",
-        _from_edge(_diagonal_edge),
-        _diagonal_edge,
-        CODE_DIAGONAL,
-        description="total diagonal length (classic MWT)",
-    )
-)
-register_weight(Weight("area", "points", _area_bind, None, CODE_AREA, description="triangle area"))
-register_weight(
-    Weight(
-        "product",
-        "values",
-        _product_bind,
-        None,
-        CODE_PRODUCT,
-        description="p_i*p_k*p_j on vertex values (matrix chain)",
-    )
-)
-register_weight(
-    Weight(
-        "max_angle",
-        "points",
-        _angle_bind(max),
-        None,
-        CODE_MAX_ANGLE,
-        description="largest angle (radians)",
-    )
-)
-register_weight(
-    Weight(
-        "min_angle",
-        "points",
-        _angle_bind(lambda t: -min(t)),
-        None,
-        CODE_MIN_ANGLE,
-        description="minus the smallest angle (radians)",
-    )
-)
-register_weight(
-    Weight(
-        "aspect_ratio",
-        "points",
-        _aspect_bind,
-        None,
-        CODE_ASPECT_RATIO,
-        description="circumradius / (2 inradius), 1 = equilateral",
-    )
-)
+for _name, _needs, _code, _text in (
+    ("perimeter", "points", WeightCode.PERIMETER, "triangle perimeter (paper Eq. 1)"),
+    ("diagonal", "points", WeightCode.DIAGONAL, "total diagonal length (classic MWT)"),
+    ("area", "points", WeightCode.AREA, "triangle area"),
+    ("product", "values", WeightCode.PRODUCT, "p_i*p_k*p_j on vertex values (matrix chain)"),
+    ("max_angle", "points", WeightCode.MAX_ANGLE, "largest angle (radians)"),
+    ("min_angle", "points", WeightCode.MIN_ANGLE, "minus the smallest angle (radians)"),
+    ("aspect_ratio", "points", WeightCode.ASPECT_RATIO, "circumradius / (2 inradius)"),
+):
+    register_weight(Weight(_name, _needs, _code, _text))

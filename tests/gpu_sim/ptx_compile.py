@@ -165,7 +165,7 @@ def main() -> int:
         return SKIP
 
     from optri import config
-    from optri.engines.gpu_kernels import build_kernels
+    from optri.engines._gpu_kernels import build_kernels
 
     ptxas = _ptxas()
     print(f"ptxas: {ptxas or 'not found (register checks skipped)'}")

@@ -37,7 +37,7 @@ from optri.errors import (  # noqa: E402
     TableTooLargeError,
     WeightError,
 )
-from optri.geometry import as_polygon  # noqa: E402
+from optri.polygon import as_polygon  # noqa: E402
 from optri.result import chords_cross_free, diagonals_of  # noqa: E402
 from optri.solve import build_problem, triangulate  # noqa: E402
 
@@ -173,7 +173,7 @@ def test_default_register_block_and_slice(monkeypatch, weight, objective):
     monkeypatch.setattr(config, "GPU_TILE", 16)
     monkeypatch.setattr(config, "GPU_K_CHUNK", 16)
     monkeypatch.setattr(config, "GPU_THREADS_PER_BLOCK", 16)
-    from optri.engines.gpu_kernels import thread_layout
+    from optri.engines._gpu_kernels import thread_layout
 
     assert thread_layout(16, 16)[2:] == thread_layout(64, 256)[2:] == (4, 4)
     got, _ = check_against_memo(build_problem(convex(40, seed=12), weight, objective))

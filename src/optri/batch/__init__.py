@@ -13,8 +13,8 @@ per-polygon record and the chunk function), :mod:`.writers` and
 
 from __future__ import annotations
 
+from ..errors import BatchFailedError, BatchInputError
 from .driver import BatchSummary, batch, iter_records
-from .errors import BatchFailedError, BatchInputError
 from .records import TIMING_FIELDS, strip_timing
 
 __all__ = [

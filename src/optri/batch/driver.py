@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import json
 import os
 import pickle
 import shutil
@@ -15,8 +16,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..io import write_json
-from .errors import BatchFailedError, BatchInputError
+from .. import config
+from .._version import __version__
+from ..errors import BatchFailedError, BatchInputError
+from ..io.atomic import write_json
 from .layout import Layout, plan_layout
 from .readers import count_items, detect_input_format, read_items
 from .records import ChunkTask, Item
@@ -24,12 +27,6 @@ from .writers import SINGLE_FILE_SUFFIXES, assemble, read_part, write_part
 
 __all__ = ["BatchSummary", "batch", "iter_records"]
 
-#: Work per chunk, in units of one weight evaluation (about a microsecond in Python).
-CHUNK_TARGET_WORK = 400_000
-#: Fixed per-polygon work (validation, result building) in the same units.
-POLYGON_OVERHEAD_WORK = 600
-#: Chunk size bounds; the polygons sampled to pick a size.
-CHUNK_MIN, CHUNK_MAX, CHUNK_SAMPLE = 8, 2000, 256
 
 
 @dataclass(frozen=True)
@@ -296,28 +293,27 @@ def _choose_chunk_size(
     previous = None if layout is None else _manifest_value(layout, "chunk_size")
     if isinstance(previous, int):  # resuming: the parts on disk fix the partitioning
         return items, previous
-    sample = list(itertools.islice(items, CHUNK_SAMPLE))
+    sample = list(itertools.islice(items, config.BATCH_CHUNK_SAMPLE))
     return itertools.chain(sample, items), auto_chunk_size(sample)
 
 
 def auto_chunk_size(sample: list[Item]) -> int:
-    """Polygons per chunk so one chunk is about ``CHUNK_TARGET_WORK`` (O(n^3) per polygon).
+    """Polygons per chunk so one chunk is about ``config.BATCH_CHUNK_WORK`` (O(n^3) per polygon).
 
     >>> auto_chunk_size([Item(0, [[0, 0]] * 64)]), auto_chunk_size([Item(0, [[0, 0]] * 8)])
     (9, 583)
     """
+    lo, hi = config.BATCH_CHUNK_MIN, config.BATCH_CHUNK_MAX
     if not sample:
-        return CHUNK_MIN
+        return lo
     sizes = [len(it.coords) if isinstance(it.coords, list) else 0 for it in sample]
-    work = sum(POLYGON_OVERHEAD_WORK + n**3 / 6 for n in sizes) / len(sizes)
-    return int(min(CHUNK_MAX, max(CHUNK_MIN, CHUNK_TARGET_WORK // work)))
+    work = sum(config.BATCH_POLYGON_WORK + n**3 / 6 for n in sizes) / len(sizes)
+    return int(min(hi, max(lo, config.BATCH_CHUNK_WORK // work)))
 
 
 def _manifest(
     inp: Path, kind: str, layout: Layout, options: dict[str, Any], size: int
 ) -> dict[str, Any]:
-    from .. import __version__  # optri/__init__ imports this package before defining it
-
     st = inp.stat()
     return {
         "input": str(inp.resolve()),
@@ -334,8 +330,6 @@ def _manifest(
 
 
 def _manifest_value(layout: Layout, key: str) -> Any:
-    import json
-
     try:
         return json.loads(layout.manifest.read_text()).get(key)
     except (OSError, ValueError):

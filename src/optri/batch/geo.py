@@ -13,14 +13,13 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import IO, Any
 
+from .. import config
 from .._optional import import_optional
-from .errors import BatchInputError
+from ..errors import BatchInputError
 from .records import Item
 
 __all__ = ["count_rows", "item_from_shapely", "read_gpkg", "read_parquet", "write_parquet"]
 
-#: Rows per Parquet record batch / GeoPackage page while reading.
-ROWS_PER_READ = 4096
 
 
 def item_from_shapely(geom: Any, item_id: Any) -> Item:
@@ -55,7 +54,7 @@ def read_parquet(path: Path) -> Iterator[Item]:
     geom_col = _geometry_column(pf.schema_arrow.metadata or {}, names, path)
     columns = [geom_col] + (["id"] if "id" in names else [])
     index = 0
-    for batch in pf.iter_batches(batch_size=ROWS_PER_READ, columns=columns):
+    for batch in pf.iter_batches(batch_size=config.BATCH_ROWS_PER_READ, columns=columns):
         try:
             geoms = shapely.from_wkb(batch.column(geom_col).to_numpy(zero_copy_only=False))
         except Exception as exc:
@@ -74,7 +73,10 @@ def read_gpkg(path: Path) -> Iterator[Item]:
     while index < total:
         try:
             df = pyogrio.read_dataframe(
-                path, skip_features=index, max_features=ROWS_PER_READ, fid_as_index=True
+                path,
+                skip_features=index,
+                max_features=config.BATCH_ROWS_PER_READ,
+                fid_as_index=True,
             )
         except Exception as exc:
             raise BatchInputError(f"{path}: feature {index}: {_first_line(exc)}") from None
@@ -143,7 +145,7 @@ def read_parquet_records(path: Path) -> Iterator[dict]:
     pq = import_optional("pyarrow.parquet")
     pf = pq.ParquetFile(path)
     names = [c for c in pf.schema_arrow.names if c != "geometry"]
-    for batch in pf.iter_batches(batch_size=ROWS_PER_READ, columns=names):
+    for batch in pf.iter_batches(batch_size=config.BATCH_ROWS_PER_READ, columns=names):
         yield from batch.to_pylist()
 
 

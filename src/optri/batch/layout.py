@@ -23,8 +23,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..io import write_json
-from .errors import BatchInputError
+from ..errors import BatchInputError
+from ..io.atomic import write_json
 from .writers import OUTPUT_FORMATS, SINGLE_FILE_SUFFIXES
 
 __all__ = ["Layout", "plan_layout"]

@@ -13,7 +13,9 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from .errors import BatchInputError
+from .. import config
+from ..errors import BatchInputError
+from . import geo
 from .records import Item
 
 __all__ = [
@@ -32,8 +34,6 @@ INPUT_FORMATS = {
     "gpkg": (".gpkg",),
 }
 
-#: Bytes read at a time by the streaming GeoJSON parser.
-READ_BLOCK = 1 << 20
 
 
 def detect_input_format(path: str | os.PathLike[str], fmt: str | None = None) -> str:
@@ -64,8 +64,6 @@ def read_items(path: str | os.PathLike[str], fmt: str | None = None) -> Iterator
         return _read_ndjson(p)
     if kind == "geojson":
         return _read_feature_collection(p)
-    from . import geo
-
     return geo.read_parquet(p) if kind == "parquet" else geo.read_gpkg(p)
 
 
@@ -77,8 +75,6 @@ def count_items(path: str | os.PathLike[str], fmt: str | None = None) -> int | N
         return sum(1 for line in _binary_lines(p) if line.strip())
     if kind == "geojson":  # every feature carries "type": "Feature"
         return _count_bytes(p, b'"Feature"')
-    from . import geo
-
     return geo.count_rows(p, kind)
 
 
@@ -200,7 +196,7 @@ class _JsonStream:
         if self.eof:
             return False
         try:
-            block = self.fh.read(READ_BLOCK)
+            block = self.fh.read(config.BATCH_READ_BLOCK)
         except UnicodeDecodeError as exc:
             self.fail(f"not UTF-8 text ({exc.reason})")
         if not block:  # keep buf as is: error positions still point into it
@@ -263,7 +259,7 @@ def _binary_lines(path: Path) -> Iterator[bytes]:
 def _count_bytes(path: Path, needle: bytes) -> int:
     count, tail = 0, b""
     with path.open("rb") as fh:
-        while block := fh.read(READ_BLOCK):
+        while block := fh.read(config.BATCH_READ_BLOCK):
             data = tail + block
             count += data.count(needle)
             # keep a tail shorter than the needle so no match is counted twice

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import OptriError
+from ..solve import triangulate
 
 __all__ = [
     "TIMING_FIELDS",
@@ -99,8 +100,6 @@ def solve_item(item: Item, weight: Any = "perimeter", objective: Any = "sum", me
     >>> solve_item(Item(1, [[0, 0], [1, 1]]))["reason"]
     'a polygon needs at least 3 vertices, got 2'
     """
-    from ..solve import triangulate  # keeps `import optri.batch` light
-
     if item.reason is not None:
         return error_record(item.id, item.reason, _count(item.coords))
     start = time.perf_counter()

@@ -2,7 +2,7 @@
 
 All three backends run the same :func:`~optri.batch.records.solve_chunk` and hand
 results back to the calling process, which alone writes part files. At most
-``IN_FLIGHT_PER_WORKER * workers`` chunks are queued at once, so memory does not
+``config.BATCH_IN_FLIGHT_PER_WORKER * workers`` chunks are queued at once, so memory does not
 grow with the input.
 """
 
@@ -17,14 +17,13 @@ from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from typing import Any
 
+from .. import config
 from .._optional import import_optional
-from .errors import BatchInputError
+from ..errors import BatchInputError
 from .records import ChunkTask, solve_chunk
 
 __all__ = ["Backend", "default_workers", "open_backend", "run_tasks"]
 
-#: Chunks queued per worker: enough to keep every worker busy, few enough to stay small.
-IN_FLIGHT_PER_WORKER = 2
 
 Result = tuple[int, list[dict]]
 
@@ -162,10 +161,10 @@ def run_tasks(
 ) -> None:
     """Run every task on ``backend``, calling ``on_done(task, records)`` as each finishes.
 
-    Keeps at most ``IN_FLIGHT_PER_WORKER * backend.workers`` tasks submitted; on any
+    Keeps at most ``config.BATCH_IN_FLIGHT_PER_WORKER * backend.workers`` tasks submitted; on any
     exception (KeyboardInterrupt included) work not yet started is cancelled.
     """
-    limit = max(1, IN_FLIGHT_PER_WORKER * backend.workers)
+    limit = max(1, config.BATCH_IN_FLIGHT_PER_WORKER * backend.workers)
     pending: dict[Any, ChunkTask] = {}
     try:
         for task in tasks:

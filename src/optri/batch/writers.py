@@ -15,8 +15,10 @@ from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import IO, Any
 
-from ..io import atomic_write
-from .errors import BatchInputError
+from .._optional import import_optional
+from ..errors import BatchInputError
+from ..io.atomic import atomic_write
+from .geo import read_parquet_records, write_parquet
 
 __all__ = [
     "OUTPUT_FORMATS",
@@ -69,8 +71,6 @@ def write_part(
 ) -> None:
     """Write one partition's records atomically; ``coords`` are the input rings."""
     if fmt == "parquet":
-        from .geo import write_parquet
-
         with atomic_write(path, "wb") as fh:
             write_parquet(fh, records, coords)
         return
@@ -93,8 +93,6 @@ def read_part(path: str | os.PathLike[str], fmt: str) -> Iterator[dict]:
     """Records of a part (or assembled) file written by this module, in order."""
     p = Path(path)
     if fmt == "parquet":
-        from .geo import read_parquet_records
-
         yield from read_parquet_records(p)
         return
     with p.open(encoding="utf-8") as fh:
@@ -114,8 +112,6 @@ def read_part(path: str | os.PathLike[str], fmt: str) -> Iterator[dict]:
 def assemble(parts: Sequence[Path], fmt: str, target: Path) -> None:
     """Join part files, in order, into one file of the same format, atomically."""
     if fmt == "parquet":
-        from .._optional import import_optional
-
         pq = import_optional("pyarrow.parquet")
         with atomic_write(target, "wb") as fh:
             writer = None
@@ -125,9 +121,7 @@ def assemble(parts: Sequence[Path], fmt: str, target: Path) -> None:
                     writer = pq.ParquetWriter(fh, table.schema)
                 writer.write_table(table)
             if writer is None:  # no input at all: still a valid, empty file
-                from .geo import write_parquet
-
-                write_parquet(fh, [], [])
+                        write_parquet(fh, [], [])
             else:
                 writer.close()
         return

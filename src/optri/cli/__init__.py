@@ -1,53 +1,16 @@
 """Command-line interface: ``optri COMMAND ...`` (also ``python -m optri``).
 
-The only place that prints or exits. Library errors become one line on stderr
-and exit status 2; each command lives in its own module and registers itself
-on :data:`main`.
+The only place that prints or exits; it parses options, calls the library and
+prints. Each command lives in its own module and registers itself on
+:data:`main` (:mod:`optri.cli.app`).
 """
 
 from __future__ import annotations
 
-import sys
-from typing import Any
-
-import click
-
-from .. import __version__
-from ..errors import OptriError
+from . import batch_cmd, bench_cmd, enumerate_cmd, fill_cmd, paper_cmd, solve_cmd
+from .app import main
 
 __all__ = ["main"]
 
-
-class _Group(click.Group):
-    """A click group that turns library errors into one line and exit 2."""
-
-    def invoke(self, ctx: click.Context) -> Any:
-        try:
-            return super().invoke(ctx)
-        except OptriError as exc:
-            _fail(str(exc))
-        except OSError as exc:
-            _fail(f"{getattr(exc, 'filename', None) or ''}: {exc.strerror or exc}".lstrip(": "))
-        except KeyboardInterrupt:
-            click.echo("optri: interrupted", err=True)
-            sys.exit(130)
-
-
-def _fail(message: str) -> None:
-    first = " ".join(message.split())
-    click.echo(f"optri: error: {first}", err=True)
-    sys.exit(2)
-
-
-@click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
-@click.version_option(__version__, "--version", prog_name="optri")
-def main() -> None:
-    """Optimal triangulation of polygons by dynamic programming."""
-
-
-def _register() -> None:
-    # each module adds its commands to main
-    from . import batch_cmd, bench_cmd, enumerate_cmd, fill_cmd, paper_cmd, solve_cmd  # noqa: F401
-
-
-_register()
+# importing a command module registers its commands on main
+del batch_cmd, bench_cmd, enumerate_cmd, fill_cmd, paper_cmd, solve_cmd

@@ -9,7 +9,7 @@ import click
 from ..batch import BatchFailedError, batch
 from ..batch.readers import INPUT_FORMATS
 from ..batch.writers import OUTPUT_FORMATS
-from . import main
+from .app import main
 from .options import engine_options, parse_pair
 from .progress import progress_bar
 

@@ -6,7 +6,7 @@ import json
 
 import click
 
-from . import main
+from .app import main
 
 __all__ = ["bench"]
 
@@ -26,7 +26,7 @@ def bench(
     SIZES default to 500 1000 2000 4000. The yardsticks are looked up in
     $OPTRI_BENCH_DIR, then ../shared/bench beside the repository.
     """
-    from ..benchmark import run_benchmark
+    from ..bench import run_benchmark
 
     chosen = sizes or ((100, 200, 500) if quick else (500, 1000, 2000, 4000))
     rows = run_benchmark(

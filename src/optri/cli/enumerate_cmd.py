@@ -8,12 +8,11 @@ from typing import Any
 
 import click
 
-from ..enumerate import count_triangulations, enumerate_triangulations
-from ..io import read_polygon
-from ..kbest import best_triangulations
+from ..enumeration import best_triangulations, count_triangulations, enumerate_triangulations
+from ..io.files import read_polygon
 from ..result import Triangulation
 from ..weights import WEIGHTS
-from . import main
+from .app import main
 
 _WEIGHT_HELP = f"Triangle weight ({', '.join(sorted(WEIGHTS))})."
 

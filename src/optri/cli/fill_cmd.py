@@ -4,45 +4,14 @@ from __future__ import annotations
 
 import json
 import warnings
-from pathlib import Path
-from typing import Any
 
 import click
 
-from ..errors import InvalidPolygonError
-from ..holes import METHODS
-from ..io import atomic_write
-from ..mesh import HoleRecord, HoleSkippedWarning, fill_holes
-from . import main
+from ..errors import HoleSkippedWarning
+from ..holes import METHODS, HoleRecord, fill_holes
+from ..io.meshes import mesh_format, read_mesh, write_mesh
+from .app import main
 from .progress import progress_bar
-
-#: Mesh formats read and written (trimesh's names).
-FORMATS = ("obj", "ply", "stl", "off")
-
-
-def _format_of(path: str, role: str) -> str:
-    ext = Path(path).suffix.lower().lstrip(".")
-    if ext not in FORMATS:
-        raise InvalidPolygonError(
-            f"{role} {path!r}: unsupported mesh format {ext or '(none)'!r}; use one of "
-            f"{', '.join('.' + f for f in FORMATS)}"
-        )
-    return ext
-
-
-def _load(path: str, fmt: str) -> Any:
-    from .._optional import import_optional
-
-    trimesh = import_optional("trimesh")
-    if not Path(path).is_file():
-        raise InvalidPolygonError(f"cannot read {path}: no such file")
-    try:
-        mesh = trimesh.load(path, file_type=fmt, force="mesh")
-    except Exception as exc:  # noqa: BLE001  (parsers raise anything on bad bytes)
-        raise InvalidPolygonError(f"cannot read mesh {path}: {exc}") from exc
-    if not hasattr(mesh, "faces") or len(mesh.faces) == 0:
-        raise InvalidPolygonError(f"{path}: no triangle faces found")
-    return mesh
 
 
 def _summary(rec: HoleRecord) -> str:
@@ -90,8 +59,8 @@ def fill(
     quiet: bool,
 ) -> None:
     """Fill the holes of the mesh in INFILE (.obj/.ply/.stl/.off) and write OUTPUT."""
-    in_fmt, out_fmt = _format_of(infile, "input"), _format_of(output, "output")
-    mesh = _load(infile, in_fmt)
+    mesh_format(output, "output")  # refuse an unknown output suffix before any work
+    mesh = read_mesh(infile)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", HoleSkippedWarning)
         with progress_bar("filling holes", not quiet and not as_json) as progress:
@@ -107,9 +76,7 @@ def fill(
             click.echo(f"optri: warning: {w.message}", err=True)
         else:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    data = filled.export(file_type=out_fmt)
-    with atomic_write(output, "wb") as fh:
-        fh.write(data.encode() if isinstance(data, str) else data)
+    write_mesh(filled, output)
     if as_json:
         click.echo(
             json.dumps(

@@ -6,7 +6,8 @@ import time
 
 import click
 
-from . import main
+from ..paper import PaperConfig, write_report
+from .app import main
 from .progress import progress_bar
 
 
@@ -23,8 +24,6 @@ from .progress import progress_bar
 @click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
 def paper(out: str, quick: bool, no_figures: bool, quiet: bool) -> None:
     """Reproduce Selimi et al. (2019): Tables 2-4, Figures 1, 4-7, notes on the paper."""
-    from ..paper.report import PaperConfig, write_report
-
     cfg = PaperConfig.quick() if quick else PaperConfig()
     cfg.figures = not no_figures
     start = time.perf_counter()

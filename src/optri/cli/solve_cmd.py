@@ -7,16 +7,14 @@ import time
 
 import click
 
+from .. import config
 from ..chain import matrix_chain
-from ..io import atomic_write, read_polygon
-from ..papertable import format_table
+from ..drawing import format_table, save_figure
+from ..io.files import read_polygon
 from ..solve import triangulate
-from . import main
+from .app import main
 from .options import engine_options, parse_pair
 from .progress import progress_bar
-
-#: Show a progress bar from this many vertices on.
-PROGRESS_MIN_N = 1500
 
 
 @main.command()
@@ -47,7 +45,7 @@ def solve(
 ) -> None:
     """Optimal triangulation of the polygon in FILE (CSV x,y per line, or JSON)."""
     vertices = read_polygon(file)
-    show_bar = not quiet and not as_json and len(vertices) >= PROGRESS_MIN_N
+    show_bar = not quiet and not as_json and len(vertices) >= config.CLI_PROGRESS_MIN_N
     start = time.perf_counter()
     with progress_bar(f"solving n={len(vertices)}", show_bar) as progress:
         tri = triangulate(
@@ -61,8 +59,6 @@ def solve(
         )
     seconds = time.perf_counter() - start
     if plot_path:
-        from ..plot import save_figure
-
         save_figure(tri.plot(), plot_path)
     if as_json:
         out = tri.to_dict()
@@ -97,4 +93,4 @@ def chain(dims: tuple[int, ...], as_json: bool) -> None:
         click.echo(f"order: {order.parenthesization}")
 
 
-__all__ = ["atomic_write", "chain", "solve"]
+__all__ = ["chain", "solve"]

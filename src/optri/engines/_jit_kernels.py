@@ -27,7 +27,7 @@ from llvmlite import ir
 from numba import njit, prange
 from numba.extending import intrinsic
 
-from ..weights import CODE_CUSTOM
+from ..weights import WeightCode
 from ._jit_weights import edge_weight, triangle_weight
 
 __all__ = [
@@ -37,6 +37,7 @@ __all__ = [
     "minplus_split",
     "minplus_tiles",
     "split_table",
+    "subtract_edges",
     "trace",
     "uncached",
 ]
@@ -181,6 +182,15 @@ def minplus_tiles(T, pts, code, mask, use_mask, tile, d0, d1):
 
 
 @njit(cache=True)
+def subtract_edges(out, pts, code):
+    """``out[i, j] -= e(i, j)`` above the diagonal: costs from an exported E-table."""
+    n = out.shape[0]
+    for i in range(n - 1):
+        for j in range(i + 1, n):
+            out[i, j] -= edge_weight(code, pts, i, j)
+
+
+@njit(cache=True)
 def minplus_split(T, i, j):
     """Smallest k minimizing ``E(i, k) + E(k, j)``; -1 if every split is infinite."""
     best, arg = np.inf, -1
@@ -198,7 +208,7 @@ def minplus_split(T, i, j):
 @njit(cache=True, inline="always")
 def _weight(code, pts, i, k, j, wfn, verts, order):
     if wfn is not None:  # pruned at compile time for built-in weights
-        if code == CODE_CUSTOM:
+        if code == WeightCode.CUSTOM:
             return float(wfn(verts, order[i], order[k], order[j]))
     return triangle_weight(code, pts, i, k, j)
 

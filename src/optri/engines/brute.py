@@ -11,8 +11,9 @@ from collections.abc import Iterator
 import numpy as np
 
 from .. import config
-from ..errors import InvalidPolygonError
+from ..errors import InvalidPolygonError, NoTriangulationError
 from .problem import Problem, Solution
+from .recurrence import split_points
 
 __all__ = ["all_index_triangulations", "solve"]
 
@@ -35,9 +36,7 @@ def all_index_triangulations(n: int, ok: list[list[bool]] | None = None) -> Iter
         if j - i < 2:
             yield []
             return
-        for k in range(i + 1, j):
-            if ok is not None and not (ok[i][k] and ok[k][j]):
-                continue
+        for k in split_points(i, j, ok):
             for left in rec(i, k):
                 for right in rec(k, j):
                     yield [(i, k, j), *left, *right]
@@ -62,7 +61,7 @@ def solve(problem: Problem) -> Solution:
         if best_tris is None or objective.less(c, best_cost):
             best_cost, best_tris = c, tris
     if best_tris is None:
-        raise InvalidPolygonError("the polygon has no triangulation with the allowed diagonals")
+        raise NoTriangulationError("the polygon has no triangulation with the allowed diagonals")
     tris_arr = np.array(sorted(best_tris), dtype=np.int64).reshape(-1, 3)
     stats = {"triangulations": count, "weight_evaluations": count * (n - 2)}
     return Solution(best_cost, tris_arr, None, stats)

@@ -1,7 +1,7 @@
 """``method="gpu"``: the DP on one CUDA GPU (numba-cuda), tiled min-plus wavefront.
 
 The host side: availability, what the engine takes, device memory, launches.
-The kernels live in :mod:`optri.engines.gpu_kernels`; both import numba.cuda
+The kernels live in :mod:`optri.engines._gpu_kernels`; both import numba.cuda
 only when a problem is solved, so ``import optri`` never loads CUDA.
 
 Under ``NUMBA_ENABLE_CUDASIM=1`` numba's CUDA simulator runs the same kernels on
@@ -21,9 +21,9 @@ import numpy as np
 
 from .. import config
 from .._optional import import_optional
-from ..errors import EngineUnavailableError, TableTooLargeError, WeightError
-from ..weights import CODE_CUSTOM, CODE_DIAGONAL, CODE_PERIMETER
-from .gpu_device import OBJ_MAX, OBJ_SUM
+from ..errors import MissingDependencyError, NoTriangulationError, TableTooLargeError
+from ..weights import WeightCode
+from ._gpu_device import OBJ_MAX, OBJ_SUM
 from .memory import require_memory
 from .problem import Problem, Solution, with_sides
 
@@ -65,7 +65,7 @@ def _probe(simulate: bool) -> str | None:
         return "no CUDA GPU found (no NVIDIA driver device); method='gpu' needs an NVIDIA GPU"
     try:
         cuda = import_optional("numba.cuda")
-    except EngineUnavailableError as exc:
+    except MissingDependencyError as exc:
         return str(exc)
     try:
         ok = bool(cuda.is_available())
@@ -97,7 +97,7 @@ def unsupported(problem: Problem) -> str | None:
     if problem.objective.is_lex:
         return "the GPU engine does not do lexicographic objectives; use method='table'"
     w = problem.weights[0]
-    if w.code == CODE_CUSTOM:
+    if w.code == WeightCode.CUSTOM:
         return (
             f"weight {w.name!r} is a Python callable, which cannot run on the GPU; "
             f"the GPU engine computes the built-in weights only"
@@ -140,7 +140,7 @@ def device_bytes(problem: Problem) -> int:
     """Device memory ``solve`` allocates for ``problem``, in bytes.
 
     >>> from optri.solve import build_problem
-    >>> from optri.geometry import as_polygon
+    >>> from optri.polygon import as_polygon
     >>> p = build_problem(as_polygon([[0, 0], [1, 0], [0, 1]]), "perimeter", "sum")
     >>> device_bytes(p) >= 64 * 64 * 8
     True
@@ -164,13 +164,13 @@ def solve(problem: Problem) -> Solution:
     ------
     TableTooLargeError
         The table does not fit in device memory (checked before allocating).
-    WeightError
+    NoTriangulationError
         No triangulation has a finite cost.
     """
     for w in problem.weights:
         w.evaluator(problem.polygon)  # weight fits the input (points or values)
     cuda = import_optional("numba.cuda")
-    from .gpu_kernels import build_kernels
+    from ._gpu_kernels import build_kernels
 
     n, tile = problem.n, config.GPU_TILE
     threads = config.GPU_THREADS_PER_BLOCK
@@ -180,7 +180,7 @@ def solve(problem: Problem) -> Solution:
     nt = size // tile
     code, dim, pts = _coordinates(problem, size)
     obj = OBJ_SUM if problem.objective.components[0] == "sum" else OBJ_MAX
-    eform = int(obj == OBJ_SUM and code in (CODE_PERIMETER, CODE_DIAGONAL))
+    eform = int(obj == OBJ_SUM and problem.weights[0].edge_decomposable)
     mask = _mask(problem, size)
     has_mask = int(problem.allowed is not None)
     k = build_kernels(tile, config.GPU_K_CHUNK, threads, dtype.name)
@@ -269,9 +269,10 @@ def _rebuild(
     res = out.copy_to_host()
     if res[1]:
         i, j = int(res[2]), int(res[3])
-        raise WeightError(
+        raise NoTriangulationError(
             f"no valid triangulation of sub-polygon ({i}, {j}): every split has "
-            f"an infinite or invalid cost"
+            f"an infinite or invalid cost",
+            (i, j),
         )
     return float(res[0]), tris.copy_to_host()[: n - 2].astype(np.int64)
 

@@ -26,8 +26,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import config
-from ..errors import EngineUnavailableError, WeightError
-from ..weights import CODE_CUSTOM, CODE_DIAGONAL, CODE_PERIMETER, Weight
+from ..errors import EngineUnavailableError, NoTriangulationError, WeightError
+from ..weights import Weight, WeightCode, edge_weight
 from .memory import require_memory
 from .problem import Problem, Solution, with_sides
 
@@ -71,7 +71,7 @@ def unsupported(problem: Problem) -> str | None:
     if len(problem.gates) > 1:
         return "more than one triangle gate (lexicographic objectives of 3+ components)"
     for w in (*problem.weights, *(g for g, _ in problem.gates)):
-        if w.code == CODE_CUSTOM and w.compiled is None:
+        if w.code == WeightCode.CUSTOM and w.compiled is None:
             return (
                 f"weight {w.name!r} is a plain Python callable, which compiled code cannot "
                 f"call (decorate it with numba.njit to run it compiled)"
@@ -151,7 +151,7 @@ def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:
     T2 = np.empty((n, n) if lex else (1, 1), dtype=dtype)
     if minplus:
         _fill_minplus(K, problem, T1, pts, mask, use_mask)
-        e_last = _edge(problem.weights[0].code, pts, 0, n - 1)
+        e_last = edge_weight(problem.weights[0].code, pts, 0, n - 1)
         cost: Any = float(T1[0, n - 1]) - e_last
     else:
         _fill_generic(problem, T1, T2, args, mask, use_mask)
@@ -159,9 +159,10 @@ def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:
     tris, bad = args.kernel("trace")(T1, T2, *args.trace_args(minplus))
     args.raise_on_nan()
     if bad[0] >= 0:
-        raise WeightError(
+        raise NoTriangulationError(
             f"no valid triangulation of sub-polygon ({bad[0]}, {bad[1]}): every split has "
-            f"an infinite or invalid cost"
+            f"an infinite or invalid cost",
+            (int(bad[0]), int(bad[1])),
         )
     table = _export(K, problem, T1, T2, args, minplus) if problem.keep_table else None
     stats = {
@@ -192,10 +193,9 @@ def _use_cache_dir(numba: Any) -> None:
 
 
 def _is_minplus(problem: Problem) -> bool:
-    code = problem.weights[0].code
     if problem.gates or problem.objective.components != ("sum",):
         return False
-    return code in (CODE_PERIMETER, CODE_DIAGONAL)
+    return problem.weights[0].edge_decomposable
 
 
 def _vertex_array(problem: Problem) -> NDArray[np.float64]:
@@ -207,15 +207,6 @@ def _mask(problem: Problem) -> tuple[NDArray[np.bool_], bool]:
     if problem.allowed is None:
         return np.ones((1, 1), dtype=np.bool_), False
     return with_sides(problem.allowed), True
-
-
-def _edge(code: int, pts: NDArray[np.float64], a: int, b: int) -> float:
-    """Python twin of ``edge_weight`` for the one chord (0, n-1)."""
-    d = float(np.sqrt(((pts[a] - pts[b]) ** 2).sum()))
-    if code == CODE_DIAGONAL:
-        side = b - a == 1 or (a == 0 and b == len(pts) - 1)
-        return 0.0 if side else 0.5 * d
-    return d
 
 
 class _Args:
@@ -265,7 +256,7 @@ def _gate_threshold(thr: float, dtype: Any) -> float:
 
 
 def _compiled_fn(weight: Weight) -> Any:
-    if weight.code != CODE_CUSTOM:
+    if weight.code != WeightCode.CUSTOM:
         return None
     return weight.compiled
 
@@ -382,17 +373,9 @@ def _export(
     K: Any, problem: Problem, T1: NDArray[Any], T2: NDArray[Any], args: _Args, minplus: bool
 ) -> NDArray[np.float64]:
     """The paper's table: costs (primary component) above the diagonal, splits below."""
-    n = problem.n
     out = np.triu(T1.astype(np.float64), 1)
-    if minplus:
-        code = problem.weights[0].code
-        for i in range(n - 1):
-            j = np.arange(i + 1, n)
-            d = np.sqrt(((args.pts[j] - args.pts[i]) ** 2).sum(axis=1))
-            if code == CODE_DIAGONAL:
-                side = (j == i + 1) | ((i == 0) & (j == n - 1))
-                d = np.where(side, 0.0, 0.5 * d)
-            out[i, i + 1 :] -= d
+    if minplus:  # the table holds E = cost + e(i, j)
+        K.subtract_edges(out, args.pts, problem.weights[0].code)
     out[np.isneginf(out)] = 0.0
     splits = args.kernel("split_table")(T1, T2, *args.trace_args(minplus))
     out += np.tril(splits.T.astype(np.float64), -1)

@@ -1,16 +1,18 @@
-"""Top-down memoized DP: the paper's Algorithm 3.1, with an explicit stack.
+"""Top-down memoized DP: the paper's Algorithm 3.1.
 
 A cell ``(i, j)`` starts unset (the paper's infinity); asking for it either
 returns the stored value (a *look-up*) or computes it once, recursing into the
-cells it needs. The recursion runs on an explicit stack of frames, so Python's
-recursion limit never applies, whatever n.
+cells it needs. Each cell is the generator :meth:`Recurrence.cell`; a
+trampoline drives them on an explicit stack, so Python's recursion limit never
+applies, whatever n.
 """
 
 from __future__ import annotations
 
 from ..objective import Cost
-from .problem import Problem, Solution, triangles_from_splits
-from .tables import export_table, new_tables
+from .problem import Problem, Solution
+from .progress import cell_reporter
+from .recurrence import Cell, Recurrence, export_table, new_tables, triangles_from_splits
 
 __all__ = ["solve"]
 
@@ -28,76 +30,39 @@ def solve(problem: Problem) -> Solution:
     computed) and ``requests`` (all sub-polygon requests).
     """
     n = problem.n
-    w = problem.evaluator()
-    combine, less = problem.objective.combine, problem.objective.less
-    worst = problem.objective.worst
-    ok = problem.allowed_rows()
+    rec = Recurrence(problem)
     cost, split = new_tables(problem, _UNSET)
-    report = _progress_reporter(problem, n)
+    report = cell_reporter(problem)
 
-    evaluations = requests = misses = cells = 0
-    # frame: [i, j, next k, best cost so far, best k so far]
-    stack: list[list] = [[0, n - 1, 1, worst, -1]]
+    requests = misses = cells = 0
+    stack: list[tuple[int, int, Cell]] = [(0, n - 1, rec.cell(0, n - 1))]
+    value: Cost | None = None  # what the top frame asked for, or None when it starts
     while stack:
-        frame = stack[-1]
-        i, j, k, best, arg = frame
-        row_i = cost[i]
-        descended = False
-        while k < j:
-            if ok is not None and not (ok[i][k] and ok[k][j]):
-                k += 1
-                continue
-            a = row_i[k]
-            if a is _UNSET:
-                frame[2:] = k, best, arg
-                stack.append([i, k, i + 1, worst, -1])
-                misses += 1
-                descended = True
-                break
-            b = cost[k][j]
-            if b is _UNSET:
-                frame[2:] = k, best, arg
-                stack.append([k, j, k + 1, worst, -1])
-                misses += 1
-                descended = True
-                break
-            requests += 2
-            evaluations += 1
-            c = combine(a, b, w(i, k, j))
-            if less(c, best):
-                best, arg = c, k
-            k += 1
-        if descended:
+        i, j, frame = stack[-1]
+        try:
+            p, q = frame.send(value)  # type: ignore[arg-type]
+        except StopIteration as done:
+            best, arg = done.value
+            cost[i][j], split[i][j] = best, arg
+            stack.pop()
+            value = best
+            cells += 1
+            if report is not None:
+                report(cells)
             continue
-        row_i[j] = best
-        split[i][j] = arg
-        stack.pop()
-        cells += 1
-        if report is not None:
-            report(cells)
+        requests += 1
+        value = cost[p][q]
+        if value is _UNSET:  # not computed yet: recurse into it
+            misses += 1
+            stack.append((p, q, rec.cell(p, q)))
 
     total: Cost = cost[0][n - 1]
     table = export_table(cost, split, problem.objective, _UNSET) if problem.keep_table else None
     tris = triangles_from_splits(lambda i, j: split[i][j], n)
     stats = {
-        "weight_evaluations": evaluations,
+        "weight_evaluations": rec.evaluations,
         "lookups": requests - misses,
         "requests": requests,
         "cells": cells,
     }
     return Solution(total, tris, table, stats)
-
-
-def _progress_reporter(problem: Problem, n: int):  # type: ignore[no-untyped-def]
-    """Throttled ``progress(cells_done, cells_total)``, or None."""
-    if problem.progress is None:
-        return None
-    total = (n - 1) * (n - 2) // 2
-    step = max(1, total // 200)
-    cb = problem.progress
-
-    def report(done: int) -> None:
-        if done % step == 0 or done >= total:
-            cb(min(done, total), total)
-
-    return report

@@ -11,11 +11,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import WeightError
-from ..geometry import Polygon
 from ..objective import Cost, Objective
+from ..polygon import Polygon
 from ..weights import Weight
 
-__all__ = ["Problem", "ProgressFn", "Solution", "chord_rows", "triangles_from_splits", "with_sides"]
+__all__ = ["Problem", "ProgressFn", "Solution", "chord_rows", "with_sides"]
 
 ProgressFn = Callable[[int, int], None]
 
@@ -45,7 +45,7 @@ class Problem:
         Triangle filters: a triangle whose gate weight exceeds the threshold is
         forbidden (its weight becomes +inf). Lexicographic objectives with a
         ``"max"`` primary are solved in two phases, the second gated by the
-        first's optimum (see :func:`optri.solve.triangulate`).
+        first's optimum (see :attr:`optri.objective.Objective.two_phase`).
     options : dict
         Engine-specific extras.
     """
@@ -153,26 +153,3 @@ class Solution:
     triangles: NDArray[np.int64]
     table: NDArray[np.float64] | None = None
     stats: dict[str, int] = field(default_factory=dict)
-
-
-def triangles_from_splits(split: Callable[[int, int], int], n: int) -> NDArray[np.int64]:
-    """Walk the optimal splits from chord (0, n-1) down; O(n) look-ups.
-
-    ``split(i, j)`` returns the apex k of the optimal triangle on chord (i, j).
-    """
-    tris = []
-    stack = [(0, n - 1)]
-    while stack:
-        i, j = stack.pop()
-        if j - i < 2:
-            continue
-        k = int(split(i, j))
-        if not i < k < j:
-            raise WeightError(
-                f"no valid triangulation of sub-polygon ({i}, {j}): every split has "
-                f"an infinite or invalid cost"
-            )
-        tris.append((i, k, j))
-        stack.append((k, j))
-        stack.append((i, k))
-    return np.array(tris, dtype=np.int64).reshape(-1, 3)

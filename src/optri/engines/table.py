@@ -1,15 +1,16 @@
 """Bottom-up tabulation: the "square matrix" method.
 
 Fills every chord ``(i, j)`` in order of increasing ``j - i`` so both halves of
-each split are ready when needed (Cormen et al., *Introduction to Algorithms*,
-3rd ed., 15.2; Saracevic et al. 2018 for the square-matrix presentation).
+each split are ready when its cell asks for them (Cormen et al., *Introduction
+to Algorithms*, 3rd ed., 15.2; Saracevic et al. 2018 for the square-matrix
+presentation). The cell is the same :meth:`Recurrence.cell` memo drives.
 """
 
 from __future__ import annotations
 
-from .memo import _progress_reporter
-from .problem import Problem, Solution, triangles_from_splits
-from .tables import export_table, new_tables
+from .problem import Problem, Solution
+from .progress import cell_reporter
+from .recurrence import Recurrence, export_table, new_tables, triangles_from_splits
 
 __all__ = ["solve"]
 
@@ -25,35 +26,24 @@ def solve(problem: Problem) -> Solution:
     ``Solution.stats``: ``weight_evaluations`` and ``cells``.
     """
     n = problem.n
-    w = problem.evaluator()
-    combine, less = problem.objective.combine, problem.objective.less
-    worst = problem.objective.worst
-    ok = problem.allowed_rows()
+    rec = Recurrence(problem)
     cost, split = new_tables(problem, _UNSET)
-    report = _progress_reporter(problem, n)
+    report = cell_reporter(problem)
 
-    evaluations = cells = 0
-    for d in range(2, n):
-        for i in range(0, n - d):
-            j = i + d
-            if ok is not None and not ok[i][j]:
-                continue
-            row_i = cost[i]
-            best, arg = worst, -1
-            for k in range(i + 1, j):
-                if ok is not None and not (ok[i][k] and ok[k][j]):
-                    continue
-                evaluations += 1
-                c = combine(row_i[k], cost[k][j], w(i, k, j))
-                if less(c, best):
-                    best, arg = c, k
-            row_i[j] = best
-            split[i][j] = arg
-            cells += 1
-            if report is not None:
-                report(cells)
+    cells = 0
+    for i, j in rec.chords():
+        frame = rec.cell(i, j)
+        try:
+            p, q = next(frame)
+            while True:  # every sub-chord is shorter, so already in the table
+                p, q = frame.send(cost[p][q])
+        except StopIteration as done:
+            cost[i][j], split[i][j] = done.value
+        cells += 1
+        if report is not None:
+            report(cells)
 
     table = export_table(cost, split, problem.objective, _UNSET) if problem.keep_table else None
     tris = triangles_from_splits(lambda i, j: split[i][j], n)
-    stats = {"weight_evaluations": evaluations, "cells": cells}
+    stats = {"weight_evaluations": rec.evaluations, "cells": cells}
     return Solution(cost[0][n - 1], tris, table, stats)

@@ -10,13 +10,6 @@
 
 from __future__ import annotations
 
+from .report import PaperConfig, write_report
+
 __all__ = ["PaperConfig", "write_report"]
-
-
-def __getattr__(name: str):  # type: ignore[no-untyped-def]
-    # Lazy: importing optri.paper must not pull matplotlib in.
-    if name in __all__:
-        from . import report
-
-        return getattr(report, name)
-    raise AttributeError(name)

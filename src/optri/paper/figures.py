@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from ..plot import _axes, plot_table, plot_triangulation, save_figure
+from ..drawing.figures import new_axes, plot_table, plot_triangulation, save_figure
 from ..solve import triangulate
 from . import published
 from .timing import TimingRow
@@ -42,7 +42,7 @@ def draw_all(out: Path, rows: Sequence[TimingRow]) -> list[str]:
 
 
 def _lines(path: Path, rows: Sequence[TimingRow], which: str, label: str) -> None:
-    ax = _axes(None)
+    ax = new_axes(None)
     ax.figure.set_size_inches(7, 4.5)
     ns = [r.n for r in rows]
     for key, name in (("square", "square matrix (method='table')"), ("memo", "memoization")):
@@ -58,7 +58,7 @@ def _lines(path: Path, rows: Sequence[TimingRow], which: str, label: str) -> Non
 
 
 def _ratio(path: Path, rows: Sequence[TimingRow]) -> None:
-    ax = _axes(None)
+    ax = new_axes(None)
     ax.figure.set_size_inches(7, 4.5)
     ns = [r.n for r in rows]
     ax.plot(ns, [r.ratio_a for r in rows], marker="o", ms=3, label="R(A) measured")

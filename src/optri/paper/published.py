@@ -7,7 +7,7 @@ https://doi.org/10.7494/csci.2019.20.2.3193
 
 from __future__ import annotations
 
-from ..enumerate import catalan
+from ..enumeration.counting import catalan
 
 __all__ = [
     "OCTAGON",

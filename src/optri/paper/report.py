@@ -7,10 +7,10 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..drawing.table import format_table
 from ..engines.problem import ProgressFn
-from ..hurtado_noy import hn_index_triangulations
-from ..io import atomic_write
-from ..papertable import format_table
+from ..enumeration.hurtado_noy import hn_index_triangulations
+from ..io.atomic import atomic_write
 from ..solve import triangulate
 from . import published
 from .figures import FIGURES, draw_all

@@ -6,8 +6,10 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any, cast
 
-from ..enumerate import catalan, enumerate_triangulations
-from ..hurtado_noy import hn_operation_counts
+from ..enumeration.builder import regular_polygon
+from ..enumeration.counting import catalan
+from ..enumeration.hurtado_noy import hn_operation_counts
+from ..enumeration.listing import enumerate_triangulations
 from ..solve import triangulate
 from . import published
 
@@ -100,8 +102,6 @@ class Table3Row:
 
 def table3_row(n: int) -> Table3Row:
     """Instrument the three methods on a convex n-gon and collect their counts."""
-    from ..enumerate import regular_polygon
-
     poly = regular_polygon(n)
     hn = hn_operation_counts(n)
     sm = triangulate(poly, "perimeter", method="table").stats

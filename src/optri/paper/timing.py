@@ -17,7 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..enumerate import catalan
+from ..drawing.figures import new_axes, plot_triangulation
+from ..enumeration.counting import catalan
 from ..solve import triangulate
 
 __all__ = ["TimingRow", "convex_polygon", "time_methods", "timing_table"]
@@ -64,8 +65,6 @@ def _run(vertices: np.ndarray, method: str) -> tuple[float, float]:
     """(A, B) seconds of one solve-and-draw."""
     import matplotlib.pyplot as plt
 
-    from ..plot import plot_triangulation
-
     start = time.perf_counter()
     tri = triangulate(vertices, "perimeter", method=method)
     ax = plot_triangulation(tri, labels=tri.n <= 60)
@@ -85,9 +84,7 @@ def time_methods(n: int, repeats: int = 5) -> TimingRow:
     (B) takes ``repeats`` solve-and-draw runs; (A) adds solve-only runs up to
     ``A_REPEATS_SMALL`` for n <= 30.
     """
-    from ..plot import _axes
-
-    _axes(None)  # select the Agg backend once (headless)
+    new_axes(None)  # select the Agg backend once (headless)
     import matplotlib.pyplot as plt
 
     plt.close("all")

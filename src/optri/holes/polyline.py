@@ -19,23 +19,22 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import config
-from .engines.memory import require_memory
-from .engines.problem import triangles_from_splits
-from .errors import InvalidPolygonError, WeightError
-from .geometry import Polygon
-from .objective import Cost, ObjectiveLike, as_objective
-from .polyline import _angle, _as_points, _liepa_keys, _with_third, liepa_objective
-from .result import Triangulation
+from .. import config
+from ..engines.memory import require_memory
+from ..engines.problem import Problem
+from ..engines.recurrence import triangles_from_splits, walk
+from ..errors import InvalidPolygonError, NoTriangulationError, WeightError
+from ..objective import Cost, ObjectiveLike
+from ..polygon import Polygon
+from ..result import Triangulation, recompute_cost
+from ..solve import build_problem, solve_problem
+from .candidates import candidate_lists
+from .liepa import angle_of_key, as_points3d, liepa_keys, with_third_points
 
-__all__ = ["EXACT_MAX_N", "METHODS", "fill_polyline", "liepa_objective"]
+__all__ = ["METHODS", "fill_polyline"]
 
-#: ``method="auto"`` runs the exact O(n^4) Liepa search up to this many vertices.
-EXACT_MAX_N = 120
 #: Accepted ``method`` values.
 METHODS = ("auto", "exact", "liepa", "delaunay")
-#: Built-in weights with a compiled 3-D kernel (codes as in optri.weights).
-_KERNEL_WEIGHTS = {"perimeter": 0, "area": 2}
 
 
 def fill_polyline(
@@ -70,7 +69,7 @@ def fill_polyline(
         with Liepa's recurrence for ``"liepa"`` and exactly otherwise; if
         those faces hold no triangulation it falls back to ``"auto"`` over all
         triangles (``stats["fallback"] == 1``). ``"auto"``: ``"exact"`` up to
-        :data:`EXACT_MAX_N` vertices (when its table fits in memory), else
+        ``config.HOLES_EXACT_MAX_N`` vertices (when its table fits in memory), else
         ``"liepa"``.
     third_points : array_like, shape (n, 3), optional
         ``third_points[i]`` is the third vertex of the mesh triangle on
@@ -138,9 +137,9 @@ def fill_polyline(
     >>> fill_polyline(bent).triangles.tolist()      # folds along the short diagonal
     [[0, 1, 3], [1, 2, 3]]
     """
-    P = _as_points(points3d)
+    P = as_points3d(points3d)
     n = P.shape[0]
-    Q, has_third = _with_third(P, third_points)
+    Q, has_third = with_third_points(P, third_points)
     if method not in METHODS:
         raise InvalidPolygonError(f"unknown method {method!r}; choose one of: {', '.join(METHODS)}")
     liepa = isinstance(weight, str) and weight == "liepa"
@@ -177,42 +176,35 @@ def _fill_all(
     ptr: NDArray[np.int64] | None = None,
     ks: NDArray[np.int64] | None = None,
 ) -> tuple[NDArray[np.int64] | None, str]:
-    """Triangles of the best patch (None if the candidates admit none) and the mode."""
-    from . import holes_kernels as hk
+    """Triangles of the best patch (None if the candidates admit none) and the mode.
 
+    ``ptr``/``ks``: CSR candidate apexes per chord (:func:`candidate_lists`);
+    None for every triangle.
+    """
     Q, n, has_third, weight, objective, liepa = hole
-    empty = np.zeros(0, dtype=np.int64)
-    ptr = empty if ptr is None else ptr
-    ks = empty if ks is None else ks
-    if liepa:
-        from . import holes_exact as hx
+    from . import _exact, _kernels  # numba: loaded on first use only
 
-        fits = hx.exact_table_bytes(n) <= config.available_memory_bytes()
-        if method == "exact" or (method == "auto" and n <= EXACT_MAX_N and fits):
+    if not liepa:  # a sum or max of triangle weights: the normal engines
+        allowed = None if ptr is None else _candidate_chords(n, ptr)
+        return _engine_dp(Q[:n], weight, objective, allowed), "exact"
+    if ptr is None:
+        fits = _exact.exact_table_bytes(n) <= config.available_memory_bytes()
+        if method == "exact" or (method == "auto" and n <= config.HOLES_EXACT_MAX_N and fits):
             require_memory(
-                hx.exact_table_bytes(n),
+                _exact.exact_table_bytes(n),
                 f"the exact Liepa search of a {n}-vertex hole (O(n^3) states)",
                 "use method='liepa' (Liepa's O(n^3) recurrence) or 'auto'",
             )
-            _, _, S = hx.exact_liepa(Q, n, has_third)
+            _, _, S = _exact.exact_liepa(Q, n, has_third)
             return _walk_exact(S, n), "exact"
-        _, _, K = hk.liepa_recurrence(Q, n, has_third, ptr, ks)
-        return _walk(K, n), "liepa"
-    if (
-        isinstance(weight, str)
-        and weight in _KERNEL_WEIGHTS
-        and as_objective(objective).name == "sum"
-    ):
-        _, K = hk.sum_dp(Q[:n], n, _KERNEL_WEIGHTS[weight], ptr, ks)
-        return _walk(K, n), "exact"
-    if len(ptr):
-        return _sparse_dp(Q[:n], weight, objective, ptr, ks), "exact"
-    return _engine_dp(Q[:n], weight, objective), "exact"
+    empty = np.zeros(0, dtype=np.int64)
+    _, _, K = _kernels.liepa_recurrence(
+        Q, n, has_third, empty if ptr is None else ptr, empty if ks is None else ks
+    )
+    return _walk(K, n), "liepa"
 
 
 def _fill_delaunay(hole: _Hole, stats: dict[str, Any]) -> tuple[NDArray[np.int64], str]:
-    from .delaunay3 import candidate_lists
-
     ptr, ks, faces = candidate_lists(hole.Q[: hole.n])
     stats["delaunay_faces"] = faces
     tris, _ = _fill_all(hole, "liepa", ptr, ks)
@@ -225,6 +217,15 @@ def _fill_delaunay(hole: _Hole, stats: dict[str, Any]) -> tuple[NDArray[np.int64
     return tris, f"delaunay->{used}"
 
 
+def _candidate_chords(n: int, ptr: NDArray[np.int64]) -> NDArray[np.bool_]:
+    """Chord mask of the candidate triangles: their sides, and the polyline's own edges."""
+    allowed = np.zeros((n, n), dtype=np.bool_)
+    chords = np.flatnonzero(np.diff(ptr))  # chord i * n + j with candidate apexes
+    i, j = np.divmod(chords, n)
+    allowed[i, j] = allowed[j, i] = True
+    return allowed
+
+
 def _walk(K: NDArray[np.int32], n: int) -> NDArray[np.int64] | None:
     if K[0, n - 1] < 0:
         return None
@@ -232,62 +233,39 @@ def _walk(K: NDArray[np.int32], n: int) -> NDArray[np.int64] | None:
 
 
 def _walk_exact(S: NDArray[np.int16], n: int) -> NDArray[np.int64]:
-    tris, stack = [], [(0, n - 1, n)]
-    while stack:
-        i, j, m = stack.pop()
-        if j - i < 2:
-            continue
+    """Triangles of the exact search: state (i, j, m) = chord (i, j) seen from apex m."""
+
+    def expand(state: tuple[int, int, int]) -> tuple[tuple[int, int, int], list[Any]]:
+        i, j, m = state
         k = int(S[i, j, m])
-        tris.append((i, k, j))
-        stack.append((k, j, i))
-        stack.append((i, k, j))
-    return np.array(tris, dtype=np.int64).reshape(-1, 3)
+        children = [c for c in ((i, k, j), (k, j, i)) if c[1] - c[0] >= 2]
+        return (i, k, j), children
+
+    return np.array(walk((0, n - 1, n), expand, n - 2), dtype=np.int64).reshape(-1, 3)
 
 
-def _problem(P: NDArray[np.float64], weight: Any, objective: ObjectiveLike) -> Any:
-    from .solve import build_problem
-
+def _problem(P: NDArray[np.float64], weight: Any, objective: ObjectiveLike) -> Problem:
     # a 3-D polyline: every index triangulation is a surface, so every chord is allowed
     n = len(P)
     polygon = Polygon(P, P, np.arange(n, dtype=np.int64), None, True)
     return build_problem(polygon, weight, objective, keep_table=False)
 
 
-def _engine_dp(P: NDArray[np.float64], weight: Any, objective: ObjectiveLike) -> NDArray[np.int64]:
-    from .engines import select_engine
-
-    problem = _problem(P, weight, objective)
-    _, solve = select_engine("auto", problem)
-    return solve(problem).triangles
-
-
-def _sparse_dp(
+def _engine_dp(
     P: NDArray[np.float64],
     weight: Any,
     objective: ObjectiveLike,
-    ptr: NDArray[np.int64],
-    ks: NDArray[np.int64],
+    allowed: NDArray[np.bool_] | None,
 ) -> NDArray[np.int64] | None:
-    """The recurrence over candidate triangles only (Python; few candidates)."""
+    """The recurrence over the chords ``allowed`` (None: all) with the fastest engine."""
     problem = _problem(P, weight, objective)
-    w, obj = problem.evaluator(), problem.objective
-    n = len(P)
-    cost: dict[tuple[int, int], Cost] = {(i, i + 1): obj.neutral for i in range(n - 1)}
-    split: dict[tuple[int, int], int] = {}
-    chords = np.flatnonzero(np.diff(ptr))
-    for c in sorted(chords.tolist(), key=lambda c: (c % n) - (c // n)):
-        i, j = divmod(c, n)
-        best, arg = obj.worst, -1
-        for k in ks[ptr[c] : ptr[c + 1]].tolist():
-            if (i, k) in cost and (k, j) in cost:
-                val = obj.combine(cost[(i, k)], cost[(k, j)], w(i, k, j))
-                if obj.less(val, best):
-                    best, arg = val, k
-        if arg >= 0:
-            cost[(i, j)], split[(i, j)] = best, arg
-    if (0, n - 1) not in split:
-        return None
-    return triangles_from_splits(lambda i, j: split[(i, j)], n)
+    problem.allowed = allowed
+    try:
+        return solve_problem(problem, "auto")[1].triangles
+    except NoTriangulationError:
+        if allowed is None:
+            raise
+        return None  # the candidates hold no triangulation
 
 
 # --- result -------------------------------------------------------------------
@@ -311,15 +289,13 @@ def _result(
     if liepa:
 
         def liepa_cost(t: NDArray[np.int64]) -> Cost:
-            key, area = _liepa_keys(Q, n, has_third, t)
-            return (_angle(key), area)
+            key, area = liepa_keys(Q, n, has_third, t)
+            return (angle_of_key(key), area)
 
         again = liepa_cost
         name: Any = ("liepa_dihedral", "area")
         obj_name: Any = ("max", "sum")
     else:
-        from .result import recompute_cost
-
         problem = _problem(P, weight, objective)
         again = recompute_cost(problem.evaluator(), problem.objective, problem.polygon.order)
         names = tuple(w.name for w in problem.weights)

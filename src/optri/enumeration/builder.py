@@ -1,4 +1,4 @@
-"""Turning internal-index triangles into :class:`Triangulation` results.
+"""Inputs and results of the enumeration: polygons or n in, :class:`Triangulation` out.
 
 Shared by the enumeration, the uniform sampler and the k-best search: one
 weight evaluator per polygon, triangle weights cached (an enumeration asks for
@@ -12,22 +12,33 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
-from .engines.problem import chord_rows
-from .geometry import Polygon
-from .objective import Cost, ObjectiveLike, as_objective
-from .result import Triangulation, recompute_cost
+from ..engines.problem import Problem, chord_rows
+from ..errors import InvalidPolygonError
+from ..objective import Cost, ObjectiveLike, as_objective
+from ..polygon import Polygon, as_polygon
+from ..result import Triangulation, recompute_cost
+from ..simple import allowed_chords
+from ..solve import PolygonLike, load_polygon
+from ..weights import resolve_weights
 
-__all__ = ["TriangulationBuilder", "usable_chords"]
+__all__ = [
+    "PolygonOrN",
+    "TriangulationBuilder",
+    "as_enumerable",
+    "regular_polygon",
+    "usable_chords",
+]
+
+PolygonOrN = PolygonLike | int
 
 
 def usable_chords(polygon: Polygon) -> list[list[bool]] | None:
     """``ok[i][j]``: may chord (i, j) be used (sides always)? None: all (convex).
 
-    Reads :func:`optri.solve.allowed_chords`, the one place that decides.
+    Reads :func:`optri.simple.allowed_chords`, the one place that decides.
     """
-    from .solve import allowed_chords
-
     mask = allowed_chords(polygon)
     return None if mask is None else chord_rows(mask)
 
@@ -56,10 +67,8 @@ class TriangulationBuilder:
             self._recompute = None
             self.weight_name: str | tuple[str, ...] = "none"
             return
-        from .engines.problem import Problem
-        from .solve import _weights_for
-
-        problem = Problem(polygon, _weights_for(weight, self.objective), self.objective)
+        weights = resolve_weights(weight, len(self.objective.components))
+        problem = Problem(polygon, weights, self.objective)
         self._w = problem.evaluator()
         names = tuple(w.name for w in problem.weights)
         self.weight_name = names if self.objective.is_lex else names[0]
@@ -99,3 +108,22 @@ class TriangulationBuilder:
             order=self.order,
             _recompute=self._recompute,
         )
+
+
+def regular_polygon(n: int) -> NDArray[np.float64]:
+    """Vertices of the regular n-gon on the unit circle, counter-clockwise.
+
+    >>> regular_polygon(4).round(6).tolist()
+    [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [-0.0, -1.0]]
+    """
+    if n < 3:
+        raise InvalidPolygonError(f"a polygon needs at least 3 vertices, got {n}")
+    ang = 2 * np.pi * np.arange(n) / n
+    return np.column_stack((np.cos(ang), np.sin(ang)))
+
+
+def as_enumerable(vertices_or_n: PolygonOrN) -> Polygon:
+    """A :class:`Polygon` from any input ``triangulate`` takes, or the regular n-gon for n."""
+    if isinstance(vertices_or_n, (int, np.integer)):
+        return as_polygon(regular_polygon(int(vertices_or_n)))
+    return load_polygon(vertices_or_n)

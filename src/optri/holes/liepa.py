@@ -14,10 +14,10 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import InvalidPolygonError
-from .geometry import _require_distinct, _require_finite
+from ..errors import InvalidPolygonError
+from ..polygon import normalize_vertices
 
-__all__ = ["liepa_objective"]
+__all__ = ["angle_of_key", "as_points3d", "liepa_keys", "liepa_objective", "with_third_points"]
 
 
 def liepa_objective(
@@ -34,29 +34,21 @@ def liepa_objective(
     >>> liepa_objective(sq, [[0, 1, 2], [0, 2, 3]])
     (0.0, 1.0)
     """
-    P = _as_points(points3d)
-    Q, has_third = _with_third(P, third_points)
-    key, area = _liepa_keys(Q, P.shape[0], has_third, np.asarray(triangles, dtype=np.int64))
-    return _angle(key), area
+    P = as_points3d(points3d)
+    Q, has_third = with_third_points(P, third_points)
+    key, area = liepa_keys(Q, P.shape[0], has_third, np.asarray(triangles, dtype=np.int64))
+    return angle_of_key(key), area
 
 
-def _as_points(points3d: ArrayLike) -> NDArray[np.float64]:
-    try:
-        arr = np.asarray(points3d, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InvalidPolygonError(f"points must be numbers: {exc}") from exc
-    if arr.ndim != 2 or arr.shape[1] not in (2, 3):
-        raise InvalidPolygonError(f"expected an (n, 3) array of points, got shape {arr.shape}")
-    if arr.shape[1] == 2:
-        arr = np.column_stack((arr, np.zeros(len(arr))))
-    # optri.geometry's checks, without its planarity and convexity analysis
-    _require_finite(arr)
-    if arr.shape[0] > 3 and np.array_equal(arr[0], arr[-1]):
-        arr = arr[:-1]  # a closing vertex equal to the first
-    if arr.shape[0] < 3:
-        raise InvalidPolygonError(f"a polygon needs at least 3 vertices, got {arr.shape[0]}")
-    _require_distinct(arr)
-    P = arr
+def as_points3d(points3d: ArrayLike) -> NDArray[np.float64]:
+    """A closed 3-D polyline as a checked ``(n, 3)`` array (2-D input lifted to z = 0).
+
+    Shares :func:`optri.polygon.normalize_vertices` with every other entry
+    point, then refuses a polyline whose points are all collinear.
+    """
+    P = normalize_vertices(points3d, values=False)
+    if P.shape[1] == 2:
+        P = np.column_stack((P, np.zeros(len(P))))
     centred = P - P.mean(axis=0)
     sv = np.linalg.svd(centred, compute_uv=False)
     if sv[1] <= 1e-12 * sv[0]:
@@ -66,9 +58,14 @@ def _as_points(points3d: ArrayLike) -> NDArray[np.float64]:
     return np.ascontiguousarray(P)
 
 
-def _with_third(
+def with_third_points(
     P: NDArray[np.float64], third_points: ArrayLike | None
 ) -> tuple[NDArray[np.float64], bool]:
+    """``(Q, has_third)``: the points with the third points stacked under them (if given).
+
+    ``third_points[s]`` is the third vertex of the mesh triangle on boundary
+    edge ``(s, s + 1)``.
+    """
     if third_points is None:
         return P, False
     T = np.asarray(third_points, dtype=np.float64)
@@ -82,15 +79,16 @@ def _with_third(
     return np.ascontiguousarray(np.vstack((P, T))), True
 
 
-def _angle(key: float) -> float:
+def angle_of_key(key: float) -> float:
+    """The dihedral angle (radians) of a key ``1 - cos``."""
     return float(math.acos(max(-1.0, min(1.0, 1.0 - key))))
 
 
-def _liepa_keys(
+def liepa_keys(
     Q: NDArray[np.float64], n: int, has_third: bool, triangles: NDArray[np.int64]
 ) -> tuple[float, float]:
     """(max dihedral key, total area) of index triangles; the kernels' own numbers."""
-    from . import holes_kernels as hk
+    from . import _kernels as hk  # numba: loaded on first use only
 
     tris = np.sort(triangles.reshape(-1, 3), axis=1)
     normals = hk.triangle_normals(Q, tris)

@@ -4,7 +4,8 @@ For each n: a random convex polygon from the yardsticks' ``gen.py``, solved
 by ``ref_mwt.c`` (built here with ``gcc -O3 -march=native -ffast-math``), by
 ``naive_memo.py`` (small n only) and by ``method="fast"`` in a fresh process
 (so its peak memory is its own), all on the same CSV file, weight perimeter.
-Used by ``benchmarks/bench_fast.py`` and ``optri bench``.
+Used by ``benchmarks/bench_fast.py`` and ``optri bench``; ``python -m optri.bench``
+runs the fresh-process worker.
 """
 
 from __future__ import annotations
@@ -21,12 +22,15 @@ from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-__all__ = ["BenchRow", "find_yardsticks", "format_rows", "run_benchmark"]
+from ..io.files import read_polygon
+from ..solve import triangulate
+
+__all__ = ["BenchRow", "find_yardsticks", "format_rows", "run_benchmark", "worker"]
 
 #: Where the yardsticks live, tried in turn: ``shared/bench`` beside the repository
 #: root, then beside the current directory (``$OPTRI_BENCH_DIR`` comes first).
 _BENCH_DIRS = (
-    str(Path(__file__).resolve().parents[3] / "shared" / "bench"),
+    str(Path(__file__).resolve().parents[4] / "shared" / "bench"),
     str(Path.cwd().parent / "shared" / "bench"),
 )
 
@@ -159,7 +163,7 @@ def _run_yardstick(cmd: list[str]) -> tuple[float, float]:
 
 
 def _run_worker(csv: Path, repeats: int, dtype: str) -> dict[str, float]:
-    cmd = [sys.executable, "-m", "optri.benchmark", str(csv), str(repeats), dtype]
+    cmd = [sys.executable, "-m", "optri.bench", str(csv), str(repeats), dtype]
     out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
     return json.loads(out.strip().splitlines()[-1])
 
@@ -169,11 +173,8 @@ def _peak_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 / 1e6
 
 
-def _worker(csv: str, repeats: int, dtype: str) -> dict[str, float]:
+def worker(csv: str, repeats: int, dtype: str) -> dict[str, float]:
     """Solve ``csv`` with method="fast" ``repeats`` times in this fresh process."""
-    from .io import read_polygon
-    from .solve import triangulate
-
     pts = read_polygon(csv)
     triangulate(pts[:40], method="fast", dtype=dtype)  # load the cached kernels
     base = _peak_mb()  # Python, numpy, numba and the kernels: everything but the table
@@ -188,8 +189,3 @@ def _worker(csv: str, repeats: int, dtype: str) -> dict[str, float]:
         del tri
     peak = _peak_mb()
     return {"seconds": best, "wall": wall, "weight": weight, "base_mb": base, "peak_mb": peak}
-
-
-if __name__ == "__main__":  # the fresh-process worker of run_benchmark
-    _csv, _reps, _dtype = sys.argv[1], int(sys.argv[2]), sys.argv[3]
-    print(json.dumps(_worker(_csv, _reps, _dtype)))

@@ -18,16 +18,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .errors import InvalidPolygonError, TableTooLargeError
-from .holes import METHODS, fill_polyline
-from .objective import Cost
-from .weights import get_weight
+from .._optional import import_optional
+from ..errors import HoleSkippedWarning, InvalidPolygonError, TableTooLargeError
+from ..objective import Cost
+from ..weights import get_weight
+from .polyline import METHODS, fill_polyline
 
-__all__ = ["HoleRecord", "HoleSkippedWarning", "boundary_loops", "fill_holes"]
-
-
-class HoleSkippedWarning(UserWarning):
-    """A hole was left open (over ``max_hole_edges``, or it cannot be filled)."""
+__all__ = ["HoleRecord", "boundary_loops", "fill_holes"]
 
 
 @dataclass
@@ -146,7 +143,7 @@ def fill_holes(
         (``status="skipped"``) and warned about (:class:`HoleSkippedWarning`).
     weight, method
         As in :func:`optri.fill_polyline`; default ``method="auto"`` runs the
-        exact search on holes up to :data:`optri.holes.EXACT_MAX_N` edges and
+        exact search on holes up to ``config.HOLES_EXACT_MAX_N`` edges and
         Liepa's O(n^3) recurrence above (each record names the mode used).
     progress : callable, optional
         ``progress(done, total)`` after each hole.
@@ -189,7 +186,7 @@ def fill_holes(
             progress(h + 1, len(loops))
     out_faces = np.concatenate(new_faces).astype(np.int64)
     if is_trimesh:
-        trimesh = _trimesh()
+        trimesh = import_optional("trimesh")
         return trimesh.Trimesh(vertices=vertices.copy(), faces=out_faces, process=False), records
     return (vertices.copy(), out_faces), records
 
@@ -223,12 +220,6 @@ def _fill_one(
     rec.faces_added = len(tri.triangles)
     # fill_polyline winds (i, k, j), i < k < j, in the loop's (patch) order
     return rec, loop[tri.triangles]
-
-
-def _trimesh() -> Any:
-    from ._optional import import_optional
-
-    return import_optional("trimesh")
 
 
 def _mesh_arrays(mesh: Any) -> tuple[NDArray[np.float64], NDArray[np.int64], bool]:

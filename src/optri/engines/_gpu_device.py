@@ -12,15 +12,7 @@ from __future__ import annotations
 import functools
 from types import SimpleNamespace
 
-from ..weights import (
-    CODE_AREA,
-    CODE_ASPECT_RATIO,
-    CODE_DIAGONAL,
-    CODE_MAX_ANGLE,
-    CODE_MIN_ANGLE,
-    CODE_PERIMETER,
-    CODE_PRODUCT,
-)
+from ..weights import WeightCode
 
 __all__ = ["OBJ_MAX", "OBJ_SUM", "device_functions"]
 
@@ -42,6 +34,11 @@ def device_functions() -> SimpleNamespace:
 
     inf = math.inf
     pi = math.pi
+    # plain ints, frozen into the kernels (the codes of optri.weights.WeightCode)
+    PERIMETER, DIAGONAL = int(WeightCode.PERIMETER), int(WeightCode.DIAGONAL)
+    AREA = int(WeightCode.AREA)
+    PRODUCT, ASPECT_RATIO = int(WeightCode.PRODUCT), int(WeightCode.ASPECT_RATIO)
+    MAX_ANGLE, MIN_ANGLE = int(WeightCode.MAX_ANGLE), int(WeightCode.MIN_ANGLE)
 
     @cuda.jit(device=True)
     def dist(pts, a, b):
@@ -54,7 +51,7 @@ def device_functions() -> SimpleNamespace:
     def edge(code, n, pts, a, b):
         # e(a, b) of the edge-decomposable weights; "diagonal" skips polygon sides
         d = dist(pts, a, b)
-        if code == CODE_DIAGONAL:
+        if code == DIAGONAL:
             lo = min(a, b)
             hi = max(a, b)
             if hi - lo == 1 or (lo == 0 and hi == n - 1):
@@ -87,16 +84,16 @@ def device_functions() -> SimpleNamespace:
 
     @cuda.jit(device=True)
     def weight(code, dim, n, pts, i, k, j):
-        if code == CODE_PERIMETER or code == CODE_DIAGONAL:
+        if code == PERIMETER or code == DIAGONAL:
             return edge(code, n, pts, i, k) + edge(code, n, pts, k, j) + edge(code, n, pts, i, j)
-        if code == CODE_AREA:
+        if code == AREA:
             return area(dim, pts, i, k, j)
-        if code == CODE_PRODUCT:
+        if code == PRODUCT:
             return pts[i, 0] * pts[k, 0] * pts[j, 0]
         a = dist(pts, k, j)
         b = dist(pts, i, j)
         c = dist(pts, i, k)
-        if code == CODE_ASPECT_RATIO:
+        if code == ASPECT_RATIO:
             s = 0.5 * (a + b + c)
             q = (s - a) * (s - b) * (s - c)
             if q <= 0.0:
@@ -105,9 +102,9 @@ def device_functions() -> SimpleNamespace:
         ta = angle(a, b, c)
         tb = angle(b, c, a)
         tc = angle(c, a, b)
-        if code == CODE_MAX_ANGLE:
+        if code == MAX_ANGLE:
             return max(ta, max(tb, tc))
-        if code == CODE_MIN_ANGLE:
+        if code == MIN_ANGLE:
             return -min(ta, min(tb, tc))
         return inf
 

@@ -12,11 +12,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .holes_kernels import (
+from ._kernels import (
     DEGENERATE_KEY,
-    _mesh_key,
-    _sorted_normal,
+    mesh_key,
     mesh_normals,
+    sorted_normal,
     unit_normal,
 )
 
@@ -33,8 +33,8 @@ def _leaf_table(Q, n, MN, has_third):
         for m in range(n):
             if m == s or m == s + 1:
                 continue
-            x, y, z, d, _ = _sorted_normal(Q, s, s + 1, m)
-            leaf[s, m] = _mesh_key(MN, s, x, y, z, d, has_third)
+            x, y, z, d, _ = sorted_normal(Q, s, s + 1, m)
+            leaf[s, m] = mesh_key(MN, s, x, y, z, d, has_third)
     return leaf
 
 
@@ -113,7 +113,7 @@ def _outer_normal(Q, n, i, j, m, MN, has_third):
         if has_third:
             return MN[n - 1, 0], MN[n - 1, 1], MN[n - 1, 2], MN[n - 1, 3] != 0.0, True
         return 0.0, 0.0, 0.0, False, False
-    x, y, z, d, _ = _sorted_normal(Q, i, j, m)
+    x, y, z, d, _ = sorted_normal(Q, i, j, m)
     return x, y, z, d, True
 
 

@@ -29,7 +29,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass
 
-from .errors import InvalidPolygonError
+from ..errors import InvalidPolygonError
 
 __all__ = ["HNCounts", "hn_index_triangulations", "hn_operation_counts"]
 

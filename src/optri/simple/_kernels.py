@@ -9,23 +9,13 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..predicates import orient_sign
+
 __all__ = ["ear_clip", "valid_mask", "visibility_mask"]
 
 
-@njit(cache=True, inline="always")
-def _orient(ax, ay, bx, by, cx, cy, tol):  # type: ignore[no-untyped-def]
-    """Sign of the turn a -> b -> c, 0 within a tolerance relative to both arms."""
-    ux = bx - ax
-    uy = by - ay
-    vx = cx - ax
-    vy = cy - ay
-    c = ux * vy - uy * vx
-    eps = tol * (abs(ux) + abs(uy)) * (abs(vx) + abs(vy))
-    if c > eps:
-        return 1
-    if c < -eps:
-        return -1
-    return 0
+# the orientation predicate of optri.predicates, compiled from the same source
+_orient = njit(cache=True, inline="always")(orient_sign)
 
 
 @njit(cache=True)

@@ -1,10 +1,13 @@
-"""Validate and normalize polygon input; orientation and convexity predicates.
+"""The one input validator: a :class:`Polygon` from vertex input, or a clear error.
 
 A polygon enters optri as an ``(n, 2)`` or ``(n, 3)`` array of vertices in order,
 or as a 1-D sequence of vertex values (matrix-chain style weights need no
-geometry). :func:`as_polygon` checks it and returns a :class:`Polygon` whose
-*internal* vertex order is counter-clockwise; engines work on internal indices
-and results are mapped back through :attr:`Polygon.order`.
+geometry). :func:`as_polygon` checks shape, finiteness, distinct vertices,
+planarity and orientation and returns a :class:`Polygon` whose *internal*
+vertex order is counter-clockwise; engines work on internal indices and results
+are mapped back through :attr:`Polygon.order`. :func:`require_simple` checks
+that the boundary does not touch itself. Signs of turns are decided in
+:mod:`optri.predicates`.
 """
 
 from __future__ import annotations
@@ -17,15 +20,20 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import config
 from .errors import InvalidPolygonError
+from .predicates import segment_pair_fault, turn_signs
 
 __all__ = [
     "Polygon",
     "as_polygon",
+    "find_self_intersection",
     "newell_normal",
-    "require_convex",
+    "normalize_vertices",
+    "require_simple",
     "signed_area",
-    "turn_signs",
 ]
+
+#: Edges per block in the O(n^2) simplicity check (memory ~ 100 * block * n bytes).
+_BLOCK = 256
 
 
 @dataclass(frozen=True)
@@ -72,6 +80,45 @@ class Polygon:
         return _project_to_plane(self.data)
 
 
+def normalize_vertices(data: ArrayLike, *, values: bool = True) -> NDArray[np.float64]:
+    """Vertex input as a float64 array, checked: the normalization every entry point shares.
+
+    Accepts ``(n, 2)`` or ``(n, 3)`` vertices in order or, with ``values``, a
+    1-D sequence of vertex values. A last vertex equal to the first is dropped
+    (coordinates only: values may repeat).
+
+    Raises
+    ------
+    InvalidPolygonError
+        Not numbers, the wrong shape, NaN or infinite coordinates, fewer than 3
+        vertices, or a repeated vertex (the message names both indices).
+
+    Examples
+    --------
+    >>> normalize_vertices([[0, 0], [1, 0], [0, 1], [0, 0]]).tolist()
+    [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
+    """
+    try:
+        arr = np.asarray(data, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InvalidPolygonError(f"vertices must be numbers: {exc}") from exc
+    shape_ok = (arr.ndim == 2 and arr.shape[1] in (2, 3)) or (arr.ndim == 1 and values)
+    if not shape_ok:
+        also = " or a 1-D sequence of values" if values else ""
+        raise InvalidPolygonError(
+            f"expected an (n, 2) or (n, 3) array of vertices{also}, got shape {arr.shape}"
+        )
+    _require_finite(arr)
+    if arr.ndim == 2 and arr.shape[0] > 3 and np.array_equal(arr[0], arr[-1]):
+        arr = arr[:-1]
+    n = arr.shape[0]
+    if n < 3:
+        raise InvalidPolygonError(f"a polygon needs at least 3 vertices, got {n}")
+    if arr.ndim == 2:
+        _require_distinct(arr)
+    return arr
+
+
 def as_polygon(data: ArrayLike | Polygon) -> Polygon:
     """Check vertex input and return a :class:`Polygon` in counter-clockwise order.
 
@@ -100,24 +147,10 @@ def as_polygon(data: ArrayLike | Polygon) -> Polygon:
     """
     if isinstance(data, Polygon):
         return data
-    try:
-        arr = np.asarray(data, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InvalidPolygonError(f"vertices must be numbers: {exc}") from exc
-    if arr.ndim == 2 and arr.shape[1] not in (2, 3) or arr.ndim not in (1, 2):
-        raise InvalidPolygonError(
-            f"expected an (n, 2) or (n, 3) array of vertices or a 1-D sequence of "
-            f"values, got shape {arr.shape}"
-        )
-    _require_finite(arr)
-    if arr.ndim == 2 and arr.shape[0] > 3 and np.array_equal(arr[0], arr[-1]):
-        arr = arr[:-1]
+    arr = normalize_vertices(data)
     n = arr.shape[0]
-    if n < 3:
-        raise InvalidPolygonError(f"a polygon needs at least 3 vertices, got {n}")
     if arr.ndim == 1:
         return Polygon(arr, arr, np.arange(n, dtype=np.int64), None, True)
-    _require_distinct(arr)
     planar = arr if arr.shape[1] == 2 else _planar_or_none(arr)
     if planar is None:  # a skew 3-D polygon: every index triangulation is valid
         return Polygon(arr, arr, np.arange(n, dtype=np.int64), None, True)
@@ -137,27 +170,6 @@ def as_polygon(data: ArrayLike | Polygon) -> Polygon:
     return Polygon(arr, internal, order, orientation, convex)
 
 
-def require_convex(polygon: Polygon) -> None:
-    """Raise :class:`InvalidPolygonError` unless ``polygon`` is strictly convex.
-
-    The message names the first reflex or collinear vertex (input index).
-    """
-    if polygon.convex:
-        return
-    pts = polygon.planar_points
-    assert pts is not None
-    signs = turn_signs(pts)
-    bad = np.flatnonzero(signs <= 0)
-    if bad.size:
-        v = int(polygon.order[bad[0]])
-        kind = "collinear with its neighbours" if signs[bad[0]] == 0 else "reflex"
-        raise InvalidPolygonError(
-            f"polygon is not convex: vertex {v} is {kind}; the convex solvers need a "
-            f"strictly convex polygon (simple polygons: see optri.triangulate docs)"
-        )
-    raise InvalidPolygonError("polygon is not convex: its boundary winds around more than once")
-
-
 def signed_area(points: NDArray[np.float64]) -> float:
     """Shoelace signed area of a 2-D polygon: positive when counter-clockwise.
 
@@ -166,18 +178,6 @@ def signed_area(points: NDArray[np.float64]) -> float:
     """
     x, y = points[:, 0], points[:, 1]
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
-
-
-def turn_signs(points: NDArray[np.float64]) -> NDArray[np.int64]:
-    """Sign of the turn at each vertex (+1 left, -1 right, 0 collinear).
-
-    Collinearity uses a tolerance relative to the two adjacent edge lengths.
-    """
-    prev = points - np.roll(points, 1, axis=0)
-    nxt = np.roll(points, -1, axis=0) - points
-    cross = prev[:, 0] * nxt[:, 1] - prev[:, 1] * nxt[:, 0]
-    tol = config.GEOMETRY_RTOL * np.hypot(*prev.T) * np.hypot(*nxt.T) * 16
-    return np.where(cross > tol, 1, np.where(cross < -tol, -1, 0)).astype(np.int64)
 
 
 def newell_normal(points: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -198,8 +198,6 @@ def _is_strictly_convex(ccw_points: NDArray[np.float64]) -> bool:
 
 def _refuse_flat(points: NDArray[np.float64]) -> None:
     """Zero net area: name the crossing edges of a bow-tie, else report collinearity."""
-    from .simple import find_self_intersection, not_simple_error  # simple builds on geometry
-
     centred = points - points.mean(axis=0)
     if np.linalg.matrix_rank(centred, tol=config.GEOMETRY_RTOL * float(np.abs(centred).max())) < 2:
         raise InvalidPolygonError("all vertices are collinear: the polygon has no area")
@@ -261,3 +259,75 @@ def _project_to_plane(points: NDArray[np.float64]) -> NDArray[np.float64]:
         return points[:, :2].copy()
     centred = points - points.mean(axis=0)
     return np.column_stack((centred @ u, centred @ v))
+
+
+def require_simple(polygon: ArrayLike | Polygon) -> None:
+    """Raise :class:`InvalidPolygonError` unless the polygon's boundary is simple.
+
+    The message names the offending edges by input vertex indices, for example
+    ``"polygon is not simple: edges 0-1 and 2-3 cross"``.
+
+    Examples
+    --------
+    >>> require_simple([[0, 0], [1, 0], [1, 1], [0, 1]])
+    >>> require_simple([[0, 0], [1, 1], [1, 0], [0, 1]])   # a bow-tie
+    Traceback (most recent call last):
+    ...
+    optri.errors.InvalidPolygonError: polygon is not simple: edges 0-1 and 2-3 cross; ...
+    """
+    poly = as_polygon(polygon)
+    pts = poly.planar_points
+    if pts is None:
+        return
+    hit = find_self_intersection(pts)
+    if hit is None:
+        return
+    e, f, how = hit
+    raise not_simple_error(_edge_start(poly, e), _edge_start(poly, f), poly.n, how)
+
+
+def not_simple_error(e: int, f: int, n: int, how: str) -> InvalidPolygonError:
+    """The error for input edges ``e -> e+1`` and ``f -> f+1`` meeting (``how``)."""
+    e, f = sorted((e, f))
+    return InvalidPolygonError(
+        f"polygon is not simple: edges {e}-{(e + 1) % n} and {f}-{(f + 1) % n} {how}; "
+        f"optri triangulates simple polygons only (untangle or split the boundary)"
+    )
+
+
+def find_self_intersection(points: NDArray[np.float64]) -> tuple[int, int, str] | None:
+    """First pair of edges ``(e, f, how)`` that meet improperly, or None.
+
+    Edge ``e`` joins vertex ``e`` to ``e + 1`` (mod n). ``how`` is ``"cross"``
+    (proper crossing), ``"touch"`` (non-adjacent edges sharing a point) or
+    ``"overlap"`` (adjacent edges folding back on each other). O(n^2) time in
+    numpy blocks of ``_BLOCK`` edges, O(n * _BLOCK) memory.
+    """
+    p = np.asarray(points, dtype=np.float64)
+    n = p.shape[0]
+    q = np.roll(p, -1, axis=0)
+    lo, hi = np.minimum(p, q), np.maximum(p, q)
+    lox, loy, hix, hiy = lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1]
+    for start in range(0, n, _BLOCK):
+        rows = np.arange(start, min(start + _BLOCK, n))
+        # bounding boxes first: only overlapping pairs (few, for most polygons) get tested
+        near = lox[rows, None] <= hix
+        near &= lox <= hix[rows, None]
+        near &= loy[rows, None] <= hiy
+        near &= loy <= hiy[rows, None]
+        r, f = np.nonzero(near)
+        e = rows[r]
+        keep = f > e
+        e, f = e[keep], f[keep]
+        hit = segment_pair_fault(p[e], q[e], p[f], q[f], (f == e + 1) | ((e == 0) & (f == n - 1)))
+        if hit is not None:
+            m, how = hit
+            return int(e[m]), int(f[m]), how
+    return None
+
+
+def _edge_start(poly: Polygon, e: int) -> int:
+    """Input index u of internal edge ``e`` (e -> e+1) named as input edge u -> u+1."""
+    n = poly.n
+    u, v = int(poly.order[e]), int(poly.order[(e + 1) % n])
+    return u if (u + 1) % n == v else v

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from ._optional import import_optional
+from .._optional import import_optional
 
 __all__ = ["candidate_lists", "delaunay_faces"]
 

@@ -18,10 +18,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .errors import OptriError
+from ..errors import OptriError
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .result import Triangulation
+    from ..result import Triangulation
 
 __all__ = ["format_table", "table_cells"]
 

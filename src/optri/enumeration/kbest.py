@@ -13,16 +13,16 @@ from __future__ import annotations
 import heapq
 from typing import Any
 
-from .enumerate import PolygonOrN, as_enumerable
-from .errors import InvalidPolygonError, WeightError
-from .objective import ObjectiveLike, as_objective
-from .result import Triangulation
-from .triangulations import TriangulationBuilder, usable_chords
+from .. import config
+from ..engines.recurrence import chords_by_length, split_points, walk
+from ..errors import InvalidPolygonError, WeightError
+from ..objective import ObjectiveLike, as_objective
+from ..result import Triangulation
+from .builder import PolygonOrN, TriangulationBuilder, as_enumerable, usable_chords
+from .counting import count_triangulations
+from .listing import index_triangulations
 
 __all__ = ["best_triangulations"]
-
-#: Largest number of triangulations the fallback for non-monotone objectives enumerates.
-KBEST_ENUMERATION_LIMIT = 2_000_000
 
 Entry = tuple[Any, int, int, int]  # (cost, split, rank left, rank right)
 
@@ -56,8 +56,9 @@ def best_triangulations(
     O(n^3 + n^2 k log(n + k)) time and O(n^2 k) space: each of the O(n^2)
     cells scans its O(n) splits once and pops k entries from a heap.
     A "max"-led lexicographic pair is not monotone, so it falls back to a heap
-    over the full enumeration (exact; at most ``KBEST_ENUMERATION_LIMIT``
-    triangulations). Weights equal up to rounding may come in either order.
+    over the full enumeration (exact; at most ``config.KBEST_ENUMERATION_LIMIT``
+    triangulations). Weights equal up to
+    rounding may come in either order.
 
     Examples
     --------
@@ -78,11 +79,8 @@ def best_triangulations(
     best: dict[tuple[int, int], list[Entry]] = {
         (i, i + 1): [(neutral, -1, 0, 0)] for i in range(n - 1)
     }
-    for d in range(2, n):
-        for i in range(n - d):
-            j = i + d
-            if ok is None or ok[i][j]:
-                best[(i, j)] = _cell(i, j, k, best, ok, combine, build.triangle_weight)
+    for i, j in chords_by_length(n, ok):
+        best[(i, j)] = _cell(i, j, k, best, ok, combine, build.triangle_weight)
     top = best.get((0, n - 1), [])
     if not top:
         raise InvalidPolygonError("the polygon has no triangulation with its allowed chords")
@@ -105,13 +103,11 @@ def _monotone(components: tuple[str, ...]) -> bool:
 
 def _by_enumeration(polygon, build, k):  # type: ignore[no-untyped-def]
     """Exact k best of a non-monotone objective: every triangulation, kept in a heap."""
-    from .enumerate import count_triangulations, index_triangulations
-
     total = count_triangulations(polygon)
-    if total > KBEST_ENUMERATION_LIMIT:
+    if total > config.KBEST_ENUMERATION_LIMIT:
         raise WeightError(
             f"k-best for a lexicographic objective led by 'max' enumerates all {total} "
-            f"triangulations, above the limit {KBEST_ENUMERATION_LIMIT}; use a 'sum'-led "
+            f"triangulations, above the limit {config.KBEST_ENUMERATION_LIMIT}; use a 'sum'-led "
             "objective or fewer vertices"
         )
     scored = (
@@ -124,9 +120,7 @@ def _by_enumeration(polygon, build, k):  # type: ignore[no-untyped-def]
 def _cell(i, j, k, best, ok, combine, w):  # type: ignore[no-untyped-def]
     """The k best entries of chord (i, j) by lazy merging of its splits."""
     heap = []
-    for s in range(i + 1, j):
-        if ok is not None and not (ok[i][s] and ok[s][j]):
-            continue
+    for s in split_points(i, j, ok):
         left, right = best.get((i, s)), best.get((s, j))
         if not left or not right:
             continue
@@ -148,13 +142,11 @@ def _cell(i, j, k, best, ok, combine, w):  # type: ignore[no-untyped-def]
 
 def _expand(best, i: int, j: int, rank: int) -> list[list[int]]:  # type: ignore[no-untyped-def]
     """Triangles of the rank-th best sub-triangulation of (i, j)."""
-    tris = []
-    stack = [(i, j, rank)]
-    while stack:
-        a, b, r = stack.pop()
-        if b - a < 2:
-            continue
+
+    def expand(state):  # type: ignore[no-untyped-def]
+        a, b, r = state
         _, s, ra, rb = best[(a, b)][r]
-        tris.append([a, s, b])
-        stack += [(a, s, ra), (s, b, rb)]
-    return tris
+        children = [c for c in ((a, s, ra), (s, b, rb)) if c[1] - c[0] >= 2]
+        return (a, s, b), children
+
+    return [list(t) for t in walk((i, j, rank), expand, j - i - 1)]

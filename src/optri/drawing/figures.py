@@ -9,15 +9,18 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ._optional import import_optional
+from .._optional import import_optional
+from ..io.atomic import atomic_write
+from .table import table_cells
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .result import Triangulation
+    from ..result import Triangulation
 
-__all__ = ["plot_table", "plot_triangulation", "save_figure"]
+__all__ = ["new_axes", "plot_table", "plot_triangulation", "save_figure"]
 
 
-def _axes(ax: Any, figsize: tuple[float, float] = (6, 6)) -> Any:
+def new_axes(ax: Any = None, figsize: tuple[float, float] = (6, 6)) -> Any:
+    """``ax``, or the Axes of a new figure (Agg backend unless one is set up)."""
     if ax is not None:
         return ax
     import_optional("matplotlib")
@@ -38,7 +41,7 @@ def plot_triangulation(
 
     3-D input is drawn from its first two coordinates; value input on a circle.
     """
-    ax = _axes(ax)
+    ax = new_axes(ax)
     pts = _plot_points(tri)
     n = tri.n
     tris = tri.triangles
@@ -81,12 +84,10 @@ def plot_triangulation(
 
 def plot_table(tri: Triangulation, ax: Any = None, *, style: str = "paper") -> Any:
     """Draw the paper's Table 1 layout for ``tri`` (see :func:`optri.format_table`)."""
-    from .papertable import table_cells
-
     cells, marks = table_cells(tri, style=style)
     rows = len(cells)
     width = max(len(text) for row in cells for text in row)
-    ax = _axes(ax, figsize=(1.0 + rows * max(0.9, 0.12 * width), 0.9 + 0.42 * rows))
+    ax = new_axes(ax, figsize=(1.0 + rows * max(0.9, 0.12 * width), 0.9 + 0.42 * rows))
     colours = [
         ["#fff4d6" if r < c else "#e3efff" if r > c else "#eeeeee" for c in range(rows)]
         for r in range(rows)
@@ -109,8 +110,6 @@ def plot_table(tri: Triangulation, ax: Any = None, *, style: str = "paper") -> A
 
 def save_figure(ax: Any, path: str) -> None:
     """Save the figure of ``ax`` to ``path`` atomically (PNG by suffix) and close it."""
-    from .io import atomic_write
-
     fig = ax.figure
     fmt = path.rsplit(".", 1)[-1].lower() if "." in path else "png"
     with atomic_write(path, "wb") as fh:

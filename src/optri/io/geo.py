@@ -15,11 +15,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._optional import import_optional
-from .errors import InvalidPolygonError
+from .._optional import import_optional
+from ..errors import InvalidPolygonError
 
-if TYPE_CHECKING:
-    from .result import Triangulation
+if TYPE_CHECKING:  # pragma: no cover
+    from ..result import Triangulation
 
 __all__ = [
     "geo_polygon_coords",

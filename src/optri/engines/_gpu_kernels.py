@@ -37,7 +37,7 @@ import math
 from types import SimpleNamespace
 from typing import Any
 
-from .gpu_device import OBJ_SUM, device_functions
+from ._gpu_device import OBJ_SUM, device_functions
 
 __all__ = ["build_kernels", "thread_layout"]
 

@@ -22,10 +22,11 @@ from numba import njit
 
 __all__ = [
     "DEGENERATE_KEY",
+    "mesh_key",
+    "sorted_normal",
     "liepa_recurrence",
     "mesh_normals",
     "pair_keys",
-    "sum_dp",
     "triangle_normals",
     "unit_normal",
 ]
@@ -36,8 +37,6 @@ DEGENERATE_KEY = 2.0
 #: is degenerate (sine <= 1e-12).
 _DEGENERATE_SINE2 = 1e-24
 
-_CODE_PERIMETER = 0
-_CODE_AREA = 2
 
 
 @njit(cache=True)
@@ -68,7 +67,7 @@ def unit_normal(Q, a, b, c):
 
 
 @njit(cache=True)
-def _sorted_normal(Q, a, b, c):
+def sorted_normal(Q, a, b, c):
     # the same triangle always gets the same rounding: compute from sorted indices
     if a > b:
         a, b = b, a
@@ -110,7 +109,7 @@ def triangle_normals(Q, tris):
     m = tris.shape[0]
     out = np.zeros((m, 5))
     for t in range(m):
-        x, y, z, d, area = _sorted_normal(Q, tris[t, 0], tris[t, 1], tris[t, 2])
+        x, y, z, d, area = sorted_normal(Q, tris[t, 0], tris[t, 1], tris[t, 2])
         out[t, 0] = x
         out[t, 1] = y
         out[t, 2] = z
@@ -131,7 +130,7 @@ def pair_keys(U, V):
 
 
 @njit(cache=True)
-def _mesh_key(MN, s, x, y, z, d, has_third):
+def mesh_key(MN, s, x, y, z, d, has_third):
     if not has_third:
         return 0.0
     return _key(x, y, z, d, MN[s, 0], MN[s, 1], MN[s, 2], MN[s, 3] != 0.0)
@@ -206,17 +205,17 @@ def _liepa_sparse(Q, n, has_third, ptr, ks):
                     continue
                 x, y, z, d, area = unit_normal(Q, i, k, j)
                 if k - i == 1:
-                    c1 = _mesh_key(MN, i, x, y, z, d, has_third)
+                    c1 = mesh_key(MN, i, x, y, z, d, has_third)
                 else:
                     tn = TN[i, k]
                     c1 = max(O1[i, k], _key(x, y, z, d, tn[0], tn[1], tn[2], tn[3] != 0.0))
                 if j - k == 1:
-                    c1 = max(c1, _mesh_key(MN, k, x, y, z, d, has_third))
+                    c1 = max(c1, mesh_key(MN, k, x, y, z, d, has_third))
                 else:
                     tn = TN[j, k]
                     c1 = max(c1, O1[j, k], _key(x, y, z, d, tn[0], tn[1], tn[2], tn[3] != 0.0))
                 if root:
-                    c1 = max(c1, _mesh_key(MN, n - 1, x, y, z, d, has_third))
+                    c1 = max(c1, mesh_key(MN, n - 1, x, y, z, d, has_third))
                 if c1 > best1:
                     continue
                 c2 = O2[i, k] + O2[j, k] + area
@@ -321,61 +320,15 @@ def _fix_ends(Q, n, i, j, has_third, MN, T, C):
         k = ends[e]
         x, y, z, d, _ = unit_normal(Q, i, k, j)
         if k - i == 1:
-            c1 = _mesh_key(MN, i, x, y, z, d, has_third)
+            c1 = mesh_key(MN, i, x, y, z, d, has_third)
         else:
             c1 = max(T[i, 0, k], _key(x, y, z, d, T[i, 2, k], T[i, 3, k], T[i, 4, k], False))
         if j - k == 1:
-            c1 = max(c1, _mesh_key(MN, k, x, y, z, d, has_third))
+            c1 = max(c1, mesh_key(MN, k, x, y, z, d, has_third))
         else:
             c1 = max(c1, T[j, 0, k], _key(x, y, z, d, T[j, 2, k], T[j, 3, k], T[j, 4, k], False))
         C[0, k - i - 1] = c1
     if i == 0 and j == n - 1 and has_third:
         for k in range(i + 1, j):
             x, y, z, d, _ = unit_normal(Q, i, k, j)
-            C[0, k - 1] = max(C[0, k - 1], _mesh_key(MN, n - 1, x, y, z, d, has_third))
-
-
-@njit(cache=True)
-def _weight(Q, code, i, k, j):
-    if code == _CODE_AREA:
-        nx, ny, nz, _, _ = _cross(Q, i, k, j)
-        return 0.5 * math.sqrt(nx * nx + ny * ny + nz * nz)
-    a = math.sqrt((Q[i, 0] - Q[k, 0]) ** 2 + (Q[i, 1] - Q[k, 1]) ** 2 + (Q[i, 2] - Q[k, 2]) ** 2)
-    b = math.sqrt((Q[k, 0] - Q[j, 0]) ** 2 + (Q[k, 1] - Q[j, 1]) ** 2 + (Q[k, 2] - Q[j, 2]) ** 2)
-    c = math.sqrt((Q[i, 0] - Q[j, 0]) ** 2 + (Q[i, 1] - Q[j, 1]) ** 2 + (Q[i, 2] - Q[j, 2]) ** 2)
-    return a + b + c
-
-
-@njit(cache=True)
-def sum_dp(Q, n, code, ptr, ks):
-    """Min-sum DP of a built-in 3-D weight (area or perimeter); O(n^3).
-
-    Candidate apexes come from the CSR lists ``ptr``/``ks`` (empty ``ptr``: all).
-    Returns (cost, split table); split[0, n-1] < 0 when infeasible.
-    """
-    # C[i, j] and its transpose Ct[j, i]: both halves of a split read contiguously;
-    # infinity marks a sub-polygon with no triangulation from the candidates
-    C = np.full((n, n), np.inf)
-    Ct = np.full((n, n), np.inf)
-    K = np.full((n, n), -1, dtype=np.int32)
-    for i in range(n - 1):
-        C[i, i + 1] = Ct[i + 1, i] = 0.0
-        K[i, i + 1] = i
-    for L in range(2, n):
-        for i in range(n - L):
-            j = i + L
-            best = np.inf
-            arg = -1
-            lo, cnt = _span(ptr, i, j, n)
-            for t in range(cnt):
-                k = _apex(ks, lo, i, t)
-                h = C[i, k] + Ct[j, k]
-                if h == np.inf:
-                    continue
-                c = h + _weight(Q, code, i, k, j)
-                if c < best:
-                    best = c
-                    arg = k
-            C[i, j] = Ct[j, i] = best
-            K[i, j] = arg
-    return C[0, n - 1], K
+            C[0, k - 1] = max(C[0, k - 1], mesh_key(MN, n - 1, x, y, z, d, has_third))

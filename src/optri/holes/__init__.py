@@ -1,0 +1,22 @@
+"""Filling 3-D holes: optimal patches of closed polylines and of the holes of meshes.
+
+:func:`fill_polyline` triangulates one closed 3-D polyline (Liepa's objective
+searched exactly, by Liepa's recurrence, or over 3-D Delaunay faces; any
+triangle weight through the normal engines); :func:`fill_holes` finds every
+boundary loop of a triangle mesh and fills it.
+"""
+
+from __future__ import annotations
+
+from .liepa import liepa_objective
+from .mesh import HoleRecord, boundary_loops, fill_holes
+from .polyline import METHODS, fill_polyline
+
+__all__ = [
+    "METHODS",
+    "HoleRecord",
+    "boundary_loops",
+    "fill_holes",
+    "fill_polyline",
+    "liepa_objective",
+]

@@ -1,0 +1,14 @@
+"""Simple (possibly concave) polygons: the valid-diagonal mask the DP runs over.
+
+A triangulation of a simple polygon uses only its internal diagonals;
+restricting the recurrence's chords to them (Klincsek 1980) gives the exact
+optimum with every engine. :func:`allowed_chords` decides which chords exist;
+:func:`valid_diagonals` computes the mask (compiled kernels in
+:mod:`optri.simple._kernels`).
+"""
+
+from __future__ import annotations
+
+from .mask import allowed_chords, valid_diagonals, zero_area_triangles
+
+__all__ = ["allowed_chords", "valid_diagonals", "zero_area_triangles"]

@@ -1,0 +1,150 @@
+"""Simple (possibly concave) polygons: which chords a triangulation may use.
+
+A triangulation of a simple polygon uses only *internal diagonals*: chords that
+leave each endpoint into the polygon, cross no edge and pass through no other
+vertex. Restricting the DP's chords to them (Klincsek 1980) gives the exact
+optimum over the polygon's triangulations with every engine. Chords that run
+along the boundary through a straight (180 degree) vertex are not diagonals, so
+no zero-area triangle can be produced.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .. import config
+from ..errors import InvalidPolygonError
+from ..polygon import Polygon, as_polygon, require_simple
+from ..predicates import ORIENT_RTOL, chord_clear, in_cone, orient
+
+__all__ = [
+    "allowed_chords",
+    "valid_diagonals",
+    "valid_diagonals_compiled",
+    "valid_diagonals_numpy",
+    "zero_area_triangles",
+]
+
+#: Chords per block of the numpy mask (memory ~ 100 * block * n bytes).
+_BLOCK = 256
+
+
+def allowed_chords(polygon: Polygon) -> NDArray[np.bool_] | None:
+    """Chords a triangulation may use, in internal (counter-clockwise) indices.
+
+    None (every chord) for a strictly convex polygon, for vertex values and for
+    a skew 3-D polygon; otherwise the polygon must be simple and the result is
+    the ``(n, n)`` bool mask of its sides and internal diagonals
+    (:func:`valid_diagonals`, planar 3-D input in its own plane). The one
+    place that decides which chords exist, for the engines, counting,
+    enumeration and sampling alike.
+
+    Raises
+    ------
+    InvalidPolygonError
+        The boundary crosses or touches itself (the message names the edges).
+
+    Examples
+    --------
+    >>> from optri.polygon import as_polygon
+    >>> allowed_chords(as_polygon([[0, 0], [1, 0], [1, 1], [0, 1]])) is None
+    True
+    """
+    if polygon.convex:
+        return None
+    require_simple(polygon)
+    return valid_diagonals(polygon)
+
+
+def valid_diagonals(polygon: ArrayLike | Polygon) -> NDArray[np.bool_]:
+    """Which chords of a simple polygon are internal diagonals; ``(n, n)`` bool.
+
+    Indices are the polygon's internal (counter-clockwise) order, as the engines
+    use. ``mask[i, j]`` (symmetric) is True for a polygon side or for a chord
+    that starts into the polygon at both ends (in-cone test), crosses no edge
+    properly and passes through no other vertex. The polygon is assumed simple
+    (see :func:`require_simple`).
+
+    Notes
+    -----
+    Compiled with numba: the polygon is ear-clipped (O(n^2)) and each vertex
+    sees through that triangulation, narrowing an angular window from triangle to
+    triangle (O(n) per vertex, O(n^2) in all). Should ear clipping fail on
+    inconsistent rounding, a direct check is used instead: each chord against
+    the edges outward from its first endpoint, stopping at the first blocker
+    (O(n^3) in the worst case).
+    Up to ``config.MASK_NUMPY_MAX_N`` vertices while numba is not loaded yet, and without
+    numba, :func:`valid_diagonals_numpy` is used (same result).
+
+    Examples
+    --------
+    >>> m = valid_diagonals([[0, 0], [4, 0], [1, 1], [0, 4]])   # reflex vertex 2
+    >>> m.astype(int)
+    array([[0, 1, 1, 1],
+           [1, 0, 1, 0],
+           [1, 1, 0, 1],
+           [1, 0, 1, 0]])
+    """
+    poly = as_polygon(polygon)
+    pts = poly.planar_points
+    if pts is None:
+        raise InvalidPolygonError("valid diagonals need planar vertex coordinates")
+    if poly.n <= config.MASK_NUMPY_MAX_N and "numba" not in sys.modules:
+        return valid_diagonals_numpy(pts)  # small: not worth starting numba for
+    try:
+        return valid_diagonals_compiled(pts)
+    except ImportError:  # pragma: no cover - numba is a core dependency
+        return valid_diagonals_numpy(pts)
+
+
+def valid_diagonals_compiled(points: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Compiled :func:`valid_diagonals` of CCW ``points``: ear clipping + visibility walk."""
+    from ._kernels import ear_clip, valid_mask, visibility_mask
+
+    x = np.ascontiguousarray(points[:, 0], dtype=np.float64)
+    y = np.ascontiguousarray(points[:, 1], dtype=np.float64)
+    tris, ok = ear_clip(x, y, ORIENT_RTOL)
+    mask = visibility_mask(x, y, tris, ORIENT_RTOL) if ok else valid_mask(x, y, ORIENT_RTOL)
+    _set_sides(mask)
+    return mask
+
+
+def valid_diagonals_numpy(points: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Pure-numpy :func:`valid_diagonals` of CCW ``points``; O(n^3), for small n.
+
+    The same predicates evaluated for every chord against every vertex and
+    edge at once; used without numba and as a second implementation in tests.
+    """
+    p = np.asarray(points, dtype=np.float64)
+    n = p.shape[0]
+    i, j = np.triu_indices(n, 2)
+    keep = ~((i == 0) & (j == n - 1))
+    i, j = i[keep], j[keep]
+    ok = in_cone(p, i, j) & in_cone(p, j, i)
+    for lo in range(0, len(i), _BLOCK):
+        ci, cj = i[lo : lo + _BLOCK], j[lo : lo + _BLOCK]
+        ok[lo : lo + _BLOCK] &= chord_clear(p, ci, cj)
+    mask = np.zeros((n, n), dtype=bool)
+    mask[i[ok], j[ok]] = True
+    mask |= mask.T
+    _set_sides(mask)
+    return mask
+
+
+def zero_area_triangles(points: NDArray[np.float64], triangles: NDArray[np.int64]) -> int:
+    """How many ``triangles`` (vertex index rows) of 2-D ``points`` have zero area."""
+    if len(triangles) == 0:
+        return 0
+    a, b, c = (points[triangles[:, m]] for m in range(3))
+    return int(np.count_nonzero(orient(a, b, c) == 0))
+
+
+def _set_sides(mask: NDArray[np.bool_]) -> None:
+    n = mask.shape[0]
+    k = np.arange(n)
+    mask[k, (k + 1) % n] = True
+    mask[(k + 1) % n, k] = True
+    mask[k, k] = False
