@@ -141,43 +141,52 @@ def cuda_values(tmp_path_factory):
     return [out[f"out_{j}"] for j in range(len(JOBS))]
 
 
-def assert_within_ulps(got, want, ulps, what):
+def ulps_apart(got, want, ulps):
+    """Rows where ``got`` and ``want`` differ by more than ``ulps`` units in the last place."""
     same = (got == want) | (np.isnan(got) & np.isnan(want))
     finite = np.isfinite(got) & np.isfinite(want)
     with np.errstate(invalid="ignore"):  # inf - inf where one side is finite
         scale = np.spacing(np.maximum(np.abs(got), np.abs(want)))
         close = finite & (np.abs(got - want) <= ulps * scale)
-    bad = np.flatnonzero(~(same | close))
-    assert not bad.size, f"{what}: {bad.size} differ, first at row {bad[0]}: " + (
-        f"{got[bad[0]]!r} != {want[bad[0]]!r}"
-    )
+    return np.flatnonzero(~(same | close))
 
 
-def jobs_of(code):
-    """``(position in JOBS, what, kind, data, rows)`` of the jobs that evaluate ``code``."""
-    assert registered(code), f"{code!r} has no registered weight (optri.weights registry)"
-    found = [(j, f"{code.name} {job[0]} on {job[2]}", job[0], job[3], job[4])
-             for j, job in enumerate(JOBS) if job[1] == code]  # fmt: skip
-    assert found
-    return found
+def disagreements(other, ulps):
+    """One line per weight code and data set where ``other`` differs from the formula.
+
+    ``other(j, kind, code, data, rows)`` gives job ``j``'s values. One test over
+    every code, not one per code: the numba kernels then compile once per xdist
+    worker, and the simulator runs once.
+    """
+    problems = []
+    for code in CODES:
+        if registered(code) is None:
+            problems.append(f"{code!r} has no registered weight (optri.weights registry)")
+        for j, (kind, job_code, name, data, rows) in enumerate(JOBS):
+            if job_code != code:
+                continue
+            want = python_values(kind, code, data, rows)
+            got = other(j, kind, code, data, rows)
+            bad = ulps_apart(got, want, ulps)
+            if np.isnan(want).any():
+                problems.append(f"{code.name}: the Python formula does not know the code")
+            elif bad.size:
+                first = bad[0]
+                problems.append(
+                    f"{code.name} {kind} on {name}: {bad.size} of {len(rows)} differ, e.g. "
+                    f"{rows[first]}: {got[first]!r} != {want[first]!r}"
+                )
+    return problems
 
 
-IDS = [c.name.lower() for c in CODES]
+def test_python_and_numba_weights_agree_bit_for_bit():
+    problems = disagreements(lambda j, *job: compiled_values(*job), ulps=0)
+    assert not problems, "\n".join(problems)
 
 
-@pytest.mark.parametrize("code", CODES, ids=IDS)
-def test_python_and_numba_weights_agree_bit_for_bit(code):
-    for _, what, kind, data, rows in jobs_of(code):
-        want = python_values(kind, code, data, rows)
-        assert not np.isnan(want).any(), f"{what}: the Python formula does not know the code"
-        np.testing.assert_array_equal(compiled_values(kind, code, data, rows), want, err_msg=what)
-
-
-@pytest.mark.parametrize("code", CODES, ids=IDS)
-def test_cuda_twin_agrees_with_the_python_formula(code, cuda_values):
-    for j, what, kind, data, rows in jobs_of(code):
-        want = python_values(kind, code, data, rows)
-        assert_within_ulps(cuda_values[j], want, ULPS, f"{what}, CUDA twin")
+def test_cuda_twin_agrees_with_the_python_formula(cuda_values):
+    problems = disagreements(lambda j, *job: cuda_values[j], ulps=ULPS)
+    assert not problems, "\n".join(problems)
 
 
 def test_the_data_hold_degenerate_and_regular_triangles():
