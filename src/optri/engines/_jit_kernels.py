@@ -29,6 +29,7 @@ from numba.extending import intrinsic, overload
 
 from ..weights import WeightCode
 from ._jit_weights import edge_weight, triangle_weight
+from .compiled import kernel
 
 __all__ = [
     "NO_GATE",
@@ -69,7 +70,7 @@ def _fmin(typingctx, a, b):
 # non-negative, numba's negative-index wraparound turns the vector loads into gathers.
 
 
-@njit(cache=True, fastmath=_FASTMATH, inline="always")
+@kernel(fastmath=_FASTMATH, inline="always")
 def _rowmin(best, a, b):
     """``min(best, min_k a[k] + b[k])`` over two equal-length contiguous slices."""
     for k in range(a.shape[0]):
@@ -77,7 +78,7 @@ def _rowmin(best, a, b):
     return best
 
 
-@njit(cache=True, fastmath=_FASTMATH, inline="always")
+@kernel(fastmath=_FASTMATH, inline="always")
 def _block24(T, i, j, k0, k1):
     """Cells (i..i+1, j..j+3): two streamed rows shared by four columns."""
     ra, rb = T[i, k0:k1], T[i + 1, k0:k1]
@@ -99,12 +100,12 @@ def _block24(T, i, j, k0, k1):
     T[i + 1, j], T[i + 1, j + 1], T[i + 1, j + 2], T[i + 1, j + 3] = b0, b1, b2, b3
 
 
-@njit(cache=True, fastmath=_FASTMATH, inline="always")
+@kernel(fastmath=_FASTMATH, inline="always")
 def _block11(T, i, j, k0, k1):
     T[i, j] = _rowmin(T[i, j], T[i, k0:k1], T[j, k0:k1])
 
 
-@njit(cache=True, fastmath=_FASTMATH, inline="always")
+@kernel(fastmath=_FASTMATH, inline="always")
 def _any_allowed(mask, use_mask, i0, i1, j0, j1):
     """Whether any cell of rows i0..i1-1, columns j0..j1-1 is an allowed chord."""
     if not use_mask:
@@ -116,7 +117,7 @@ def _any_allowed(mask, use_mask, i0, i1, j0, j1):
     return False
 
 
-@njit(cache=True, fastmath=_FASTMATH)
+@kernel(fastmath=_FASTMATH)
 def _far(T, mask, use_mask, i0, i1, j0, j1):
     """``T[i, j] = min over i1 <= k < j0 of T[i, k] + T[j, k]`` for the tile's cells.
 
@@ -145,7 +146,7 @@ def _far(T, mask, use_mask, i0, i1, j0, j1):
                 _block11(T, i1 - 1, j, k0, k1)
 
 
-@njit(cache=True, fastmath=_FASTMATH)
+@kernel(fastmath=_FASTMATH)
 def _tile(T, pts, code, mask, use_mask, tile, ti, tj):
     n = T.shape[0]
     i0, i1 = ti * tile, min(n, ti * tile + tile)
@@ -172,7 +173,7 @@ def _tile(T, pts, code, mask, use_mask, tile, ti, tj):
             T[j, i] = v
 
 
-@njit(cache=True, parallel=True, fastmath=_FASTMATH)
+@kernel(parallel=True, fastmath=_FASTMATH)
 def minplus_tiles(T, pts, code, chords, tile, d0, d1):
     """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the E-table (sum, edge weight).
 
@@ -185,7 +186,7 @@ def minplus_tiles(T, pts, code, chords, tile, d0, d1):
             _tile(T, pts, code, mask, use_mask, tile, t, t + d)
 
 
-@njit(cache=True)
+@kernel()
 def subtract_edges(out, pts, code):
     """``out[i, j] -= e(i, j)`` above the diagonal: costs from an exported E-table."""
     n = out.shape[0]
@@ -194,7 +195,7 @@ def subtract_edges(out, pts, code):
             out[i, j] -= edge_weight(code, pts, i, j)
 
 
-@njit(cache=True)
+@kernel()
 def minplus_split(T, i, j):
     """Smallest k minimizing ``E(i, k) + E(k, j)``; -1 if every split is infinite."""
     best, arg = np.inf, -1
@@ -230,21 +231,21 @@ def _user_weight_impl(wfn, verts, a, b, c):  # type: ignore[no-untyped-def]
     return lambda wfn, verts, a, b, c: float(wfn(verts, a, b, c))
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _weight(code, pts, i, k, j, wfn, verts, order):
     if code == WeightCode.CUSTOM:
         return _user_weight(wfn, verts, order[i], order[k], order[j])
     return triangle_weight(code, pts, i, k, j)
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _combine(is_max, a, b, w):
     if is_max:
         return max(a, max(b, w))
     return a + b + w
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _gated_first(weigh, i, k, j):
     """Weight of component 1; +inf when a gate is set and the gate weight exceeds it."""
     pts, codes, gate, verts, order = weigh[0], weigh[1], weigh[2], weigh[3], weigh[4]
@@ -255,7 +256,7 @@ def _gated_first(weigh, i, k, j):
     return w1
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def best_split(tables, weigh, rule, i, j):
     """The recurrence for one cell: ``(cost1, cost2, k)``, ties to the smallest k.
 
@@ -296,7 +297,7 @@ def best_split(tables, weigh, rule, i, j):
     return b1, b2, arg
 
 
-@njit(cache=True, parallel=True)
+@kernel(parallel=True)
 def generic_tiles(tables, weigh, rule, chords, tile, d0, d1):
     """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the cost table(s).
 
@@ -329,14 +330,14 @@ def generic_tiles(tables, weigh, rule, chords, tile, d0, d1):
 # --- reconstruction and the exported table ---------------------------------------------
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _split(tables, weigh, rule, minplus, i, j):
     if minplus:
         return minplus_split(tables[0], i, j)
     return best_split(tables, weigh, rule, i, j)[2]
 
 
-@njit(cache=True)
+@kernel()
 def trace(tables, weigh, rule, minplus):
     """Optimal triangles from chord (0, n-1) down.
 
@@ -365,7 +366,7 @@ def trace(tables, weigh, rule, minplus):
     return tris[:m], (-1, -1)
 
 
-@njit(cache=True, parallel=True)
+@kernel(parallel=True)
 def split_table(tables, weigh, rule, minplus):
     """Optimal split of every chord (O(n^3): only for an exported table)."""
     n = tables[0].shape[0]
@@ -387,7 +388,7 @@ def uncached(name: str) -> object:
     so they add no cached entries either.
     """
     if name not in _TWINS:
-        kernel = globals()[name]
-        options = {k: v for k, v in kernel.targetoptions.items() if k != "nopython"}
-        _TWINS[name] = njit(**options)(kernel.py_func)
+        cached = globals()[name]
+        options = {k: v for k, v in cached.targetoptions.items() if k != "nopython"}
+        _TWINS[name] = njit(**options)(cached.py_func)
     return _TWINS[name]

@@ -10,9 +10,8 @@ stored: the O(n) cells on the optimal path are re-scanned afterwards.
 
 The driver fills the table in chunks of (tile-)diagonals, reporting progress
 between chunks, where Ctrl-C also takes effect. Compiled code is cached on
-disk (``NUMBA_CACHE_DIR`` if set, else ``__pycache__`` beside this package or,
-where that is read-only, numba's per-user cache), so only the first process
-ever pays the compilation.
+disk (:mod:`optri.engines.compiled`), so only the first process ever pays the
+compilation.
 """
 
 from __future__ import annotations
@@ -120,7 +119,6 @@ def solve(problem: Problem) -> Solution:
         w.check(problem.polygon)
     import numba
 
-    _use_cache_dir(numba)
     from . import _jit_kernels as K
 
     n, lex = problem.n, problem.objective.is_lex
@@ -182,12 +180,6 @@ def _threads(numba: Any, problem: Problem, minplus: bool) -> int:
         small = config.FAST_PARALLEL_MIN_N if minplus else config.FAST_GENERIC_PARALLEL_MIN_N
         wanted = numba.get_num_threads() if problem.n >= small else 1
     return max(1, min(int(wanted), numba.config.NUMBA_NUM_THREADS))
-
-
-def _use_cache_dir(numba: Any) -> None:
-    """Point numba's cache at ``config.JIT_CACHE_DIR`` unless NUMBA_CACHE_DIR is set."""
-    if config.JIT_CACHE_DIR and not numba.config.CACHE_DIR:
-        numba.config.CACHE_DIR = str(config.JIT_CACHE_DIR)
 
 
 def _is_minplus(problem: Problem) -> bool:
