@@ -88,12 +88,13 @@ def kernel(**options: Any) -> Callable[[Callable[..., Any]], Any]:
 
 @contextlib.contextmanager
 def _numba_cache_dir(path: str) -> Iterator[None]:
-    old = numba.config.CACHE_DIR
-    numba.config.CACHE_DIR = path
+    settings: Any = numba.config
+    old = settings.CACHE_DIR
+    settings.CACHE_DIR = path
     try:
         yield
     finally:
-        numba.config.CACHE_DIR = old
+        settings.CACHE_DIR = old
 
 
 def _user_cache() -> Path:
