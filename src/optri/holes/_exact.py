@@ -93,7 +93,7 @@ def _min_where(sub, keys, M, buf):
 
 
 @kernel()
-def _chord_inputs(Q, n, i, j, B, LEAF, has_third):
+def _chord_inputs(Q, i, j, B, LEAF):
     # per apex k of chord (i, j): normal of (i, k, j), its area, and the worse key
     # of its two halves (sub-polygon (i, k) seen from apex j, (k, j) from apex i)
     nk, area = _apex_normals(Q, i, j)
@@ -140,7 +140,7 @@ def _bottleneck_pass(Q, n, has_third, MN, LEAF, B):
     for L in range(2, n):
         for i in range(n - L):
             j = i + L
-            nk, _, base = _chord_inputs(Q, n, i, j, B, LEAF, has_third)
+            nk, _, base = _chord_inputs(Q, i, j, B, LEAF)
             kb = keys[: L - 1]
             for m in _outside(n, i, j):
                 ox, oy, oz, od, has = _outer_normal(Q, n, i, j, m, MN, has_third)
