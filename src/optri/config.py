@@ -83,7 +83,8 @@ FAST_TILE = 64
 FAST_GENERIC_TILE = 16
 #: Compiled engine: work (about min-plus steps) per kernel call between progress reports.
 FAST_CHUNK_WORK = 3e8
-#: Compiled engine: numba cache folder when NUMBA_CACHE_DIR is unset (None: numba's default).
+#: Compiled kernels: cache folder when NUMBA_CACHE_DIR is unset (None: beside the package,
+#: else ~/.cache/optri); read once, when the first kernel module loads.
 JIT_CACHE_DIR: str | None = None
 
 _DEFAULTS = {k: v for k, v in dict(globals()).items() if k.isupper()}

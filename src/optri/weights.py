@@ -90,12 +90,12 @@ class WeightCode(IntEnum):
 
 
 def side_length(p, a, b):  # type: ignore[no-untyped-def]
-    """Euclidean distance of vertices a and b (any dimension)."""
-    s = 0.0
-    for c in range(len(p[a])):
-        d = p[a][c] - p[b][c]
-        s += d * d
-    return math.sqrt(s)
+    """Euclidean distance of vertices a and b (1, 2 or 3 coordinates)."""
+    pa, pb = p[a], p[b]
+    dx = pa[0] - pb[0]
+    dy = pa[1] - pb[1] if len(pa) > 1 else 0.0
+    dz = pa[2] - pb[2] if len(pa) > 2 else 0.0
+    return math.sqrt(dx * dx + dy * dy + dz * dz)
 
 
 def edge_weight(code, p, a, b):  # type: ignore[no-untyped-def]
@@ -172,7 +172,7 @@ def triangle_weight(code, p, i, k, j):  # type: ignore[no-untyped-def]
     return math.nan
 
 
-#: The formulas the compiled engine registers with numba (helpers first).
+#: The formulas, registered with numba by the compiled engine (optri.engines._jit_weights).
 FORMULAS = (side_length, edge_weight, _cosine, triangle_area, _shape, triangle_weight)
 
 

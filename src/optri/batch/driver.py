@@ -23,6 +23,7 @@ from ..io.atomic import write_json
 from .layout import Layout, plan_layout
 from .readers import count_items, detect_input_format, read_items
 from .records import ChunkTask, Item
+from .runner import open_backend, run_tasks
 from .writers import SINGLE_FILE_SUFFIXES, assemble, read_part, write_part
 
 __all__ = ["BatchSummary", "batch", "iter_records"]
@@ -184,7 +185,6 @@ def _run(
     fmt: str | None,
     out_fmt: str | None,
 ) -> BatchSummary:
-    from .runner import open_backend, run_tasks  # process pools load only when used
 
     start = time.perf_counter()
     kind = detect_input_format(inp, fmt)

@@ -6,6 +6,7 @@ import json
 
 import click
 
+from ..bench import run_benchmark
 from .app import main
 
 __all__ = ["bench"]
@@ -26,8 +27,6 @@ def bench(
     SIZES default to 500 1000 2000 4000. The yardsticks are looked up in
     $OPTRI_BENCH_DIR, then ../shared/bench beside the repository.
     """
-    from ..bench import run_benchmark
-
     chosen = sizes or ((100, 200, 500) if quick else (500, 1000, 2000, 4000))
     rows = run_benchmark(
         chosen,

@@ -24,11 +24,12 @@ from __future__ import annotations
 
 import numpy as np
 from llvmlite import ir
-from numba import njit, prange
-from numba.extending import intrinsic
+from numba import njit, prange, types
+from numba.extending import intrinsic, overload
 
 from ..weights import WeightCode
 from ._jit_weights import edge_weight, triangle_weight
+from .compiled import kernel
 
 __all__ = [
     "NO_GATE",
@@ -69,7 +70,7 @@ def _fmin(typingctx, a, b):
 # non-negative, numba's negative-index wraparound turns the vector loads into gathers.
 
 
-@njit(cache=True, fastmath=_FASTMATH, inline="always")
+@kernel(fastmath=_FASTMATH, inline="always")
 def _rowmin(best, a, b):
     """``min(best, min_k a[k] + b[k])`` over two equal-length contiguous slices."""
     for k in range(a.shape[0]):
@@ -77,7 +78,7 @@ def _rowmin(best, a, b):
     return best
 
 
-@njit(cache=True, fastmath=_FASTMATH, inline="always")
+@kernel(fastmath=_FASTMATH, inline="always")
 def _block24(T, i, j, k0, k1):
     """Cells (i..i+1, j..j+3): two streamed rows shared by four columns."""
     ra, rb = T[i, k0:k1], T[i + 1, k0:k1]
@@ -99,12 +100,12 @@ def _block24(T, i, j, k0, k1):
     T[i + 1, j], T[i + 1, j + 1], T[i + 1, j + 2], T[i + 1, j + 3] = b0, b1, b2, b3
 
 
-@njit(cache=True, fastmath=_FASTMATH, inline="always")
+@kernel(fastmath=_FASTMATH, inline="always")
 def _block11(T, i, j, k0, k1):
     T[i, j] = _rowmin(T[i, j], T[i, k0:k1], T[j, k0:k1])
 
 
-@njit(cache=True, fastmath=_FASTMATH, inline="always")
+@kernel(fastmath=_FASTMATH, inline="always")
 def _any_allowed(mask, use_mask, i0, i1, j0, j1):
     """Whether any cell of rows i0..i1-1, columns j0..j1-1 is an allowed chord."""
     if not use_mask:
@@ -116,7 +117,7 @@ def _any_allowed(mask, use_mask, i0, i1, j0, j1):
     return False
 
 
-@njit(cache=True, fastmath=_FASTMATH)
+@kernel(fastmath=_FASTMATH)
 def _far(T, mask, use_mask, i0, i1, j0, j1):
     """``T[i, j] = min over i1 <= k < j0 of T[i, k] + T[j, k]`` for the tile's cells.
 
@@ -145,7 +146,7 @@ def _far(T, mask, use_mask, i0, i1, j0, j1):
                 _block11(T, i1 - 1, j, k0, k1)
 
 
-@njit(cache=True, fastmath=_FASTMATH)
+@kernel(fastmath=_FASTMATH)
 def _tile(T, pts, code, mask, use_mask, tile, ti, tj):
     n = T.shape[0]
     i0, i1 = ti * tile, min(n, ti * tile + tile)
@@ -172,16 +173,20 @@ def _tile(T, pts, code, mask, use_mask, tile, ti, tj):
             T[j, i] = v
 
 
-@njit(cache=True, parallel=True, fastmath=_FASTMATH)
-def minplus_tiles(T, pts, code, mask, use_mask, tile, d0, d1):
-    """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the E-table (sum, edge weight)."""
+@kernel(parallel=True, fastmath=_FASTMATH)
+def minplus_tiles(T, pts, code, chords, tile, d0, d1):
+    """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the E-table (sum, edge weight).
+
+    ``chords = (mask, use_mask)``, as for :func:`generic_tiles`.
+    """
+    mask, use_mask = chords
     nt = (T.shape[0] + tile - 1) // tile
     for d in range(d0, d1):
         for t in prange(nt - d):
             _tile(T, pts, code, mask, use_mask, tile, t, t + d)
 
 
-@njit(cache=True)
+@kernel()
 def subtract_edges(out, pts, code):
     """``out[i, j] -= e(i, j)`` above the diagonal: costs from an exported E-table."""
     n = out.shape[0]
@@ -190,7 +195,7 @@ def subtract_edges(out, pts, code):
             out[i, j] -= edge_weight(code, pts, i, j)
 
 
-@njit(cache=True)
+@kernel()
 def minplus_split(T, i, j):
     """Smallest k minimizing ``E(i, k) + E(k, j)``; -1 if every split is infinite."""
     best, arg = np.inf, -1
@@ -203,25 +208,56 @@ def minplus_split(T, i, j):
 
 
 # --- generic path (any compiled weight, sum / max / lexicographic) -------------------
+#
+# Arguments travel in three packed tuples, built by optri.engines.jit:
+#   tables = (T1, T2)            cost tables of components 1 and 2 (T2 read only if lex)
+#   weigh  = (pts, codes, gate, verts, order, wfn1, wfn2, wfng)
+#            built-in weights by code (codes = [w1, w2, gate weight or NO_GATE]) on
+#            pts; a user's numba weights wfn* on the input vertices ``verts``
+#            (indices mapped back through ``order``); the gate's threshold gate[0]
+#   rule   = (is_max, lex, nan)  combine of each component (max or sum), whether the
+#            objective is a lexicographic pair, and the flag a NaN weight sets
 
 
-@njit(cache=True, inline="always")
+def _user_weight(wfn, verts, a, b, c):  # type: ignore[no-untyped-def]
+    """A user's numba weight ``wfn(verts, a, b, c)``; NaN where there is none."""
+
+
+@overload(_user_weight, inline="always")
+def _user_weight_impl(wfn, verts, a, b, c):  # type: ignore[no-untyped-def]
+    # chosen while typing: a None ``wfn`` (every built-in weight) compiles to a constant
+    if isinstance(wfn, types.NoneType):
+        return lambda wfn, verts, a, b, c: np.nan
+    return lambda wfn, verts, a, b, c: float(wfn(verts, a, b, c))
+
+
+@kernel(inline="always")
 def _weight(code, pts, i, k, j, wfn, verts, order):
-    if wfn is not None:  # pruned at compile time for built-in weights
-        if code == WeightCode.CUSTOM:
-            return float(wfn(verts, order[i], order[k], order[j]))
+    if code == WeightCode.CUSTOM:
+        return _user_weight(wfn, verts, order[i], order[k], order[j])
     return triangle_weight(code, pts, i, k, j)
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _combine(is_max, a, b, w):
     if is_max:
         return max(a, max(b, w))
     return a + b + w
 
 
-@njit(cache=True, inline="always")
-def best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, wfng, gate, verts, order):
+@kernel(inline="always")
+def _gated_first(weigh, i, k, j):
+    """Weight of component 1; +inf when a gate is set and the gate weight exceeds it."""
+    pts, codes, gate, verts, order = weigh[0], weigh[1], weigh[2], weigh[3], weigh[4]
+    w1 = _weight(codes[0], pts, i, k, j, weigh[5], verts, order)
+    if codes[2] != NO_GATE:  # a triangle above the gate's threshold is forbidden
+        if _weight(codes[2], pts, i, k, j, weigh[7], verts, order) > gate[0]:
+            w1 = np.inf
+    return w1
+
+
+@kernel(inline="always")
+def best_split(tables, weigh, rule, i, j):
     """The recurrence for one cell: ``(cost1, cost2, k)``, ties to the smallest k.
 
     ``cost(i, j) = best_k combine(cost(i, k), cost(k, j), w(i, k, j))``, compared
@@ -229,6 +265,9 @@ def best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, wfng, gat
     With ``codes[2] != NO_GATE``, a triangle whose weight ``codes[2]`` exceeds
     ``gate[0]`` gets weight +inf (second phase of a max-led lexicographic objective).
     """
+    T1, T2 = tables
+    is_max, lex, nan = rule
+    pts, codes, verts, order = weigh[0], weigh[1], weigh[3], weigh[4]
     b1, b2, arg = np.inf, np.inf, -1
     r1i, r1j = T1[i, i + 1 : j], T1[j, i + 1 : j]
     if lex:
@@ -239,10 +278,7 @@ def best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, wfng, gat
         k = i + 1 + kk
         if r1i[kk] == np.inf or r1j[kk] == np.inf:
             continue  # a half with no triangulation (not a diagonal): skip its weight
-        w1 = _weight(codes[0], pts, i, k, j, wfn1, verts, order)
-        if codes[2] != NO_GATE:  # a triangle above the gate's threshold is forbidden
-            if _weight(codes[2], pts, i, k, j, wfng, verts, order) > gate[0]:
-                w1 = np.inf
+        w1 = _gated_first(weigh, i, k, j)
         if w1 != w1:
             nan[0] = 1
             continue
@@ -251,7 +287,7 @@ def best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, wfng, gat
             if v1 < b1:
                 b1, arg = v1, k
             continue
-        w2 = _weight(codes[1], pts, i, k, j, wfn2, verts, order)
+        w2 = _weight(codes[1], pts, i, k, j, weigh[6], verts, order)
         if w2 != w2:
             nan[0] = 1
             continue
@@ -261,33 +297,17 @@ def best_split(T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, wfng, gat
     return b1, b2, arg
 
 
-@njit(cache=True, parallel=True)
-def generic_tiles(
-    T1,
-    T2,
-    pts,
-    codes,
-    is_max,
-    lex,
-    mask,
-    use_mask,
-    tile,
-    d0,
-    d1,
-    nan,
-    wfn1,
-    wfn2,
-    wfng,
-    gate,
-    verts,
-    order,
-):
+@kernel(parallel=True)
+def generic_tiles(tables, weigh, rule, chords, tile, d0, d1):
     """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the cost table(s).
 
-    Sides must hold the neutral cost already. Tiles on one tile-diagonal are
-    independent; inside a tile, cells go rows upwards, columns rightwards, so
-    both halves of every split are final when read.
+    ``chords = (mask, use_mask)``. Sides must hold the neutral cost already.
+    Tiles on one tile-diagonal are independent; inside a tile, cells go rows
+    upwards, columns rightwards, so both halves of every split are final when read.
     """
+    T1, T2 = tables
+    mask, use_mask = chords
+    lex = rule[1]
     n = T1.shape[0]
     nt = (n + tile - 1) // tile
     for d in range(d0, d1):
@@ -299,23 +319,7 @@ def generic_tiles(
                     if use_mask and not mask[i, j]:
                         c1, c2 = np.inf, np.inf
                     else:
-                        c1, c2, _ = best_split(
-                            T1,
-                            T2,
-                            pts,
-                            codes,
-                            is_max,
-                            lex,
-                            i,
-                            j,
-                            nan,
-                            wfn1,
-                            wfn2,
-                            wfng,
-                            gate,
-                            verts,
-                            order,
-                        )
+                        c1, c2, _ = best_split(tables, weigh, rule, i, j)
                     T1[i, j] = c1
                     T1[j, i] = c1
                     if lex:
@@ -326,25 +330,22 @@ def generic_tiles(
 # --- reconstruction and the exported table ---------------------------------------------
 
 
-@njit(cache=True, inline="always")
-def _split(
-    T1, T2, pts, codes, is_max, lex, minplus, i, j, nan, wfn1, wfn2, wfng, gate, verts, order
-):
+@kernel(inline="always")
+def _split(tables, weigh, rule, minplus, i, j):
     if minplus:
-        return minplus_split(T1, i, j)
-    return best_split(
-        T1, T2, pts, codes, is_max, lex, i, j, nan, wfn1, wfn2, wfng, gate, verts, order
-    )[2]
+        return minplus_split(tables[0], i, j)
+    return best_split(tables, weigh, rule, i, j)[2]
 
 
-@njit(cache=True)
-def trace(T1, T2, pts, codes, is_max, lex, minplus, nan, wfn1, wfn2, wfng, gate, verts, order):
+@kernel()
+def trace(tables, weigh, rule, minplus):
     """Optimal triangles from chord (0, n-1) down.
 
     Re-scans only the O(n) cells on the optimal path. Returns ``(triangles,
     bad)``; ``bad = (i, j)`` of a chord with no finite split, else ``(-1, -1)``.
+    The walk is bounded: at most n - 2 triangles, each with i < k < j.
     """
-    n = T1.shape[0]
+    n = tables[0].shape[0]
     tris = np.empty((max(n - 2, 0), 3), dtype=np.int64)
     stack = np.empty((n, 2), dtype=np.int64)
     top, m = 1, 0
@@ -354,25 +355,8 @@ def trace(T1, T2, pts, codes, is_max, lex, minplus, nan, wfn1, wfn2, wfng, gate,
         i, j = stack[top, 0], stack[top, 1]
         if j - i < 2:
             continue
-        k = _split(
-            T1,
-            T2,
-            pts,
-            codes,
-            is_max,
-            lex,
-            minplus,
-            i,
-            j,
-            nan,
-            wfn1,
-            wfn2,
-            wfng,
-            gate,
-            verts,
-            order,
-        )
-        if k < 0:
+        k = _split(tables, weigh, rule, minplus, i, j)
+        if k <= i or k >= j or m >= n - 2:
             return tris[:m], (i, j)
         tris[m, 0], tris[m, 1], tris[m, 2] = i, k, j
         m += 1
@@ -382,33 +366,14 @@ def trace(T1, T2, pts, codes, is_max, lex, minplus, nan, wfn1, wfn2, wfng, gate,
     return tris[:m], (-1, -1)
 
 
-@njit(cache=True, parallel=True)
-def split_table(
-    T1, T2, pts, codes, is_max, lex, minplus, nan, wfn1, wfn2, wfng, gate, verts, order
-):
+@kernel(parallel=True)
+def split_table(tables, weigh, rule, minplus):
     """Optimal split of every chord (O(n^3): only for an exported table)."""
-    n = T1.shape[0]
+    n = tables[0].shape[0]
     out = np.full((n, n), -1, dtype=np.int32)
     for i in prange(n):
         for j in range(i + 2, n):
-            out[i, j] = _split(
-                T1,
-                T2,
-                pts,
-                codes,
-                is_max,
-                lex,
-                minplus,
-                i,
-                j,
-                nan,
-                wfn1,
-                wfn2,
-                wfng,
-                gate,
-                verts,
-                order,
-            )
+            out[i, j] = _split(tables, weigh, rule, minplus, i, j)
     return out
 
 
@@ -423,7 +388,7 @@ def uncached(name: str) -> object:
     so they add no cached entries either.
     """
     if name not in _TWINS:
-        kernel = globals()[name]
-        options = {k: v for k, v in kernel.targetoptions.items() if k != "nopython"}
-        _TWINS[name] = njit(**options)(kernel.py_func)
+        cached = globals()[name]
+        options = {k: v for k, v in cached.targetoptions.items() if k != "nopython"}
+        _TWINS[name] = njit(**options)(cached.py_func)
     return _TWINS[name]

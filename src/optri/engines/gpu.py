@@ -24,6 +24,7 @@ from .._optional import import_optional
 from ..errors import MissingDependencyError, NoTriangulationError, TableTooLargeError
 from ..weights import WeightCode
 from ._gpu_device import OBJ_MAX, OBJ_SUM
+from ._gpu_kernels import build_kernels
 from .memory import require_memory
 from .problem import Problem, Solution, with_sides
 
@@ -170,7 +171,6 @@ def solve(problem: Problem) -> Solution:
     for w in problem.weights:
         w.evaluator(problem.polygon)  # weight fits the input (points or values)
     cuda = import_optional("numba.cuda")
-    from ._gpu_kernels import build_kernels
 
     n, tile = problem.n, config.GPU_TILE
     threads = config.GPU_THREADS_PER_BLOCK

@@ -10,9 +10,8 @@ stored: the O(n) cells on the optimal path are re-scanned afterwards.
 
 The driver fills the table in chunks of (tile-)diagonals, reporting progress
 between chunks, where Ctrl-C also takes effect. Compiled code is cached on
-disk (``NUMBA_CACHE_DIR`` if set, else ``__pycache__`` beside this package or,
-where that is read-only, numba's per-user cache), so only the first process
-ever pays the compilation.
+disk (:mod:`optri.engines.compiled`), so only the first process ever pays the
+compilation.
 """
 
 from __future__ import annotations
@@ -120,7 +119,6 @@ def solve(problem: Problem) -> Solution:
         w.check(problem.polygon)
     import numba
 
-    _use_cache_dir(numba)
     from . import _jit_kernels as K
 
     n, lex = problem.n, problem.objective.is_lex
@@ -144,19 +142,17 @@ def solve(problem: Problem) -> Solution:
 def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:
     n, lex = problem.n, problem.objective.is_lex
     dtype = np.dtype(problem.dtype)
-    pts = _vertex_array(problem)
-    mask, use_mask = _mask(problem)
-    args = _Args(problem, pts, K)
-    T1 = np.empty((n, n), dtype=dtype)
-    T2 = np.empty((n, n) if lex else (1, 1), dtype=dtype)
+    args = _Args(problem, K)
+    tables = (np.empty((n, n), dtype=dtype), np.empty((n, n) if lex else (1, 1), dtype=dtype))
+    T1, T2 = tables
     if minplus:
-        _fill_minplus(K, problem, T1, pts, mask, use_mask)
-        e_last = edge_weight(problem.weights[0].code, pts, 0, n - 1)
+        _fill_minplus(K, problem, T1, args)
+        e_last = edge_weight(problem.weights[0].code, args.pts, 0, n - 1)
         cost: Any = float(T1[0, n - 1]) - e_last
     else:
-        _fill_generic(problem, T1, T2, args, mask, use_mask)
+        _fill_generic(problem, tables, args)
         cost = (float(T1[0, n - 1]), float(T2[0, n - 1])) if lex else float(T1[0, n - 1])
-    tris, bad = args.kernel("trace")(T1, T2, *args.trace_args(minplus))
+    tris, bad = args.kernel("trace")(tables, args.weigh, args.rule, minplus)
     args.raise_on_nan()
     if bad[0] >= 0:
         raise NoTriangulationError(
@@ -164,7 +160,7 @@ def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:
             f"an infinite or invalid cost",
             (int(bad[0]), int(bad[1])),
         )
-    table = _export(K, problem, T1, T2, args, minplus) if problem.keep_table else None
+    table = _export(K, problem, tables, args, minplus) if problem.keep_table else None
     stats = {
         "cells": (n - 1) * (n - 2) // 2,
         "threads": threads,
@@ -186,61 +182,52 @@ def _threads(numba: Any, problem: Problem, minplus: bool) -> int:
     return max(1, min(int(wanted), numba.config.NUMBA_NUM_THREADS))
 
 
-def _use_cache_dir(numba: Any) -> None:
-    """Point numba's cache at ``config.JIT_CACHE_DIR`` unless NUMBA_CACHE_DIR is set."""
-    if config.JIT_CACHE_DIR and not numba.config.CACHE_DIR:
-        numba.config.CACHE_DIR = str(config.JIT_CACHE_DIR)
-
-
 def _is_minplus(problem: Problem) -> bool:
     if problem.gates or problem.objective.components != ("sum",):
         return False
     return problem.weights[0].edge_decomposable
 
 
-def _vertex_array(problem: Problem) -> NDArray[np.float64]:
-    data = np.asarray(problem.polygon.data, dtype=np.float64)
-    return np.ascontiguousarray(data.reshape(len(data), -1))
-
-
-def _mask(problem: Problem) -> tuple[NDArray[np.bool_], bool]:
-    if problem.allowed is None:
-        return np.ones((1, 1), dtype=np.bool_), False
-    return with_sides(problem.allowed), True
-
-
 class _Args:
-    """Arguments shared by the generic kernel, the traceback and the export."""
+    """The kernels' packed arguments (see :mod:`optri.engines._jit_kernels`).
 
-    def __init__(self, problem: Problem, pts: NDArray[np.float64], kernels: Any) -> None:
+    ``weigh = (pts, codes, gate, verts, order, wfn1, wfn2, wfng)``,
+    ``rule = (is_max, lex, nan)`` and ``chords = (mask, use_mask)``.
+    """
+
+    def __init__(self, problem: Problem, kernels: Any) -> None:
         ws = problem.weights
         second = ws[1] if len(ws) > 1 else ws[0]
         self.names = [w.name for w in ws]
         gate_w, thr = problem.gates[0] if problem.gates else (None, math.inf)
         gate_code = _NO_GATE if gate_w is None else gate_w.code
-        self.codes = np.array([ws[0].code, second.code, gate_code], dtype=np.int64)
-        self.gate = np.array([_gate_threshold(thr, problem.dtype)], dtype=np.float64)
+        codes = np.array([ws[0].code, second.code, gate_code], dtype=np.int64)
+        gate = np.array([_gate_threshold(thr, problem.dtype)], dtype=np.float64)
+        lex = problem.objective.is_lex
+        fns = (
+            _compiled_fn(ws[0]),
+            _compiled_fn(second) if lex else None,
+            None if gate_w is None else _compiled_fn(gate_w),
+        )
+        self.custom = any(f is not None for f in fns)
+        data = np.asarray(problem.polygon.data, dtype=np.float64)
+        self.pts = np.ascontiguousarray(data.reshape(len(data), -1))
+        verts = _user_vertices(problem) if self.custom else self.pts
+        order = np.ascontiguousarray(problem.polygon.order, dtype=np.int64)
+        self.weigh = (self.pts, codes, gate, verts, order, *fns)
         comps = problem.objective.components
-        self.is_max = np.array([comps[0] == "max", comps[-1] == "max"], dtype=np.bool_)
-        self.lex = problem.objective.is_lex
-        self.pts = pts
+        is_max = np.array([comps[0] == "max", comps[-1] == "max"], dtype=np.bool_)
         self.nan = np.zeros(1, dtype=np.int64)
-        self.wfn1, self.wfn2 = _compiled_fn(ws[0]), _compiled_fn(second) if self.lex else None
-        self.wfng = None if gate_w is None else _compiled_fn(gate_w)
-        self.custom = any(f is not None for f in (self.wfn1, self.wfn2, self.wfng))
-        self.verts = _user_vertices(problem) if self.custom else pts
+        self.rule = (is_max, lex, self.nan)
+        if problem.allowed is None:
+            self.chords = (np.ones((1, 1), dtype=np.bool_), False)
+        else:
+            self.chords = (with_sides(problem.allowed), True)
         self.K = kernels
-        self.order = np.ascontiguousarray(problem.polygon.order, dtype=np.int64)
 
     def kernel(self, name: str) -> Any:
         """Kernel ``name``; its uncached twin when a user's numba weight is involved."""
         return self.K.uncached(name) if self.custom else getattr(self.K, name)
-
-    def weight_args(self) -> tuple[Any, ...]:
-        return (self.nan, self.wfn1, self.wfn2, self.wfng, self.gate, self.verts, self.order)
-
-    def trace_args(self, minplus: bool) -> tuple[Any, ...]:
-        return (self.pts, self.codes, self.is_max, self.lex, minplus, *self.weight_args())
 
     def raise_on_nan(self) -> None:
         if self.nan[0]:
@@ -266,50 +253,23 @@ def _user_vertices(problem: Problem) -> NDArray[np.float64]:
     return np.ascontiguousarray(verts)
 
 
-def _fill_minplus(
-    K: Any,
-    problem: Problem,
-    T: NDArray[Any],
-    pts: NDArray[np.float64],
-    mask: NDArray[np.bool_],
-    use_mask: bool,
-) -> None:
+def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args) -> None:
     code = problem.weights[0].code
     for d0, d1, tile in _tile_chunks(problem, int(config.FAST_TILE), cost_per_split=1):
-        K.minplus_tiles(T, pts, code, mask, use_mask, tile, d0, d1)
+        K.minplus_tiles(T, args.pts, code, args.chords, tile, d0, d1)
 
 
-def _fill_generic(
-    problem: Problem,
-    T1: NDArray[Any],
-    T2: NDArray[Any],
-    args: _Args,
-    mask: NDArray[np.bool_],
-    use_mask: bool,
-) -> None:
+def _fill_generic(problem: Problem, tables: tuple[NDArray[Any], NDArray[Any]], args: _Args) -> None:
     n = problem.n
     neutral = problem.objective.neutral
     neutrals = neutral if isinstance(neutral, tuple) else (neutral,)
     idx = np.arange(n - 1)
-    for T, v in zip((T1, T2), neutrals):
+    for T, v in zip(tables, neutrals):
         T[idx, idx + 1] = T[idx + 1, idx] = v
     kernel = args.kernel("generic_tiles")
     # a weight evaluation costs about 20 min-plus steps
     for d0, d1, tile in _tile_chunks(problem, int(config.FAST_GENERIC_TILE), cost_per_split=20):
-        kernel(
-            T1,
-            T2,
-            args.pts,
-            args.codes,
-            args.is_max,
-            args.lex,
-            mask,
-            use_mask,
-            tile,
-            d0,
-            d1,
-            *args.weight_args(),
-        )
+        kernel(tables, args.weigh, args.rule, args.chords, tile, d0, d1)
         args.raise_on_nan()
 
 
@@ -370,13 +330,17 @@ class _Reporter:
 
 
 def _export(
-    K: Any, problem: Problem, T1: NDArray[Any], T2: NDArray[Any], args: _Args, minplus: bool
+    K: Any,
+    problem: Problem,
+    tables: tuple[NDArray[Any], NDArray[Any]],
+    args: _Args,
+    minplus: bool,
 ) -> NDArray[np.float64]:
     """The paper's table: costs (primary component) above the diagonal, splits below."""
-    out = np.triu(T1.astype(np.float64), 1)
+    out = np.triu(tables[0].astype(np.float64), 1)
     if minplus:  # the table holds E = cost + e(i, j)
         K.subtract_edges(out, args.pts, problem.weights[0].code)
     out[np.isneginf(out)] = 0.0
-    splits = args.kernel("split_table")(T1, T2, *args.trace_args(minplus))
+    splits = args.kernel("split_table")(tables, args.weigh, args.rule, minplus)
     out += np.tril(splits.T.astype(np.float64), -1)
     return out

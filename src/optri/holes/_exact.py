@@ -10,8 +10,8 @@ Eppstein 1996): O(n^3) states, O(n) splits each. See :func:`exact_liepa`.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from ..engines.compiled import kernel
 from ._kernels import (
     DEGENERATE_KEY,
     mesh_key,
@@ -23,7 +23,7 @@ from ._kernels import (
 __all__ = ["exact_liepa", "exact_table_bytes"]
 
 
-@njit(cache=True)
+@kernel()
 def _leaf_table(Q, n, MN, has_third):
     # LEAF[s, m]: key of side (s, s+1) between patch triangle (s, s+1, m) and the mesh
     leaf = np.zeros((n, n))
@@ -38,7 +38,7 @@ def _leaf_table(Q, n, MN, has_third):
     return leaf
 
 
-@njit(cache=True)
+@kernel()
 def _apex_normals(Q, i, j):
     # component rows (x, y, z, degenerate) and areas of triangles (i, k, j),
     # k = i + 1 .. j - 1: contiguous per component for the vectorized loops
@@ -54,7 +54,7 @@ def _apex_normals(Q, i, j):
     return nk, area
 
 
-@njit(cache=True)
+@kernel()
 def _keys_against(nk, ox, oy, oz, od, has, out):
     # out[t] = _key(apex triangle t, outer triangle), the same arithmetic
     if not has:
@@ -73,7 +73,7 @@ def _keys_against(nk, ox, oy, oz, od, has, out):
 # keys and areas are never NaN and min/max are exact in any order, so fast-math
 # (which lets the compiler reorder the two reductions below) changes no result:
 # there is no other arithmetic in them
-@njit(cache=True, fastmath=True)
+@kernel(fastmath=True)
 def _min_of_max(a, b):
     best = np.inf
     for t in range(a.shape[0]):
@@ -81,7 +81,7 @@ def _min_of_max(a, b):
     return best
 
 
-@njit(cache=True, fastmath=True)
+@kernel(fastmath=True)
 def _min_where(sub, keys, M, buf):
     # least sub[t] among apexes whose key is <= M (inf if none) into buf first
     best = np.inf
@@ -92,8 +92,8 @@ def _min_where(sub, keys, M, buf):
     return best
 
 
-@njit(cache=True)
-def _chord_inputs(Q, n, i, j, B, LEAF, has_third):
+@kernel()
+def _chord_inputs(Q, i, j, B, LEAF):
     # per apex k of chord (i, j): normal of (i, k, j), its area, and the worse key
     # of its two halves (sub-polygon (i, k) seen from apex j, (k, j) from apex i)
     nk, area = _apex_normals(Q, i, j)
@@ -106,7 +106,7 @@ def _chord_inputs(Q, n, i, j, B, LEAF, has_third):
     return nk, area, base
 
 
-@njit(cache=True)
+@kernel()
 def _outer_normal(Q, n, i, j, m, MN, has_third):
     # the triangle across chord (i, j): (i, j, m), or the mesh triangle at the root
     if m == n:
@@ -117,7 +117,7 @@ def _outer_normal(Q, n, i, j, m, MN, has_third):
     return x, y, z, d, True
 
 
-@njit(cache=True)
+@kernel()
 def _outside(n, i, j):
     if i == 0 and j == n - 1:
         out = np.empty(1, dtype=np.int64)
@@ -132,7 +132,7 @@ def _outside(n, i, j):
     return out
 
 
-@njit(cache=True)
+@kernel()
 def _bottleneck_pass(Q, n, has_third, MN, LEAF, B):
     # B[i, j, m]: least possible max key inside sub-polygon (i..j) and across
     # chord (i, j) to the outer triangle (i, j, m); m == n is the root's mesh side
@@ -140,7 +140,7 @@ def _bottleneck_pass(Q, n, has_third, MN, LEAF, B):
     for L in range(2, n):
         for i in range(n - L):
             j = i + L
-            nk, _, base = _chord_inputs(Q, n, i, j, B, LEAF, has_third)
+            nk, _, base = _chord_inputs(Q, i, j, B, LEAF)
             kb = keys[: L - 1]
             for m in _outside(n, i, j):
                 ox, oy, oz, od, has = _outer_normal(Q, n, i, j, m, MN, has_third)
@@ -149,7 +149,7 @@ def _bottleneck_pass(Q, n, has_third, MN, LEAF, B):
     return B[0, n - 1, n]
 
 
-@njit(cache=True)
+@kernel()
 def _area_pass(Q, n, has_third, MN, LEAF, M, A, S):
     # A[i, j, m]: least area of sub-polygon (i..j) using only pairs with key <= M;
     # S[i, j, m]: its apex (the smallest on ties)

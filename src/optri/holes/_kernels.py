@@ -18,7 +18,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from ..engines.compiled import kernel
 
 __all__ = [
     "DEGENERATE_KEY",
@@ -39,7 +40,7 @@ _DEGENERATE_SINE2 = 1e-24
 
 
 
-@njit(cache=True)
+@kernel()
 def _cross(Q, a, b, c):
     # (b - a) x (c - a) and the squared lengths of both edge vectors
     ux = Q[b, 0] - Q[a, 0]
@@ -54,7 +55,7 @@ def _cross(Q, a, b, c):
     return nx, ny, nz, ux * ux + uy * uy + uz * uz, vx * vx + vy * vy + vz * vz
 
 
-@njit(cache=True)
+@kernel()
 def unit_normal(Q, a, b, c):
     """Unit normal of triangle a->b->c, a degenerate flag and the area."""
     nx, ny, nz, uu, vv = _cross(Q, a, b, c)
@@ -66,7 +67,7 @@ def unit_normal(Q, a, b, c):
     return nx * inv, ny * inv, nz * inv, False, 0.5 * nn
 
 
-@njit(cache=True)
+@kernel()
 def sorted_normal(Q, a, b, c):
     # the same triangle always gets the same rounding: compute from sorted indices
     if a > b:
@@ -78,7 +79,7 @@ def sorted_normal(Q, a, b, c):
     return unit_normal(Q, a, b, c)
 
 
-@njit(cache=True)
+@kernel()
 def _key(x1, y1, z1, d1, x2, y2, z2, d2):
     if d1 or d2:
         return DEGENERATE_KEY
@@ -90,7 +91,7 @@ def _key(x1, y1, z1, d1, x2, y2, z2, d2):
     return k
 
 
-@njit(cache=True)
+@kernel()
 def mesh_normals(Q, n):
     """(n, 4) rows (x, y, z, degenerate) of the mesh triangles (p[s+1], p[s], t[s])."""
     out = np.zeros((n, 4))
@@ -103,7 +104,7 @@ def mesh_normals(Q, n):
     return out
 
 
-@njit(cache=True)
+@kernel()
 def triangle_normals(Q, tris):
     """(m, 5) rows (x, y, z, degenerate, area) of index triangles (sorted first)."""
     m = tris.shape[0]
@@ -118,7 +119,7 @@ def triangle_normals(Q, tris):
     return out
 
 
-@njit(cache=True)
+@kernel()
 def pair_keys(U, V):
     """Keys of row pairs (x, y, z, degenerate, ...) of two normal tables."""
     out = np.empty(U.shape[0])
@@ -129,14 +130,14 @@ def pair_keys(U, V):
     return out
 
 
-@njit(cache=True)
+@kernel()
 def mesh_key(MN, s, x, y, z, d, has_third):
     if not has_third:
         return 0.0
     return _key(x, y, z, d, MN[s, 0], MN[s, 1], MN[s, 2], MN[s, 3] != 0.0)
 
 
-@njit(cache=True)
+@kernel()
 def _span(ptr, i, j, n):
     # candidate apexes of chord (i, j): ks[lo:hi] from the CSR lists, or every
     # k in (i, j) when unrestricted (lo = -1; the apex is then i + 1 + t)
@@ -146,12 +147,12 @@ def _span(ptr, i, j, n):
     return ptr[c], ptr[c + 1] - ptr[c]
 
 
-@njit(cache=True)
+@kernel()
 def _apex(ks, lo, i, t):
     return i + 1 + t if lo < 0 else ks[lo + t]
 
 
-@njit(cache=True)
+@kernel()
 def liepa_recurrence(Q, n, has_third, ptr, ks):
     """Liepa's O(n^3) recurrence: (max dihedral key, area), lexicographic.
 
@@ -166,7 +167,7 @@ def liepa_recurrence(Q, n, has_third, ptr, ks):
     return _liepa_sparse(Q, n, has_third, ptr, ks)
 
 
-@njit(cache=True)
+@kernel()
 def _liepa_sparse(Q, n, has_third, ptr, ks):
     """Liepa's O(n^3) recurrence: (max dihedral key, area), lexicographic.
 
@@ -233,7 +234,7 @@ def _liepa_sparse(Q, n, has_third, ptr, ks):
     return O1[0, n - 1], O2[0, n - 1], K
 
 
-@njit(cache=True, error_model="numpy")
+@kernel(error_model="numpy")
 def _liepa_dense(Q, n, has_third):
     # every apex is a candidate. Per chord, two simple loops over contiguous,
     # interleaved buffers (few pointers, no branches) that the compiler
@@ -310,7 +311,7 @@ def _liepa_dense(Q, n, has_third):
     return best1, T[0, 1, n - 1], K
 
 
-@njit(cache=True)
+@kernel()
 def _fix_ends(Q, n, i, j, has_third, MN, T, C):
     # apex k = i + 1 or j - 1 puts a polygon side in the triangle: its key is
     # against the mesh (or nothing), not a sub-polygon's top; the root also

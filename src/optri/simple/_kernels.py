@@ -7,18 +7,18 @@ never loads numba. Under ``NUMBA_DISABLE_JIT=1`` the same code runs as Python.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from ..engines.compiled import kernel
 from ..predicates import orient_sign
 
 __all__ = ["ear_clip", "valid_mask", "visibility_mask"]
 
 
 # the orientation predicate of optri.predicates, compiled from the same source
-_orient = njit(cache=True, inline="always")(orient_sign)
+_orient = kernel(inline="always")(orient_sign)
 
 
-@njit(cache=True)
+@kernel()
 def _in_cone(x, y, i, j, tol):  # type: ignore[no-untyped-def]
     """Whether the chord from vertex i towards j starts inside the (CCW) polygon."""
     n = x.shape[0]
@@ -31,7 +31,7 @@ def _in_cone(x, y, i, j, tol):  # type: ignore[no-untyped-def]
     return left_of_next or left_of_prev  # reflex or straight: the union of half-planes
 
 
-@njit(cache=True)
+@kernel()
 def _clear(x, y, i, j, tol):  # type: ignore[no-untyped-def]
     """No vertex on the open chord (i, j) and no edge crossing it properly.
 
@@ -64,7 +64,7 @@ def _clear(x, y, i, j, tol):  # type: ignore[no-untyped-def]
     return True
 
 
-@njit(cache=True)
+@kernel()
 def _row(x, y, i, tol, out):  # type: ignore[no-untyped-def]
     n = x.shape[0]
     for j in range(i + 2, n):
@@ -75,7 +75,7 @@ def _row(x, y, i, tol, out):  # type: ignore[no-untyped-def]
             out[j, i] = True
 
 
-@njit(cache=True)
+@kernel()
 def valid_mask(x, y, tol):  # type: ignore[no-untyped-def]
     """(n, n) bool: ``out[i, j]`` iff chord (i, j) is an internal diagonal.
 
@@ -89,7 +89,7 @@ def valid_mask(x, y, tol):  # type: ignore[no-untyped-def]
     return out
 
 
-@njit(cache=True)
+@kernel()
 def _blocks_ear(x, y, p, v, q, w, tol):  # type: ignore[no-untyped-def]
     """Whether w lies in the closed counter-clockwise triangle (p, v, q)."""
     return (
@@ -99,7 +99,7 @@ def _blocks_ear(x, y, p, v, q, w, tol):  # type: ignore[no-untyped-def]
     )
 
 
-@njit(cache=True)
+@kernel()
 def _is_ear(x, y, prv, nxt, v, tol):  # type: ignore[no-untyped-def]
     p = prv[v]
     q = nxt[v]
@@ -113,7 +113,7 @@ def _is_ear(x, y, prv, nxt, v, tol):  # type: ignore[no-untyped-def]
     return True
 
 
-@njit(cache=True)
+@kernel()
 def ear_clip(x, y, tol):  # type: ignore[no-untyped-def]
     """Some triangulation of a simple CCW polygon with no zero-area triangle.
 
@@ -158,7 +158,7 @@ def ear_clip(x, y, tol):  # type: ignore[no-untyped-def]
     return tris, True
 
 
-@njit(cache=True)
+@kernel()
 def _left_triangle(tris, n):  # type: ignore[no-untyped-def]
     """``left[a, b]``: the triangle lying left of the directed edge a -> b, or -1."""
     left = np.full((n, n), -1, dtype=np.int32)
@@ -172,7 +172,7 @@ def _left_triangle(tris, n):  # type: ignore[no-untyped-def]
     return left
 
 
-@njit(cache=True)
+@kernel()
 def _third(tris, t, a, b):  # type: ignore[no-untyped-def]
     for m in range(3):
         c = tris[t, m]
@@ -181,7 +181,7 @@ def _third(tris, t, a, b):  # type: ignore[no-untyped-def]
     return -1
 
 
-@njit(cache=True)
+@kernel()
 def _see_from(x, y, tris, left, i, tol, row):  # type: ignore[no-untyped-def]
     """Mark in ``row`` every vertex visible from vertex i through the polygon.
 
@@ -224,7 +224,7 @@ def _see_from(x, y, tris, left, i, tol, row):  # type: ignore[no-untyped-def]
             top = _push(stack, top, c, b, lo, hi)
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _push(stack, top, a, b, lo, hi):  # type: ignore[no-untyped-def]
     stack[top, 0] = a
     stack[top, 1] = b
@@ -233,7 +233,7 @@ def _push(stack, top, a, b, lo, hi):  # type: ignore[no-untyped-def]
     return top + 1
 
 
-@njit(cache=True)
+@kernel()
 def visibility_mask(x, y, tris, tol):  # type: ignore[no-untyped-def]
     """(n, n) bool vertex visibility from a triangulation ``tris``; O(n^2) in all.
 
