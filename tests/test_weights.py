@@ -25,12 +25,12 @@ import subprocess
 import sys
 from pathlib import Path
 
-import numba
 import numpy as np
 import pytest
 
 import optri.engines._jit_weights  # noqa: F401  (registers the formulas with numba)
 from gpu_env import subprocess_env
+from optri.engines.compiled import kernel
 from optri.weights import WEIGHTS, WeightCode, edge_weight, triangle_weight
 
 #: Units in the last place the CUDA twin may differ by.
@@ -100,7 +100,7 @@ def python_values(kind, code, data, rows):
     return np.array([edge_weight(code, p, *e) for e in rows])
 
 
-@numba.njit
+@kernel()  # numba.njit, cached like the engine's kernels (never stale)
 def compiled_triangles(code, p, rows):
     out = np.empty(len(rows))
     for t in range(len(rows)):
@@ -108,7 +108,7 @@ def compiled_triangles(code, p, rows):
     return out
 
 
-@numba.njit
+@kernel()
 def compiled_edges(code, p, rows):
     out = np.empty(len(rows))
     for t in range(len(rows)):
