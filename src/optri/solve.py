@@ -22,7 +22,7 @@ from .result import Triangulation, recompute_cost
 from .simple import allowed_chords, zero_area_triangles
 from .weights import WeightLike, resolve_weights
 
-__all__ = ["build_problem", "load_polygon", "solve_problem", "triangulate"]
+__all__ = ["build_problem", "load_polygon", "solution_result", "solve_problem", "triangulate"]
 
 PolygonLike = ArrayLike | Polygon | str | os.PathLike[str]
 
@@ -208,6 +208,19 @@ def load_polygon(vertices: PolygonLike) -> Polygon:
     if hasattr(vertices, "__geo_interface__"):  # shapely or any GeoJSON-like geometry
         return as_polygon(geo_polygon_coords(vertices))
     return as_polygon(vertices)  # type: ignore[arg-type]
+
+
+def solution_result(
+    problem: Problem, method: str, solution: Solution, seconds: float = 0.0
+) -> Triangulation:
+    """The :class:`Triangulation` of an engine's answer, built as :func:`triangulate` does.
+
+    Triangles in input vertex indices; :meth:`Triangulation.check` recomputes the cost.
+    """
+    return _to_result(
+        problem, solution.cost, solution.triangles, method, seconds, solution.table,
+        solution.stats,
+    )
 
 
 def _report_degenerate(problem: Problem, triangles: NDArray[np.int64], stats: Any) -> None:
