@@ -133,7 +133,14 @@ def test_animate_refuses_bad_targets(tmp_path, monkeypatch):
     assert not list(tmp_path.iterdir())  # nothing half-written
 
 
-@pytest.mark.skipif(shutil.which("ffmpeg") is None, reason="ffmpeg not installed")
+@pytest.mark.skipif(shutil.which("ffprobe") is None, reason="ffmpeg not installed")
 def test_mp4_with_ffmpeg(tmp_path):
+    import subprocess
+
     out = trace(PENTAGON, "product").animate(tmp_path / "p.mp4", kinds=("store",), dpi=50)
-    assert out.stat().st_size > 1000
+    probe = subprocess.run(
+        ["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0",
+         "-show_entries", "stream=nb_read_frames", "-of", "csv=p=0", str(out)],
+        capture_output=True, text=True, check=True,
+    )  # fmt: skip
+    assert int(probe.stdout.strip()) == 6 + 2  # the stores, the empty table, the traceback

@@ -61,9 +61,10 @@ def triangulate(
         objective.
     objective : {"sum", "max"} or pair
         How triangle weights combine: total, bottleneck, or lexicographic.
-    method : {"auto", "memo", "table", "brute", "fast", "gpu"}
+    method : {"auto", "memo", "table", "naive", "brute", "fast", "gpu"}
         ``"memo"``: the paper's top-down memoization; ``"table"``: bottom-up
-        square matrix; ``"brute"``: all triangulations (n <= 13); ``"fast"``:
+        square matrix; ``"naive"``: the recursion without its table (3^(n-2)
+        calls, n <= 12, for teaching); ``"brute"``: all triangulations (n <= 13); ``"fast"``:
         compiled; ``"gpu"``: CUDA; ``"auto"``: the fastest that can take it.
     progress : callable, optional
         ``progress(done, total)`` called as the table fills.

@@ -121,8 +121,8 @@ def page_data(traces: Sequence[Trace]) -> dict[str, Any]:
         "n": first.n,
         "points": np.round(xy, 2).tolist(),
         "labels": labels,
-        "weight": str(result.weight_name),
-        "objective": str(result.objective),
+        "weight": result.weight_name,
+        "objective": result.objective,
         "start": first.method,
         "traces": {t.method: _trace_data(t) for t in traces},
     }
@@ -157,7 +157,13 @@ def explorer_page(traces: Sequence[Trace], title: str | None = None) -> str:
     payload = json.dumps(data, separators=(",", ":"), ensure_ascii=False)
     payload = payload.replace("<", "\\u003c")  # never "</script>" inside the data
     r = traces[0].result
-    heading = title or f"optri explorer: n = {r.n}, {r.weight_name} weight, {r.objective}"
+
+    def name(v: Any) -> str:
+        return ", ".join(v) if isinstance(v, tuple) else str(v)
+
+    heading = title or (
+        f"optri explorer: n = {r.n}, {name(r.weight_name)} weight, {name(r.objective)}"
+    )
     template = _asset("explorer.html")
     return (
         template.replace("{{title}}", escape(heading))
