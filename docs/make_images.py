@@ -18,11 +18,11 @@ OUT = Path(__file__).resolve().parent / "images"
 PENTAGON = [5, 1, 5, 1, 5]
 
 
-def _shrink(path: Path, colours: int = 64) -> None:
+def _shrink(path: Path, colours: int = 96) -> None:
     from PIL import Image
 
     with Image.open(path) as im:
-        small = im.convert("RGB").quantize(colours, method=Image.Quantize.MEDIANCUT)
+        small = im.convert("RGB").quantize(colours, method=Image.Quantize.FASTOCTREE)
     small.save(path, optimize=True)
 
 
