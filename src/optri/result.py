@@ -11,6 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .drawing.figures import plot_triangulation
+from .drawing.html import triangulation_html
 from .drawing.svg import triangulation_svg
 from .io.geo import to_shapely
 from .objective import Cost, Objective
@@ -119,16 +120,30 @@ class Triangulation:
         return {"type": "MultiPolygon", "coordinates": polys}
 
     def _repr_svg_(self) -> str:
-        """SVG drawing for notebooks: triangles filled, polygon outlined (2-D input).
+        """SVG drawing for notebooks: triangles filled, polygon outlined.
+
+        3-D input is drawn from x and y; vertex values (e.g. the paper's
+        pentagon 5, 1, 5, 1, 5) on a regular n-gon labelled with the values.
 
         >>> import optri
         >>> svg = optri.triangulate([[0, 0], [1, 0], [1, 1], [0, 1]])._repr_svg_()
         >>> svg.startswith("<svg") and svg.count("<polygon") == 3
         True
+        >>> svg = optri.triangulate([5, 1, 5, 1, 5], "product")._repr_svg_()
+        >>> svg.count("<polygon"), svg.count("<text")
+        (4, 5)
         """
-        if self.vertices.ndim != 2:
-            return ""
         return triangulation_svg(self.vertices, self.triangles)
+
+    def _repr_html_(self) -> str:
+        """HTML for notebooks: the drawing with the paper's n x n table beside it.
+
+        >>> import optri
+        >>> html = optri.triangulate([5, 1, 5, 1, 5], "product", method="memo")._repr_html_()
+        >>> "<svg" in html and "<table" in html and "-1" not in html
+        True
+        """
+        return triangulation_html(self)
 
     def __repr__(self) -> str:
         return (
