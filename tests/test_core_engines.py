@@ -8,8 +8,18 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import optri
+from optri.engines import memo
 from optri.engines.brute import all_index_triangulations
-from strategies import POINT_WEIGHTS, convex_polygons, value_sequences
+from optri.polygon import as_polygon
+from optri.solve import build_problem
+from strategies import (
+    MAX_LED_EDGE_PAIRS,
+    POINT_WEIGHTS,
+    TWO_PHASE_CASES,
+    convex_polygons,
+    ellipse_polygon,
+    value_sequences,
+)
 
 ENGINES = ["memo", "table"]
 
@@ -45,6 +55,20 @@ def test_lexicographic_objective_matches_brute(poly):
     for method in ENGINES:
         t = optri.triangulate(poly, **spec, method=method)
         assert close(t.weight, oracle.weight)
+        t.check()
+
+
+@pytest.mark.parametrize("n, seed", TWO_PHASE_CASES)
+@pytest.mark.parametrize("pair", MAX_LED_EDGE_PAIRS)
+def test_max_led_pair_is_solved_in_two_phases(n, seed, pair):
+    """("max", "sum") is not monotone: one lexicographic pass misses the optimum here."""
+    pts = ellipse_polygon(n, seed)
+    oracle = optri.triangulate(pts, pair, ("max", "sum"), method="brute")
+    one_pass = memo.solve(build_problem(as_polygon(pts), pair, ("max", "sum")))
+    assert one_pass.cost > oracle.weight and not close(one_pass.cost, oracle.weight)
+    for method in ENGINES:
+        t = optri.triangulate(pts, pair, ("max", "sum"), method=method)
+        assert close(t.weight, oracle.weight), (method, t.weight, oracle.weight)
         t.check()
 
 
