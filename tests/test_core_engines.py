@@ -80,6 +80,26 @@ def test_product_weight_equals_brute(values):
         assert optri.triangulate(values, "product", method=method).weight == oracle
 
 
+def test_max_objective_with_negative_weights():
+    # "min_angle" is minus the smallest angle: negative, so a side must count as -inf
+    tri = [[0, 0], [3, 0], [0, 4]]
+    for method in ENGINES + ["brute"]:
+        t = optri.triangulate(tri, "min_angle", "max", method=method)
+        assert t.weight == pytest.approx(-math.asin(0.6))  # the angle opposite side 3
+        poly = [[0, 0], [4, 0], [5, 3], [2, 5], [-1, 3]]
+        worst = optri.triangulate(poly, lambda i, k, j: -1.0 - i, "max", method=method)
+        assert worst.weight == -1.0  # every triangulation has a triangle at vertex 0
+
+
+def test_max_table_sides_are_zero_not_minus_infinity():
+    poly = [[0, 0], [4, 0], [5, 3], [2, 5], [-1, 3], [-2, 1]]
+    for method in ENGINES:
+        t = optri.triangulate(poly, "max_angle", "max", method=method, keep_table=True)
+        n = t.n
+        assert np.all(t.table[np.arange(n - 1), np.arange(1, n)] == 0.0)  # sides: no triangle
+        assert t.table[0, n - 1] == t.weight and np.isfinite(t.table).all()
+
+
 def test_brute_enumerates_catalan_many():
     for n in range(3, 11):
         assert sum(1 for _ in all_index_triangulations(n)) == math.comb(2 * (n - 2), n - 2) // (
@@ -131,6 +151,7 @@ def test_clockwise_input_is_normalized():
     a = optri.triangulate(ccw, method="memo")
     b = optri.triangulate(ccw[::-1], method="memo")
     assert a.orientation == "ccw" and b.orientation == "cw"
+    assert b.order.tolist() == [0, 4, 3, 2, 1]  # internal: counter-clockwise from input 0
     assert a.weight == pytest.approx(b.weight)
     b.check()  # triangles counter-clockwise in input indices
     pts = ccw[::-1]

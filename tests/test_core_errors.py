@@ -106,6 +106,20 @@ def test_cli_multi_line_library_error_is_one_stderr_line(tmp_path):
     assert "no such.csv" in r.stderr and "Traceback" not in r.stderr
 
 
+def test_cli_unwritable_output_is_one_line(tmp_path):
+    # --plot inside a regular file: the OSError becomes one line naming the path, exit 2
+    from click.testing import CliRunner
+
+    from optri.cli import main
+
+    f = tmp_path / "sq.csv"
+    f.write_text("0,0\n1,0\n1,1\n0,1\n")
+    res = CliRunner().invoke(main, ["solve", str(f), "--plot", str(f / "x.png")])
+    assert res.exit_code == 2, res.output
+    assert res.stderr.startswith("optri: error:") and res.stderr.count("\n") == 1
+    assert "sq.csv" in res.stderr and "Traceback" not in res.output
+
+
 def test_cli_missing_file_and_bad_weight(tmp_path):
     r = run_cli("solve", str(tmp_path / "none.csv"))
     assert r.returncode == 2 and "Traceback" not in r.stderr

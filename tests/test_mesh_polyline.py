@@ -80,6 +80,22 @@ def test_liepa_recurrence_is_never_better_than_exact(case):
         assert heuristic.weight[1] >= exact[1] * (1 - 1e-9)
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_area_decides_when_every_dihedral_is_the_worst(seed):
+    # third points on their sides: every mesh triangle is degenerate, so every patch
+    # has the worst key (pi) and the area alone decides: both searches then return the
+    # minimum-area patch, which Liepa's recurrence finds exactly as the area DP does
+    rng = np.random.default_rng(seed)
+    ang = np.sort(rng.uniform(0, 2 * np.pi, 9)) + np.arange(9) * 1e-3
+    pts = np.column_stack((np.cos(ang), np.sin(ang), rng.normal(0, 0.5, 9)))
+    third = (pts + np.roll(pts, -1, axis=0)) / 2
+    least = fill_polyline(pts, "area", "exact").weight
+    for method in ("liepa", "exact"):
+        t = fill_polyline(pts, "liepa", method, third)
+        assert t.weight[0] == math.pi
+        assert math.isclose(t.weight[1], least, rel_tol=1e-12), method
+
+
 def test_liepa_recurrence_is_a_heuristic():
     # a seeded case where Liepa's O(n^3) recurrence misses the max-dihedral optimum
     rng = np.random.default_rng(1)
