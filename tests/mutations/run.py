@@ -4,6 +4,8 @@
     python tests/mutations/run.py NAME ...        # some of them
     python tests/mutations/run.py --list          # which still apply (no tests run)
 
+(run with the project's Python: the mutants' tests run under ``sys.executable``)
+
 The repository is copied once to a temporary directory; each mutation edits
 that copy's file, runs ``python -m pytest -x -q`` on its tests there, and puts
 the file back (bytes and modification time). The checkout itself is never
