@@ -210,6 +210,33 @@ def test_property_random_polygons(n, seed, shape, weight, objective):
     check_against_memo(problem)
 
 
+def gpu_ties():
+    """test_core_ties.py's exact ties the GPU takes (one objective, not a lex pair)."""
+    sys.path.insert(0, os.path.dirname(os.path.dirname(__file__)))
+    from test_core_ties import EXACT_TIES
+
+    return [case for case in EXACT_TIES if isinstance(case[3], str)]
+
+
+@pytest.mark.parametrize("case", gpu_ties(), ids=lambda case: case[0])
+def test_exact_ties_go_to_the_smallest_split(case):
+    # the rebuild's reduction must keep the smallest k among equal costs, as memo does
+    _, vertices, weight, objective, expected = case
+    tri = triangulate(vertices, weight, objective, method="gpu")
+    assert sorted(map(tuple, tri.triangles.tolist())) == expected
+
+
+@pytest.mark.parametrize("n", [6, 8, 10])
+@pytest.mark.parametrize("weight", ["max_angle", "aspect_ratio"])
+def test_regular_polygon_bottleneck_same_triangles_as_memo(n, weight):
+    # congruent triangles: many equal sub-costs, compared exactly under "max"
+    ang = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    problem = build_problem(as_polygon(np.c_[np.cos(ang), np.sin(ang)]), weight, "max")
+    got, want = gpu.solve(problem), memo.solve(problem)
+    assert got.cost == want.cost
+    assert sorted(map(tuple, got.triangles.tolist())) == sorted(map(tuple, want.triangles.tolist()))
+
+
 def test_simple_polygon_matches_brute_force():
     poly, ok = comb(4, seed=11)
     problem = build_problem(poly, "diagonal", "sum", allowed=ok)
