@@ -32,12 +32,17 @@ The formulas below are plain Python over ``p[v][c]`` (coordinate ``c`` of
 vertex ``v``): the Python engines call them on rows of tuples, and the
 compiled engine compiles these very functions with numba
 (:mod:`optri.engines._jit_weights`), so both compute the same numbers. The
-CUDA device functions (:mod:`optri.engines._gpu_device`) are the one twin,
-checked against these formulas by the test suite.
+CUDA device functions (:mod:`optri.engines._gpu_device`) are the one twin.
 
 To add a weight: write its formula here, give it a :class:`WeightCode`, add
-its branch to :func:`triangle_weight` and register it at the end of this
-module; then add its CUDA twin and extend ``tests/test_weights.py``.
+its branch to :func:`triangle_weight` (a sum over sides also to
+:func:`edge_weight` and :attr:`Weight.edge_decomposable`) and register it at
+the end of this module; then write its CUDA twin in the device functions
+``weight`` (and ``edge``) of :mod:`optri.engines._gpu_device`.
+``tests/test_weights.py`` needs no edit: for every ``WeightCode`` it evaluates
+the Python formula, its numba compilation and the CUDA twin (under numba's
+CUDA simulator) on the same random and degenerate triangles, and fails until
+all three agree (the first two bit for bit, CUDA within a few ulps).
 """
 
 from __future__ import annotations

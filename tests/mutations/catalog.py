@@ -35,6 +35,9 @@ RESUME = "tests/test_batch_resume.py"
 MASK = "tests/test_simple_mask.py"
 SIMPLE = "tests/test_simple_solve.py"
 WEIGHTS = "tests/test_core_weights.py"
+TWINS = "tests/test_weights.py"
+GPU_SIM = ("tests/test_gpu_sim.py", "-k", "small")  # the simulator cases, tiny tiles
+GPU_PTX = "tests/test_gpu_ptx.py"
 
 MUTATIONS: list[Mutation] = [
     # --- the list: two-phase rule, ties, check(), CLI errors, 3-D limit ---------
@@ -461,5 +464,41 @@ MUTATIONS: list[Mutation] = [
         'return " ".join(str(message).split()) or "unknown error"',
         'return str(message) or "unknown error"',
         ("tests/test_batch_badinput.py",),
+    ),
+    # --- GPU engine: the CUDA weight twin, the kernels (simulator), the PTX checks --------
+    M(
+        "gpu-twin-min-angle-drops-an-angle",
+        "src/optri/engines/_gpu_device.py",
+        "return -min(ta, min(tb, tc))",
+        "return -min(ta, tb)",
+        (TWINS,),
+    ),
+    M(
+        "gpu-twin-diagonal-counts-the-closing-side",
+        "src/optri/engines/_gpu_device.py",
+        "if hi - lo == 1 or (lo == 0 and hi == n - 1):",
+        "if hi - lo == 1:",
+        (TWINS,),
+    ),
+    M(
+        "gpu-rebuild-ties-to-largest-k",
+        "src/optri/engines/_gpu_kernels.py",
+        "(sa[tid] < 0 or oa < sa[tid])",
+        "(sa[tid] < 0 or oa > sa[tid])",
+        GPU_SIM,
+    ),
+    M(
+        "gpu-finish-ignores-the-mask",
+        "src/optri/engines/_gpu_kernels.py",
+        "if has_mask and mask[i, j] == 0:",
+        "if has_mask and mask[i, j] == 2:",
+        GPU_SIM,
+    ),
+    M(
+        "gpu-finish-launch-bounds-of-the-wrong-block",
+        "src/optri/engines/_gpu_kernels.py",
+        "finish=finish_kernel(tile, finish_threads, dtype),",
+        "finish=finish_kernel(tile, threads, dtype),",
+        (GPU_PTX,),
     ),
 ]
