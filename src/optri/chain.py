@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import cast
@@ -38,14 +39,17 @@ def matrix_chain(dims: Sequence[int], method: str = "auto") -> ChainOrder:
 
     Solved as the optimal triangulation of a polygon whose vertices carry the
     dimensions d_0..d_m with triangle weight d_i * d_k * d_j (the paper's
-    correspondence between triangulations and parenthesizations, Section 3).
+    correspondence between triangulations and parenthesizations, Section 3),
+    in exact integer arithmetic: int64 where no cost can overflow it, Python
+    ints beyond (``method="integer"``, the default's choice).
 
     Parameters
     ----------
     dims : sequence of int
         m + 1 positive dimensions for m >= 2 matrices.
     method : str
-        Engine, as for :func:`optri.triangulate`.
+        Engine, as for :func:`optri.triangulate`; float engines (``"fast"``,
+        ``"gpu"``) are refused when a cost could exceed 2**53.
 
     Returns
     -------
@@ -67,20 +71,33 @@ def matrix_chain(dims: Sequence[int], method: str = "auto") -> ChainOrder:
     >>> c.cost, c.parenthesization
     (15125, '((A1(A2A3))((A4A5)A6))')
     """
-    d = np.asarray(dims)
-    if d.ndim != 1 or len(d) < 3:
-        raise InvalidPolygonError("a matrix chain needs at least 3 dimensions (2 matrices)")
-    if (
-        not np.issubdtype(d.dtype, np.number)
-        or not np.all(np.isfinite(d))
-        or np.any(d <= 0)
-        or np.any(d != np.round(d))
-    ):
-        raise InvalidPolygonError(f"matrix dimensions must be positive integers, got {list(dims)}")
-    t = triangulate(d.astype(np.float64), weight="product", method=method)
+    d = _exact_dims(dims)
+    values = np.array(d, dtype=np.int64 if max(d) < 2**63 else object)
+    t = triangulate(values, weight="product", method=method)
     splits = {(int(i), int(j)): int(k) for i, k, j in np.sort(t.triangles, axis=1).tolist()}
-    cost = cast(float, t.weight)  # a scalar objective
-    return ChainOrder(int(round(cost)), _parens(splits, 0, len(d) - 1), splits)
+    cost = cast(int, t.weight)  # exact: integer values give an int
+    return ChainOrder(int(cost), _parens(splits, 0, len(d) - 1), splits)
+
+
+def _exact_dims(dims: Sequence[int]) -> list[int]:
+    """The dimensions as Python ints, refusing anything but positive integers."""
+    try:
+        items = list(dims)
+    except TypeError:
+        items = None
+    if items is None or len(items) < 3:
+        raise InvalidPolygonError("a matrix chain needs at least 3 dimensions (2 matrices)")
+    out = []
+    for v in items:
+        ok = isinstance(v, (int, np.integer)) and not isinstance(v, (bool, np.bool_))
+        if not ok and isinstance(v, (float, np.floating)) and math.isfinite(v):
+            ok = float(v).is_integer()
+        if not ok or v <= 0:
+            raise InvalidPolygonError(
+                f"matrix dimensions must be positive integers, got {list(dims)}"
+            )
+        out.append(int(v))
+    return out
 
 
 def _parens(splits: dict[tuple[int, int], int], i: int, j: int) -> str:

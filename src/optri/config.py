@@ -21,8 +21,10 @@ MEMORY_FRACTION = 0.8
 MEMORY_LIMIT_BYTES: int | None = None
 #: Largest n the brute-force oracle accepts (Catalan(n-2) triangulations).
 BRUTE_MAX_N = 13
-#: Relative tolerance for geometric predicates (collinearity, convexity).
-GEOMETRY_RTOL = 1e-12
+#: 3-D input counts as planar (then triangulated as a simple polygon in its own plane) when
+#: every vertex lies within this fraction of its extent from the plane. Every 2-D sign
+#: (collinear, convex, crossing, inside) is exact and needs no tolerance.
+PLANARITY_RTOL = 1e-9
 #: Valid-diagonal mask: up to this n the numpy O(n^3) mask is used while numba is not
 #: loaded yet: it is instant there, and starting numba is not.
 MASK_NUMPY_MAX_N = 48
