@@ -9,7 +9,7 @@ from typing import cast
 
 import numpy as np
 
-from .errors import InvalidPolygonError
+from .errors import InvalidPolygonError, OptriError
 from .solve import triangulate
 
 __all__ = ["ChainOrder", "matrix_chain"]
@@ -101,9 +101,15 @@ def _exact_dims(dims: Sequence[int]) -> list[int]:
 
 
 def _parens(splits: dict[tuple[int, int], int], i: int, j: int) -> str:
+    """The parenthesization the splits describe; bounded: a corrupt table raises.
+
+    >>> _parens({(0, 2): 1}, 0, 2)
+    '(A1A2)'
+    """
     # chord (i, j) is the product A_{i+1} ... A_j; iterative to allow long chains
     out: list[str] = []
     stack: list[tuple[int, int] | str] = [(i, j)]
+    expanded = 0
     while stack:
         item = stack.pop()
         if isinstance(item, str):
@@ -113,6 +119,12 @@ def _parens(splits: dict[tuple[int, int], int], i: int, j: int) -> str:
         if b - a == 1:
             out.append(f"A{b}")
             continue
-        k = splits[(a, b)]
+        k = splits.get((a, b), -1)
+        expanded += 1
+        if not a < k < b or expanded > j - i - 1:
+            raise OptriError(
+                f"internal error: split {k} of chord ({a}, {b}) is not inside it, or the "
+                f"walk exceeds {j - i - 1} products; please report this input"
+            )
         stack.extend([")", (k, b), (a, k), "("])
     return "".join(out)

@@ -274,7 +274,7 @@ def orient_sign(ax, ay, bx, by, cx, cy):  # type: ignore[no-untyped-def]
 
     >>> orient_sign(0.0, 0.0, 1.0, 0.0, 1.0, 1.0)
     1
-    >>> orient_sign(0.0, 0.0, 0.1, 0.2, 0.3, 0.6)   # as doubles 0.3 != 3 * 0.1: not collinear
+    >>> orient_sign(0.0, 0.0, 1.0, 1.0, 3.0, 3.0 + 2.0**-51)   # a left turn, however slight
     1
     """
     ux = bx - ax

@@ -167,6 +167,30 @@ def triangle_area(p, i, k, j):  # type: ignore[no-untyped-def]
     return _ldexp(0.5 * math.sqrt(cx * cx + cy * cy + cz * cz), 2 * e)
 
 
+def _scaled_sides(p, i, k, j):  # type: ignore[no-untyped-def]
+    """Side lengths |kj|, |ij|, |ik|, all scaled by one power of two to near 1.
+
+    Scaling the coordinate differences (exact) before squaring keeps full precision
+    for sides too short for float64's normal range and finite for sides near 1e308.
+    """
+    three = len(p[i]) > 2
+    ax, ay = p[j][0] - p[k][0], p[j][1] - p[k][1]
+    bx, by = p[j][0] - p[i][0], p[j][1] - p[i][1]
+    cx, cy = p[k][0] - p[i][0], p[k][1] - p[i][1]
+    az = p[j][2] - p[k][2] if three else 0.0
+    bz = p[j][2] - p[i][2] if three else 0.0
+    cz = p[k][2] - p[i][2] if three else 0.0
+    m = max(max(abs(ax), abs(ay), abs(az)), max(abs(bx), abs(by), abs(bz)))
+    e = math.frexp(max(m, max(abs(cx), abs(cy), abs(cz))))[1]
+    return _norm_at(ax, ay, az, e), _norm_at(bx, by, bz, e), _norm_at(cx, cy, cz, e)
+
+
+def _norm_at(x, y, z, e):  # type: ignore[no-untyped-def]
+    """|(x, y, z)| * 2**-e, the components scaled first (exact)."""
+    x, y, z = math.ldexp(x, -e), math.ldexp(y, -e), math.ldexp(z, -e)
+    return math.sqrt(x * x + y * y + z * z)
+
+
 def _shape(code, p, i, k, j):  # type: ignore[no-untyped-def]
     """The side-length weights: largest angle, minus smallest angle, aspect ratio.
 
@@ -176,8 +200,7 @@ def _shape(code, p, i, k, j):  # type: ignore[no-untyped-def]
     a, b, c = side_length(p, k, j), side_length(p, i, j), side_length(p, i, k)
     m = max(a, max(b, c))
     if m > _SHAPE_HI or 0.0 < m < _SHAPE_LO:
-        e = math.frexp(m)[1]
-        a, b, c = math.ldexp(a, -e), math.ldexp(b, -e), math.ldexp(c, -e)
+        a, b, c = _scaled_sides(p, i, k, j)
     # acos is decreasing: the largest angle has the smallest cosine (one acos, not three)
     if code == WeightCode.MAX_ANGLE:
         return math.acos(min(_cosine(a, b, c), _cosine(b, c, a), _cosine(c, a, b)))
@@ -215,6 +238,8 @@ def triangle_weight(code, p, i, k, j):  # type: ignore[no-untyped-def]
 FORMULAS = (
     _ldexp,
     _scaled_norm,
+    _norm_at,
+    _scaled_sides,
     side_length,
     edge_weight,
     _cosine,
