@@ -13,10 +13,10 @@ import math
 
 import numpy as np
 import pytest
-from exact_oracle import between_q, ccw, exact_count, exact_mask, sign_q
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+from exact_oracle import between_q, ccw, exact_count, exact_mask, sign_q
 from optri import as_polygon, count_triangulations
 from optri.polygon import find_self_intersection
 from optri.predicates import (
