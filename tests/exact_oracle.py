@@ -124,3 +124,45 @@ def perimeter_dp(points: np.ndarray, ok: np.ndarray) -> float:
                 default=math.inf,
             )
     return cost[0][n - 1]
+
+
+def exact_simple(points: np.ndarray) -> bool:
+    """Whether the closed ring of distinct points is simple: no two edges meet improperly.
+
+    Adjacent edges may only share their common vertex (no fold-back); other edges
+    may not cross, touch or overlap. Exact ints, O(n^2).
+    """
+    x, y = as_integers(points)
+    n = len(x)
+
+    def o(a: int, b: int, c: int) -> int:
+        d = (x[b] - x[a]) * (y[c] - y[a]) - (y[b] - y[a]) * (x[c] - x[a])
+        return (d > 0) - (d < 0)
+
+    def on_closed(a: int, b: int, c: int) -> bool:  # c on segment ab, given collinear
+        return min(x[a], x[b]) <= x[c] <= max(x[a], x[b]) and min(y[a], y[b]) <= y[c] <= max(
+            y[a], y[b]
+        )
+
+    for e in range(n):
+        a, b = e, (e + 1) % n
+        for f in range(e + 1, n):
+            c, d = f, (f + 1) % n
+            if b == c or d == a:  # adjacent: they share one vertex, must not fold back
+                s, p, q = (b, a, d) if b == c else (a, b, c)
+                if o(p, s, q) == 0 and (x[p] - x[s]) * (x[q] - x[s]) + (y[p] - y[s]) * (
+                    y[q] - y[s]
+                ) > 0:
+                    return False
+                continue
+            o1, o2, o3, o4 = o(a, b, c), o(a, b, d), o(c, d, a), o(c, d, b)
+            if o1 * o2 < 0 and o3 * o4 < 0:
+                return False
+            if (
+                (o1 == 0 and on_closed(a, b, c))
+                or (o2 == 0 and on_closed(a, b, d))
+                or (o3 == 0 and on_closed(c, d, a))
+                or (o4 == 0 and on_closed(c, d, b))
+            ):
+                return False
+    return True
