@@ -234,6 +234,10 @@ def triangle_weight(code, p, i, k, j):  # type: ignore[no-untyped-def]
     return math.nan
 
 
+#: The rare paths (values beyond float64's comfortable range), compiled as calls rather
+#: than inlined, so the common path stays small.
+OUT_OF_LINE = (_ldexp, _scaled_norm, _norm_at, _scaled_sides)
+
 #: The formulas, registered with numba by the compiled engine (optri.engines._jit_weights).
 FORMULAS = (
     _ldexp,
