@@ -24,7 +24,7 @@ from .result import Triangulation, recompute_cost
 from .simple import allowed_chords, zero_area_triangles
 from .weights import WeightLike, resolve_weights
 
-__all__ = ["build_problem", "load_polygon", "solve_problem", "triangulate"]
+__all__ = ["build_problem", "load_polygon", "solution_result", "solve_problem", "triangulate"]
 
 PolygonLike = ArrayLike | Polygon | str | os.PathLike[str]
 
@@ -63,11 +63,12 @@ def triangulate(
         objective.
     objective : {"sum", "max"} or pair
         How triangle weights combine: total, bottleneck, or lexicographic.
-    method : {"auto", "memo", "table", "brute", "fast", "gpu", "integer"}
+    method : {"auto", "memo", "table", "naive", "brute", "fast", "gpu", "integer"}
         ``"memo"``: the paper's top-down memoization; ``"table"``: bottom-up
-        square matrix; ``"brute"``: all triangulations (n <= 13); ``"fast"``:
-        compiled; ``"gpu"``: CUDA; ``"integer"``: exact integers for the
-        ``"product"`` weight on integer values; ``"auto"``: the fastest that
+        square matrix; ``"naive"``: the recursion without its table (3^(n-2)
+        calls, n <= 12, for teaching); ``"brute"``: all triangulations (n <= 13);
+        ``"fast"``: compiled; ``"gpu"``: CUDA; ``"integer"``: exact integers for
+        the ``"product"`` weight on integer values; ``"auto"``: the fastest that
         can take it. The product weight on integer values always gives an
         exact ``int`` (float tables are refused where they could round).
     progress : callable, optional
@@ -237,6 +238,19 @@ def _require_finite(cost: Any) -> None:
         raise NoTriangulationError(
             f"the optimal cost {cost} is not a finite number: {_NOT_FINITE}", None
         )
+
+
+def solution_result(
+    problem: Problem, method: str, solution: Solution, seconds: float = 0.0
+) -> Triangulation:
+    """The :class:`Triangulation` of an engine's answer, built as :func:`triangulate` does.
+
+    Triangles in input vertex indices; :meth:`Triangulation.check` recomputes the cost.
+    """
+    return _to_result(
+        problem, solution.cost, solution.triangles, method, seconds, solution.table,
+        solution.stats,
+    )
 
 
 def _report_degenerate(problem: Problem, triangles: NDArray[np.int64], stats: Any) -> None:
