@@ -157,11 +157,20 @@ class Objective:
 
     @property
     def neutral(self) -> Cost:
-        """Cost of a polygon side (an empty triangulation).
+        """Cost of a polygon side (an empty triangulation)."""
+        return self.neutral_for(integer=False)
 
-        The integer 0 for "sum", so integer weights add up exactly (Python ints).
+    def neutral_for(self, integer: bool) -> Cost:
+        """:attr:`neutral`, with an integer 0 for "sum" when the weights are integers.
+
+        Integer weights (the product weight on integer values) then add up in
+        Python ints, exactly.
+
+        >>> as_objective("sum").neutral_for(True), as_objective("sum").neutral
+        (0, 0.0)
         """
-        vals = tuple(0 if c == "sum" else -math.inf for c in self.components)
+        zero = 0 if integer else 0.0
+        vals = tuple(zero if c == "sum" else -math.inf for c in self.components)
         return vals if self.is_lex else vals[0]
 
     @property
