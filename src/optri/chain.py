@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, cast
@@ -9,7 +10,7 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from .errors import InvalidPolygonError
+from .errors import InvalidPolygonError, OptriError
 from .solve import triangulate
 
 __all__ = ["ChainOrder", "matrix_chain"]
@@ -49,14 +50,17 @@ def matrix_chain(dims: Sequence[int], method: str = "auto") -> ChainOrder:
 
     Solved as the optimal triangulation of a polygon whose vertices carry the
     dimensions d_0..d_m with triangle weight d_i * d_k * d_j (the paper's
-    correspondence between triangulations and parenthesizations, Section 3).
+    correspondence between triangulations and parenthesizations, Section 3),
+    in exact integer arithmetic: int64 where no cost can overflow it, Python
+    ints beyond (``method="integer"``, the default's choice).
 
     Parameters
     ----------
     dims : sequence of int
         m + 1 positive dimensions for m >= 2 matrices.
     method : str
-        Engine, as for :func:`optri.triangulate`.
+        Engine, as for :func:`optri.triangulate`; float engines (``"fast"``,
+        ``"gpu"``) are refused when a cost could exceed 2**53.
 
     Returns
     -------
@@ -80,22 +84,35 @@ def matrix_chain(dims: Sequence[int], method: str = "auto") -> ChainOrder:
     >>> int(c.m[2, 5]), int(c.s[1, 6])      # CLRS Figure 15.5
     (7125, 3)
     """
-    d = np.asarray(dims)
-    if d.ndim != 1 or len(d) < 3:
-        raise InvalidPolygonError("a matrix chain needs at least 3 dimensions (2 matrices)")
-    if (
-        not np.issubdtype(d.dtype, np.number)
-        or not np.all(np.isfinite(d))
-        or np.any(d <= 0)
-        or np.any(d != np.round(d))
-    ):
-        raise InvalidPolygonError(f"matrix dimensions must be positive integers, got {list(dims)}")
-    t = triangulate(d.astype(np.float64), weight="product", method=method, keep_table=True)
+    d = _exact_dims(dims)
+    values = np.array(d, dtype=np.int64 if max(d) < 2**63 else object)
+    t = triangulate(values, weight="product", method=method, keep_table=True)
     splits = {(int(i), int(j)): int(k) for i, k, j in np.sort(t.triangles, axis=1).tolist()}
-    cost = cast(float, t.weight)  # a scalar objective
+    cost = cast(int, t.weight)  # exact: integer values give an int
     assert t.table is not None  # keep_table=True: every engine keeps it
-    m, s = _clrs_tables(t.table, [int(v) for v in d])
-    return ChainOrder(int(round(cost)), _parens(splits, 0, len(d) - 1), splits, m, s)
+    m, s = _clrs_tables(t.table, d)
+    return ChainOrder(int(cost), _parens(splits, 0, len(d) - 1), splits, m, s)
+
+
+def _exact_dims(dims: Sequence[int]) -> list[int]:
+    """The dimensions as Python ints, refusing anything but positive integers."""
+    try:
+        items = list(dims)
+    except TypeError:
+        items = None
+    if items is None or len(items) < 3:
+        raise InvalidPolygonError("a matrix chain needs at least 3 dimensions (2 matrices)")
+    out = []
+    for v in items:
+        ok = isinstance(v, (int, np.integer)) and not isinstance(v, (bool, np.bool_))
+        if not ok and isinstance(v, (float, np.floating)) and math.isfinite(v):
+            ok = float(v).is_integer()
+        if not ok or v <= 0:
+            raise InvalidPolygonError(
+                f"matrix dimensions must be positive integers, got {list(dims)}"
+            )
+        out.append(int(v))
+    return out
 
 
 def _clrs_tables(table: NDArray[np.float64], d: list[int]) -> tuple[NDArray[Any], NDArray[Any]]:
@@ -118,9 +135,15 @@ def _clrs_tables(table: NDArray[np.float64], d: list[int]) -> tuple[NDArray[Any]
 
 
 def _parens(splits: dict[tuple[int, int], int], i: int, j: int) -> str:
+    """The parenthesization the splits describe; bounded: a corrupt table raises.
+
+    >>> _parens({(0, 2): 1}, 0, 2)
+    '(A1A2)'
+    """
     # chord (i, j) is the product A_{i+1} ... A_j; iterative to allow long chains
     out: list[str] = []
     stack: list[tuple[int, int] | str] = [(i, j)]
+    expanded = 0
     while stack:
         item = stack.pop()
         if isinstance(item, str):
@@ -130,6 +153,12 @@ def _parens(splits: dict[tuple[int, int], int], i: int, j: int) -> str:
         if b - a == 1:
             out.append(f"A{b}")
             continue
-        k = splits[(a, b)]
+        k = splits.get((a, b), -1)
+        expanded += 1
+        if not a < k < b or expanded > j - i - 1:
+            raise OptriError(
+                f"internal error: split {k} of chord ({a}, {b}) is not inside it, or the "
+                f"walk exceeds {j - i - 1} products; please report this input"
+            )
         stack.extend([")", (k, b), (a, k), "("])
     return "".join(out)

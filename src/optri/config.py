@@ -21,6 +21,10 @@ MEMORY_FRACTION = 0.8
 MEMORY_LIMIT_BYTES: int | None = None
 #: Largest n the brute-force oracle accepts (Catalan(n-2) triangulations).
 BRUTE_MAX_N = 13
+#: 3-D input counts as planar (then triangulated as a simple polygon in its own plane) when
+#: every vertex lies within this fraction of its extent from the plane. Every 2-D sign
+#: (collinear, convex, crossing, inside) is exact and needs no tolerance.
+PLANARITY_RTOL = 1e-9
 #: The un-memoized recursion (``method="naive"``, :func:`optri.trace`) makes 3^(n-2) calls
 #: on an n-gon (59,049 at 12, about 3 events each when traced); it refuses larger polygons.
 NAIVE_MAX_N = 12
@@ -34,8 +38,6 @@ EXPLORE_MAX_N = 40
 ANIMATE_MAX_FRAMES = 1500
 #: Notebook HTML (``Triangulation._repr_html_``) shows the n x n table up to this n.
 HTML_TABLE_MAX_N = 24
-#: Relative tolerance for geometric predicates (collinearity, convexity).
-GEOMETRY_RTOL = 1e-12
 #: Valid-diagonal mask: up to this n the numpy O(n^3) mask is used while numba is not
 #: loaded yet: it is instant there, and starting numba is not.
 MASK_NUMPY_MAX_N = 48

@@ -16,6 +16,7 @@ from .drawing.svg import triangulation_svg
 from .io.geo import to_shapely
 from .objective import Cost, Objective
 from .polygon import signed_area
+from .predicates import orient
 
 __all__ = ["Triangulation", "diagonals_of", "chords_cross_free"]
 
@@ -156,10 +157,11 @@ class Triangulation:
 
         Checks: n - 2 triangles of distinct in-range vertices; pairwise
         non-crossing diagonals; every polygon side in exactly one triangle and
-        every diagonal in exactly two; n - 3 diagonals; for planar input every
-        triangle counter-clockwise and the triangle areas summing to the
-        polygon's area; the cost recomputed from the triangles equal to
-        :attr:`weight`.
+        every diagonal in exactly two; n - 3 diagonals; for 2-D input every
+        triangle counter-clockwise (decided exactly) and the triangle areas
+        summing to the polygon's area (computed on centred coordinates, so it
+        holds at any offset and magnitude); the cost recomputed from the
+        triangles equal to :attr:`weight`.
 
         Crossings are tested before the edge counts: with every edge count right
         no two diagonals crossed in an exhaustive search up to n = 8, so tested
@@ -188,18 +190,34 @@ class Triangulation:
             _require(_close(again, self.weight, rtol), f"cost {self.weight} != recomputed {again}")
 
     def _check_areas(self, rtol: float) -> None:
+        # every triangle counter-clockwise, decided exactly; zero-area ones pass
         p = self.vertices
-        a, b, c = p[self.triangles[:, 0]], p[self.triangles[:, 1]], p[self.triangles[:, 2]]
+        t0, t1, t2 = (self.triangles[:, m] for m in range(3))
+        _require(bool((orient(p[t0], p[t1], p[t2]) >= 0).all()), "a triangle is clockwise")
+        # the signed triangle areas of any triangulation add up to the shoelace area, an
+        # identity: compare the two sums on centred coordinates scaled below 1 (exactly, by
+        # a power of two), so neither offsets (UTM) nor magnitude (1e300) cost accuracy
+        q = _centred_unit(p)
+        a, b, c = q[t0], q[t1], q[t2]
         areas = 0.5 * (
             (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
         )
-        scale = float(np.abs(areas).sum()) or 1.0
-        _require(bool((areas >= -rtol * scale).all()), "a triangle is clockwise")
-        total = abs(signed_area(p))
+        total = math.fsum(areas.tolist())
+        shoelace = abs(signed_area(q))  # triangles are CCW whatever the input orientation
+        slack = 64 * len(p) * np.finfo(float).eps  # rounding of both sums, |q| < 1
         _require(
-            math.isclose(float(areas.sum()), total, rel_tol=1e-7, abs_tol=rtol * scale),
-            f"triangle areas sum to {areas.sum()}, polygon area is {total}",
+            math.isclose(total, shoelace, rel_tol=rtol, abs_tol=slack),
+            f"triangle areas sum to {total}, polygon area is {shoelace} (centred, scaled)",
         )
+
+
+def _centred_unit(points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """2-D points centred on their bounding box and scaled by a power of two below 1."""
+    p = points[:, :2]
+    lo, hi = p.min(axis=0), p.max(axis=0)
+    q = p - (lo + (hi - lo) / 2)
+    big = float(np.abs(q).max())
+    return np.ldexp(q, -math.frexp(big)[1]) if big > 0 else q
 
 
 def diagonals_of(triangles: NDArray[np.int64], n: int) -> NDArray[np.int64]:

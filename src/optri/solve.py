@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 import time
 import warnings
@@ -14,9 +15,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from .engines import select_engine
 from .engines.problem import Problem, ProgressFn, Solution
+from .errors import NoTriangulationError
 from .io.files import read_polygon
 from .io.geo import geo_polygon_coords
-from .objective import Objective, ObjectiveLike, as_objective
+from .objective import Objective, ObjectiveLike, as_objective, tie_ceiling
 from .polygon import Polygon, as_polygon
 from .result import Triangulation, recompute_cost
 from .simple import allowed_chords, zero_area_triangles
@@ -61,11 +63,14 @@ def triangulate(
         objective.
     objective : {"sum", "max"} or pair
         How triangle weights combine: total, bottleneck, or lexicographic.
-    method : {"auto", "memo", "table", "naive", "brute", "fast", "gpu"}
+    method : {"auto", "memo", "table", "naive", "brute", "fast", "gpu", "integer"}
         ``"memo"``: the paper's top-down memoization; ``"table"``: bottom-up
         square matrix; ``"naive"``: the recursion without its table (3^(n-2)
-        calls, n <= 12, for teaching); ``"brute"``: all triangulations (n <= 13); ``"fast"``:
-        compiled; ``"gpu"``: CUDA; ``"auto"``: the fastest that can take it.
+        calls, n <= 12, for teaching); ``"brute"``: all triangulations (n <= 13);
+        ``"fast"``: compiled; ``"gpu"``: CUDA; ``"integer"``: exact integers for
+        the ``"product"`` weight on integer values; ``"auto"``: the fastest that
+        can take it. The product weight on integer values always gives an
+        exact ``int`` (float tables are refused where they could round).
     progress : callable, optional
         ``progress(done, total)`` called as the table fills.
     keep_table : bool, optional
@@ -86,6 +91,9 @@ def triangulate(
         method cannot take.
     WeightError
         Unknown weight, weight not fitting the input, a weight returning NaN.
+    NoTriangulationError
+        The optimum is not a finite float64 (weights that overflow, such as
+        lengths of a polygon with coordinates near 1e308): never returned as inf.
     EngineUnavailableError
         The method cannot run here.
     TableTooLargeError
@@ -115,16 +123,20 @@ def triangulate(
     6.828427
     >>> t.triangles.tolist(), t.diagonals.tolist()
     ([[0, 1, 3], [1, 2, 3]], [[1, 3]])
-    >>> optri.triangulate([1, 3, 1, 4, 1, 5], weight="product").weight
-    13.0
+    >>> optri.triangulate([1, 3, 1, 4, 1, 5], weight="product").weight   # integers: exact
+    13
     """
     polygon = load_polygon(vertices)
     problem = build_problem(
         polygon, weight, objective, progress=progress, keep_table=keep_table, dtype=dtype
     )
     start = time.perf_counter()
-    name, solution = solve_problem(problem, method)
+    try:
+        name, solution = solve_problem(problem, method)
+    except NoTriangulationError as exc:
+        raise NoTriangulationError(f"{exc}; {_NOT_FINITE}", exc.chord) from exc
     seconds = time.perf_counter() - start
+    _require_finite(solution.cost)
     if problem.allowed is not None:
         _report_degenerate(problem, solution.triangles, solution.stats)
     return _to_result(
@@ -151,7 +163,8 @@ def solve_problem(problem: Problem, method: str = "auto") -> tuple[str, Solution
             problem,
             weights=problem.weights[1:],
             objective=Objective(objective.components[1:]),
-            gates=(*problem.gates, (problem.weights[0], first_cost)),
+            # near-ties with the bottleneck pass the gate too (objective.LEX_TIE_RTOL)
+            gates=(*problem.gates, (problem.weights[0], tie_ceiling(first_cost))),
         )
         name, second = solve_problem(rest, method)
         tail = second.cost if isinstance(second.cost, tuple) else (second.cost,)
@@ -211,6 +224,22 @@ def load_polygon(vertices: PolygonLike) -> Polygon:
     return as_polygon(vertices)  # type: ignore[arg-type]
 
 
+_NOT_FINITE = (
+    "with a valid polygon this means the weights are infinite or overflow float64 "
+    "(at coordinates of magnitude near 1e308 lengths and sums exceed it); scale the "
+    "coordinates down"
+)
+
+
+def _require_finite(cost: Any) -> None:
+    """Refuse an optimum that is not a finite number (never return inf as an answer)."""
+    values = cost if isinstance(cost, tuple) else (cost,)
+    if not all(v == -math.inf or math.isfinite(v) for v in values):  # -inf: no triangle
+        raise NoTriangulationError(
+            f"the optimal cost {cost} is not a finite number: {_NOT_FINITE}", None
+        )
+
+
 def solution_result(
     problem: Problem, method: str, solution: Solution, seconds: float = 0.0
 ) -> Triangulation:
@@ -255,10 +284,13 @@ def _to_result(
     polygon, objective = problem.polygon, problem.objective
     tris = polygon.order[triangles] if len(triangles) else triangles.reshape(0, 3)
     names = tuple(w.name for w in problem.weights)
+    weight = objective.finalize(cost)
+    if problem.integer_costs:  # exact: a float engine was used only below 2**53
+        weight = tuple(map(int, weight)) if isinstance(weight, tuple) else int(weight)
     return Triangulation(
         vertices=polygon.vertices,
         triangles=tris.astype(np.int64),
-        weight=objective.finalize(cost),
+        weight=weight,
         method=method,
         weight_name=names if objective.is_lex else names[0],
         objective=objective.name,

@@ -18,9 +18,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
-
 from ..errors import OptriError
+from ..polygon import normalize_vertices
 from ..solve import triangulate
 
 __all__ = [
@@ -104,8 +103,9 @@ def solve_item(item: Item, weight: Any = "perimeter", objective: Any = "sum", me
         return error_record(item.id, item.reason, _count(item.coords))
     start = time.perf_counter()
     try:
-        # an array, never a str: triangulate would take a string for a file name
-        vertices = np.asarray(item.coords, dtype=np.float64)
+        # the shared validator (closing vertices, numbers, shape), then an array, never a
+        # str: triangulate would take a string for a file name
+        vertices = normalize_vertices(item.coords)
         tri = triangulate(vertices, weight=weight, objective=objective, method=method)
     except (OptriError, ValueError, TypeError, OverflowError) as exc:
         # ValueError/TypeError: coordinates numpy cannot even read (ragged, strings)

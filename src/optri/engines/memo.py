@@ -19,6 +19,8 @@ __all__ = ["solve"]
 
 #: Honours Problem.gates (through Problem.evaluator).
 SUPPORTS_GATES = True
+#: Integer weights stay Python ints: exact costs at any size.
+EXACT_INTS = True
 
 _UNSET = None  # the paper's "infinity": not computed yet
 

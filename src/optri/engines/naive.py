@@ -22,6 +22,8 @@ __all__ = ["naive_calls", "solve", "unsupported"]
 
 #: Honours Problem.gates (through Problem.evaluator).
 SUPPORTS_GATES = True
+#: Integer weights stay Python ints: exact costs at any size.
+EXACT_INTS = True
 
 _UNSET = None
 
@@ -59,12 +61,12 @@ def solve(problem: Problem) -> Solution:
     >>> from optri.solve import build_problem
     >>> sol = solve(build_problem(as_polygon([5, 1, 5, 1, 5]), "product", "sum"))
     >>> sol.cost, sol.stats["requests"] + 1       # 3^(5-2) calls, root included
-    (35.0, 27)
+    (35, 27)
     """
     n = problem.n
     rec = Recurrence(problem)
     cost, split = new_tables(problem, _UNSET)
-    neutral = problem.objective.neutral
+    neutral = problem.objective.neutral_for(problem.integer_costs)
     watch = problem.observer
 
     requests = cells = 0

@@ -211,7 +211,7 @@ def new_tables(problem: Problem, unset: Any) -> tuple[list[list[Any]], list[list
     )
     cost: list[list[Any]] = [[unset] * n for _ in range(n)]
     split = [[-1] * n for _ in range(n)]
-    neutral = problem.objective.neutral
+    neutral = problem.objective.neutral_for(problem.integer_costs)  # ints stay exact
     for i in range(n - 1):
         cost[i][i + 1] = neutral
     return cost, split

@@ -16,6 +16,8 @@ __all__ = ["solve"]
 
 #: Honours Problem.gates (through Problem.evaluator).
 SUPPORTS_GATES = True
+#: Integer weights stay Python ints: exact costs at any size.
+EXACT_INTS = True
 
 _UNSET = None
 

@@ -91,7 +91,7 @@ class Board:
     >>> for e in t.events:
     ...     b.apply(e)
     >>> b.values[(0, 4)], b.splits[(0, 4)], b.tried[(0, 4)]
-    (35.0, 1, {1: 35.0, 2: 175.0, 3: 35.0})
+    (35, 1, {1: 35, 2: 175, 3: 35})
     """
 
     n: int

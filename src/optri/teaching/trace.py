@@ -190,7 +190,7 @@ def trace(
     >>> t.counts()
     {'call': 21, 'hit': 15, 'candidate': 10, 'store': 6}
     >>> t.events[-1]
-    Event(kind='store', i=0, j=4, k=1, value=35.0)
+    Event(kind='store', i=0, j=4, k=1, value=35)
     >>> trace([5, 1, 5, 1, 5], "product", method="naive").counts()["call"]
     27
     """
