@@ -59,8 +59,8 @@ def dense_rows(Q, n, has_third, MN, allowed, T, K, C, i_hi, i_lo):
             vv = vx * vx + vy * vy + vz * vz
             xi, yi, zi = X[i], Y[i], Z[i]
             Xs, Ys, Zs = X[i + 1 : j], Y[i + 1 : j], Z[i + 1 : j]
-            Ti = T[i, :, i + 1 : j]
-            Tj = T[j, :, i + 1 : j]
+            o = i + 1  # T indexed directly: a slice of an argument has strides the
+            # compiler cannot see, and the loop below would not vectorize
             for t in range(m):
                 ux = Xs[t] - xi
                 uy = Ys[t] - yi
@@ -76,14 +76,14 @@ def dense_rows(Q, n, has_third, MN, allowed, T, K, C, i_hi, i_lo):
                 ax = nx * inv
                 ay = ny * inv
                 az = nz * inv
-                kl = 1.0 - (ax * Ti[2, t] + ay * Ti[3, t] + az * Ti[4, t])
-                kr = 1.0 - (ax * Tj[2, t] + ay * Tj[3, t] + az * Tj[4, t])
+                kl = 1.0 - (ax * T[i, 2, o + t] + ay * T[i, 3, o + t] + az * T[i, 4, o + t])
+                kr = 1.0 - (ax * T[j, 2, o + t] + ay * T[j, 3, o + t] + az * T[j, 4, o + t])
                 kl = min(max(kl, 0.0), FOLD_KEY)
                 kr = min(max(kr, 0.0), FOLD_KEY)
                 kl = DEGENERATE_KEY if deg else kl
                 kr = DEGENERATE_KEY if deg else kr
-                C[0, t] = max(max(Ti[0, t], Tj[0, t]), max(kl, kr))
-                C[1, t] = Ti[1, t] + Tj[1, t] + 0.5 * nn
+                C[0, t] = max(max(T[i, 0, o + t], T[j, 0, o + t]), max(kl, kr))
+                C[1, t] = T[i, 1, o + t] + T[j, 1, o + t] + 0.5 * nn
             _fix_ends(Q, n, i, j, has_third, MN, T, C)
             best1 = np.inf
             best2 = np.inf
