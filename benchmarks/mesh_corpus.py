@@ -6,6 +6,7 @@ zero-area faces, and whether the result is watertight (trimesh's test). The
 checks are written here, independently of optri's own code.
 
     PYTHONPATH=src python benchmarks/mesh_corpus.py [FOLDER ...] [--methods auto,liepa,delaunay]
+    PYTHONPATH=src python benchmarks/mesh_corpus.py benchmarks/data --cut z:0.5   # big ragged holes
 
 Default folder: tests/data/external (see tests/data/README.md for where the
 files come from). Run it with an older optri on PYTHONPATH for "before" figures.
@@ -60,13 +61,25 @@ def load_exact(path: Path):
     return trimesh.Trimesh(np.asarray(m.vertices)[first], faces, process=False)
 
 
-def check(path: Path, method: str, loader: str = "optri") -> dict:
-    row: dict = {"mesh": path.name, "method": method}
+def cut(mesh, spec: str):
+    """The mesh without its faces below a plane: ``"z:0.5"`` = below the median height."""
+    import trimesh
+
+    axis, q = "xyz".index(spec[0]), float(spec.split(":")[1])
+    height = np.asarray(mesh.triangles_center)[:, axis]
+    keep = np.asarray(mesh.faces)[height >= np.quantile(height, q)]
+    return trimesh.Trimesh(np.asarray(mesh.vertices), keep, process=False)
+
+
+def check(path: Path, method: str, loader: str = "optri", plane: str = "") -> dict:
+    row: dict = {"mesh": path.name + (f" cut {plane}" if plane else ""), "method": method}
     try:
         mesh = read_mesh(path) if loader == "optri" else load_exact(path)
     except (OptriError, ValueError) as exc:
         row["error"] = f"load: {exc}"
         return row
+    if plane:
+        mesh = cut(mesh, plane)
     v, before = np.asarray(mesh.vertices), np.asarray(mesh.faces)
     start = time.perf_counter()
     try:
@@ -97,6 +110,7 @@ def main() -> None:
     ap.add_argument("folders", nargs="*", default=["tests/data/external"], help="folders or files")
     ap.add_argument("--methods", default="auto,liepa,delaunay")
     ap.add_argument("--json", help="write the rows here")
+    ap.add_argument("--cut", default="", help="first remove the faces below a plane, e.g. z:0.5")
     ap.add_argument(
         "--loader",
         choices=("optri", "exact"),
@@ -109,7 +123,7 @@ def main() -> None:
     rows = []
     for path in files:
         for method in args.methods.split(","):
-            row = check(path, method, args.loader)
+            row = check(path, method, args.loader, args.cut)
             rows.append(row)
             print(json.dumps(row), flush=True)
     ok = [r for r in rows if "error" not in r]

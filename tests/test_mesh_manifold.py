@@ -91,6 +91,24 @@ def test_hole_every_patch_of_which_reuses_an_edge_is_left_open():
     assert len(f2) == len(f)
 
 
+@pytest.mark.parametrize("weight", ["area", "liepa"])
+def test_loops_sharing_two_vertices_do_not_both_take_their_chord(weight):
+    # two tents pinched at u = 0 and v = 1: each hole's best patch joins u and v; the
+    # second must not, or edge u-v would get four faces
+    v = np.array(
+        [[0, 0, 0], [0.4, 0, 0], [0.2, 2, 0.3], [0.2, -2, 0.3], [0.2, 0, 1.5]]
+        + [[0.2, 2, -0.3], [0.2, -2, -0.3], [0.2, 0, -1.5]]
+    )
+    f = np.array(
+        [[4, 0, 2], [4, 2, 1], [4, 1, 3], [4, 3, 0], [7, 0, 5], [7, 5, 1], [7, 1, 6], [7, 6, 0]]
+    )
+    (_, f2), rec = fill_holes((v, f), method="exact", weight=weight)
+    assert [r.pinched for r in rec] == [[0, 1], [0, 1]]
+    assert [r.forbidden_chords for r in rec] == [0, 1]  # the first patch's chord u-v
+    added = assert_manifold_fill(v, f, f2)
+    assert sorted(map(sorted, added.tolist())) == [[0, 1, 2], [0, 1, 3], [0, 5, 6], [1, 5, 6]]
+
+
 def _icosphere_holes():
     sphere = trimesh.creation.icosphere(subdivisions=2)
     c = sphere.triangles_center
