@@ -86,12 +86,14 @@ def test_closed_mesh_has_no_holes():
     assert records == [] and len(filled.faces) == len(sphere.faces)
 
 
-def test_non_manifold_boundary_is_refused():
+def test_pinched_bowtie_fills_both_loops():
     # two triangles touching at one vertex: vertex 0 has four boundary edges
     v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]], dtype=float)
     f = np.array([[0, 1, 2], [0, 3, 4]])
-    with pytest.raises(InvalidPolygonError, match="non-manifold boundary at vertex 0"):
-        fill_holes((v, f))
+    (_, f2), records = fill_holes((v, f))
+    assert [r.status for r in records] == ["filled", "filled"]
+    assert [r.pinched for r in records] == [[0], [0]]
+    assert sorted(map(sorted, f2[2:].tolist())) == [[0, 1, 2], [0, 3, 4]]
 
 
 @pytest.mark.parametrize(

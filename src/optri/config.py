@@ -44,8 +44,22 @@ MASK_NUMPY_MAX_N = 48
 #: k-best for objectives led by "max" (not monotone) enumerates every triangulation;
 #: it refuses polygons with more triangulations than this.
 KBEST_ENUMERATION_LIMIT = 2_000_000
-#: 3-D holes: ``method="auto"`` runs the exact O(n^4) Liepa search up to this many vertices.
-HOLES_EXACT_MAX_N = 120
+#: 3-D holes: ``method="auto"`` runs the exact Liepa search up to this many vertices
+#: (O(n^4) time at worst, pruned by Liepa's patch; about 8 n^3 / 3 bytes), Liepa's O(n^3)
+#: recurrence above. Measured by benchmarks/bench_mesh.py: see docs/mesh.md.
+HOLES_EXACT_MAX_N = 400
+#: 3-D holes: work (about apex evaluations) per compiled-kernel call of the Liepa and
+#: exact searches; between calls Ctrl-C takes effect.
+HOLES_CHUNK_WORK = 2e7
+#: 3-D holes, triangle weights: a patch without zero-area triangles replaces the optimum
+#: when its value is within this relative tolerance (a tie up to rounding).
+HOLES_TIE_RTOL = 1e-9
+#: 3-D holes: a triangle whose aspect ratio (circumradius / (2 inradius)) exceeds this
+#: counts as zero-area when triangle-weight patches avoid degenerate triangles.
+HOLES_DEGENERATE_ASPECT = 1e12
+#: Mesh files: vertices closer than this fraction of the bounding-box diagonal are merged
+#: on loading (0: only exactly equal positions, at any scale).
+MESH_MERGE_RTOL = 0.0
 #: Batch: work per chunk, in units of one weight evaluation (about a microsecond in Python).
 BATCH_CHUNK_WORK = 400_000
 #: Batch: fixed per-polygon work (validation, result building) in the same units.
