@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import datetime
 import json
 import os
 
@@ -60,6 +61,9 @@ def _table(crs: str, with_id: bool):
         "code": pa.array([None if i == 3 else 100 + i for i in range(n)], pa.int64()),
         "height": pa.array([None if i == 4 else 2.5 * i for i in range(n)], pa.float64()),
         "name": pa.array([None if i == 1 else f"bldg {i}" for i in range(n)], pa.string()),
+        # a narrower integer and a date: types a writer guessing from values would change
+        "floors": pa.array([None if i == 2 else i % 5 for i in range(n)], pa.int32()),
+        "built": pa.array([None if i == 6 else datetime.date(1990 + i, 1, 2) for i in range(n)]),
     }
     if with_id:
         cols = {"id": pa.array([f"f{i}" for i in range(n)], pa.string()), **cols}
@@ -105,7 +109,7 @@ def _write_input(path, crs, with_id):
                 "crs": {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::32633"}},
                 "features": feats,
             }
-        path.write_text(json.dumps(fc))
+        path.write_text(json.dumps(fc, default=str))
     else:
         pyogrio.write_arrow(
             table,
@@ -127,7 +131,7 @@ def _expected(ring):
         return None
 
 
-def _check_layer(out, table, rings, crs, with_id, first_id):
+def _check_layer(out, table, rings, crs, with_id, first_id, in_suffix=".gpkg"):
     """The output layer read back with pyogrio/pyarrow: CRS, columns, order, ids, triangles."""
     if out.suffix == ".parquet":
         back = pq.read_table(out)
@@ -144,9 +148,15 @@ def _check_layer(out, table, rings, crs, with_id, first_id):
     assert got_crs.equals(pyproj.CRS(crs), ignore_axis_order=True), got_crs
     for name in ("code", "height", "name"):  # values and nulls, same order
         assert back[name].to_pylist() == table[name].to_pylist(), name
+    assert back["floors"].to_pylist() == table["floors"].to_pylist()
     if out.suffix != ".geojson":  # GeoJSON keeps numbers, not Arrow types
         assert back.schema.field("code").type == pa.int64()
         assert back.schema.field("height").type == pa.float64()
+    if out.suffix != ".geojson" and in_suffix != ".geojson":  # types come from the layer
+        assert back.schema.field("floors").type == pa.int32()
+    if out.suffix in (".gpkg", ".parquet") and in_suffix in (".gpkg", ".parquet"):
+        assert back.schema.field("built").type == pa.date32()
+        assert back["built"].to_pylist() == table["built"].to_pylist()
     if out.suffix == ".geojson":  # GDAL turns integer feature ids into FIDs: read them here
         got = [f["id"] for f in json.loads(out.read_text())["features"]]
     else:
@@ -191,7 +201,7 @@ def test_other_inputs_into_geopackage(tmp_path, crs, with_id, in_suffix):
     table, rings = _write_input(src, crs, with_id)
     out = tmp_path / "out.gpkg"
     _run(src, "-o", out, "--chunk-size", "3")
-    _check_layer(out, table, rings, crs, with_id, first_id=0)
+    _check_layer(out, table, rings, crs, with_id, first_id=0, in_suffix=in_suffix)
 
 
 @pytest.mark.parametrize("crs", ["EPSG:32633", "EPSG:4326"])
@@ -202,6 +212,8 @@ def test_ndjson_output_keeps_attributes_order_ids_and_errors(tmp_path, crs):
     recs = list(iter_records(tmp_path / "o.ndjson"))
     assert [r["id"] for r in recs] == table["id"].to_pylist()
     attrs = table.drop_columns(["geometry"]).to_pylist()  # every attribute, "id" included
+    for row in attrs:  # JSON has no dates: ISO 8601 text
+        row["built"] = row["built"] and row["built"].isoformat()
     assert [r["properties"] for r in recs] == attrs
     for rec, ring in zip(recs, rings):
         tri = _expected(ring)

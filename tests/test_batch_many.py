@@ -185,6 +185,13 @@ def test_project_measures_in_metres_and_keeps_input_coordinates():
     assert listed[0].triangles.tolist() == hand.triangles.tolist()
 
 
+def test_project_centres_each_polygon_on_its_mean_position():
+    # a polygon a degree across: the centre of the projection shows in the fifth digit
+    ring = [[13.0, 52.0], [14.0, 52.1], [14.2, 52.9], [13.5, 53.2], [12.8, 52.6]]
+    out = optri.triangulate_many([ring], project=True, crs="EPSG:4326")[0]
+    assert out.weight == pytest.approx(optri.triangulate(_hand(ring)).weight, rel=1e-9)
+
+
 def test_apply_triangulate_pattern_stops_at_the_first_bad_row():
     s = gpd.GeoSeries(_shapes()[:2])
     with pytest.raises(optri.OptriError):

@@ -6,10 +6,12 @@ import json
 
 import pytest
 from click.testing import CliRunner
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import optri
 from batch_polys import write_feature_collection
-from optri.batch import BatchInputError, iter_records
+from optri.batch import BatchInputError, iter_records, readers
 from optri.cli import main
 
 SQUARE = [[0, 0], [1, 0], [1, 1], [0, 1]]
@@ -185,3 +187,44 @@ def test_attributes_of_geojson_features_survive_ndjson_and_geojson(tmp_path):
     assert feat["properties"]["status_input"] == "built" and feat["properties"]["status"] == "ok"
     rec = list(iter_records(tmp_path / "o.ndjson"))[1]
     assert rec["properties"] == {"name": "b", "status": "built", "h": None}
+
+
+JSON_VALUES = st.recursive(
+    st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=5),
+    lambda inner: (
+        st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=3), inner, max_size=4)
+    ),
+    max_leaves=20,
+)
+
+
+@settings(
+    max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(
+    lines=st.lists(
+        st.binary(max_size=60) | JSON_VALUES.map(lambda v: json.dumps(v).encode()), max_size=8
+    )
+)
+def test_any_bytes_or_json_lines_give_one_item_each(tmp_path, lines):
+    src = tmp_path / "fuzz.ndjson"
+    clean = [ln.replace(b"\n", b" ").replace(b"\r", b" ") for ln in lines]
+    src.write_bytes(b"".join(ln + b"\n" for ln in clean))
+    items = list(readers.read_items(src))  # never raises: every line is an item
+    assert len(items) == sum(1 for ln in clean if ln.strip())
+    for item in items:
+        assert (item.reason is None) == (item.coords is not None)
+        json.dumps(item.id, allow_nan=False)  # ids are valid JSON
+
+
+@settings(
+    max_examples=100, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(data=st.binary(max_size=200) | JSON_VALUES.map(lambda v: json.dumps(v).encode()))
+def test_any_bytes_as_a_feature_collection_give_items_or_one_clear_error(tmp_path, data):
+    src = tmp_path / "fuzz.geojson"
+    src.write_bytes(data)
+    try:
+        list(readers.read_items(src))
+    except BatchInputError as exc:
+        assert str(exc).startswith(f"{src}:") and "\n" not in str(exc)
