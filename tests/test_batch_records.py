@@ -133,7 +133,9 @@ def _refuse(token):
     raise AssertionError(f"non-standard JSON token {token}")
 
 
-def test_feature_collection_skips_a_broken_feature_and_reads_on(tmp_path):
+@pytest.mark.parametrize("block", [1, 7, 1 << 20])  # line numbers across block edges
+def test_feature_collection_skips_a_broken_feature_and_reads_on(tmp_path, monkeypatch, block):
+    monkeypatch.setattr(optri.config, "BATCH_READ_BLOCK", block)
     src = tmp_path / "fc.geojson"
     good = json.dumps(
         {
@@ -143,7 +145,7 @@ def test_feature_collection_skips_a_broken_feature_and_reads_on(tmp_path):
             "geometry": {"type": "Polygon", "coordinates": [SQUARE]},
         }
     )
-    deep = "[" * 50_000 + "]" * 50_000
+    deep = "[" * 5_000 + "]" * 5_000
     src.write_text(
         '{"type": "FeatureCollection",\n"features": [\n'
         + good
@@ -211,6 +213,8 @@ def test_any_bytes_or_json_lines_give_one_item_each(tmp_path, lines):
     clean = [ln.replace(b"\n", b" ").replace(b"\r", b" ") for ln in lines]
     src.write_bytes(b"".join(ln + b"\n" for ln in clean))
     items = list(readers.read_items(src))  # never raises: every line is an item
+    if clean and clean[0].startswith(b"\xef\xbb\xbf"):  # a byte-order mark is not content
+        clean[0] = clean[0][3:]
     assert len(items) == sum(1 for ln in clean if ln.strip())
     for item in items:
         assert (item.reason is None) == (item.coords is not None)

@@ -86,7 +86,10 @@ class JsonStream:
         self.fh = path.open(encoding="utf-8-sig")  # tolerate a byte-order mark
         self.buf = ""
         self.pos = 0
-        self.lines_before = 0  # newlines in text already dropped from buf
+        # a mark in buf and the newlines before it (dropped text included): line numbers
+        # are counted from the mark on, so each feature costs its own length only
+        self.mark_pos = 0
+        self.mark_lines = 0
         self.eof = False
         self.decoder = json.JSONDecoder()
 
@@ -104,7 +107,8 @@ class JsonStream:
         if not block:  # keep buf as is: error positions still point into it
             self.eof = True
             return False
-        self.lines_before += self.buf.count("\n", 0, self.pos)
+        self.line(self.pos)  # move the mark up to the text kept
+        self.mark_pos -= self.pos
         self.buf = self.buf[self.pos :] + block
         self.pos = 0
         return True
@@ -119,7 +123,11 @@ class JsonStream:
     def line(self, at: int | None = None) -> int:
         """1-based line number of buffer position ``at`` (default: the current one)."""
         at = self.pos if at is None else at
-        return self.lines_before + self.buf.count("\n", 0, at) + 1
+        if at < self.mark_pos:
+            return self.mark_lines - self.buf.count("\n", at, self.mark_pos) + 1
+        self.mark_lines += self.buf.count("\n", self.mark_pos, at)
+        self.mark_pos = at
+        return self.mark_lines + 1
 
     def peek(self) -> str:
         """The next non-space character (not consumed)."""

@@ -192,6 +192,7 @@ def _read_ndjson(path: Path) -> Iterator[Item]:
 
 def _item_from_line(raw: bytes, lineno: int, index: int) -> Item:
     """One NDJSON line as an Item; a line that cannot be read is an error item."""
+    raw = raw.rstrip(b"\r\n")
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
