@@ -31,7 +31,7 @@ LAYERS = [
     ["optri.engines"],
     ["optri.simple"],
     ["optri.solve", "optri.chain"],
-    ["optri.enumeration", "optri.holes"],
+    ["optri.enumeration", "optri.holes", "optri.teaching"],
     ["optri.batch", "optri.paper", "optri.bench"],
     ["optri.cli", "optri.__main__"],
     ["optri"],

@@ -83,6 +83,16 @@ def test_each_bad_kind_gives_an_error_record_and_good_ones_survive(tmp_path):
     assert recs["good0"]["status"] == "ok" and s.errors == len(BAD) + 1
 
 
+def test_multi_line_error_becomes_a_one_line_reason(tmp_path):
+    def weight(i, k, j):  # a user weight failing with a message of two lines
+        raise ValueError("first line\n  second line")
+
+    src = write_ndjson(tmp_path / "in.ndjson", [{"id": 1, "coordinates": SQUARE}])
+    optri.batch(src, tmp_path / "o.ndjson", workers=1, weight=weight)
+    rec = next(iter_records(tmp_path / "o.ndjson"))
+    assert rec["status"] == "error" and rec["reason"] == "first line second line"
+
+
 def test_single_part_multipolygon_is_its_polygon(tmp_path):
     row = {
         "type": "Feature",

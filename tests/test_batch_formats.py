@@ -148,13 +148,12 @@ def test_holes_in_geoparquet_are_errors(tmp_path):
 
 
 def test_import_loads_no_optional_batch_dependency():
-    import subprocess
-    import sys
+    from cli_run import run_python
 
     code = (
         "import sys, optri, optri.batch.driver; "
         "print(sorted(m for m in ('dask', 'distributed', 'pyarrow', 'geopandas', 'pyogrio',"
         " 'shapely', 'rich', 'concurrent.futures.process') if m in sys.modules))"
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.strip() == "[]"
+    out = run_python("-c", code)
+    assert out.returncode == 0 and out.stdout.strip() == "[]", out.stderr

@@ -34,7 +34,8 @@ def test_fill_json_with_limit(tmp_path):
     assert [h["status"] for h in report["holes"]] == ["skipped", "filled"]
     assert report["faces_after"] == report["faces_before"] + 10
     assert "hole 0 left open" in res.stderr
-    assert out.exists()
+    mesh = trimesh.load(out, force="mesh")
+    assert len(mesh.faces) == report["faces_after"] and not mesh.is_watertight  # one hole left
 
 
 @pytest.mark.parametrize(

@@ -80,6 +80,22 @@ def test_liepa_recurrence_is_never_better_than_exact(case):
         assert heuristic.weight[1] >= exact[1] * (1 - 1e-9)
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_area_decides_when_every_dihedral_is_the_worst(seed):
+    # third points on their sides: every mesh triangle is degenerate, so every patch
+    # has the worst key (pi) and the area alone decides: both searches then return the
+    # minimum-area patch, which Liepa's recurrence finds exactly as the area DP does
+    rng = np.random.default_rng(seed)
+    ang = np.sort(rng.uniform(0, 2 * np.pi, 9)) + np.arange(9) * 1e-3
+    pts = np.column_stack((np.cos(ang), np.sin(ang), rng.normal(0, 0.5, 9)))
+    third = (pts + np.roll(pts, -1, axis=0)) / 2
+    least = fill_polyline(pts, "area", "exact").weight
+    for method in ("liepa", "exact"):
+        t = fill_polyline(pts, "liepa", method, third)
+        assert t.weight[0] == math.pi
+        assert math.isclose(t.weight[1], least, rel_tol=1e-12), method
+
+
 def test_liepa_recurrence_is_a_heuristic():
     # a seeded case where Liepa's O(n^3) recurrence misses the max-dihedral optimum
     rng = np.random.default_rng(1)
@@ -152,15 +168,10 @@ def test_triangle_weights_and_callables_agree_with_triangulate_sum():
     area = fill_polyline(pts, "area")
     assert math.isclose(call.weight, area.weight, rel_tol=1e-12)
     assert per.weight_name == "perimeter"
-    for method in ("delaunay", "liepa"):
-        assert (
-            math.isclose(
-                fill_polyline(pts, "max_angle", method).weight,
-                fill_polyline(pts, "max_angle", "exact").weight,
-                rel_tol=1e-12,
-            )
-            or method == "delaunay"
-        )
+    exact = fill_polyline(pts, "max_angle", "exact").weight
+    # for a triangle weight "liepa" is the exact recurrence; "delaunay" searches a subset
+    assert math.isclose(fill_polyline(pts, "max_angle", "liepa").weight, exact, rel_tol=1e-12)
+    assert fill_polyline(pts, "max_angle", "delaunay").weight >= exact * (1 - 1e-12)
 
 
 def test_triangles_wound_in_polyline_order():
@@ -203,7 +214,19 @@ def test_exact_refuses_tables_that_do_not_fit(monkeypatch):
     monkeypatch.setattr(optri.config, "MEMORY_LIMIT_BYTES", 1 << 20)
     with pytest.raises(TableTooLargeError, match="method='liepa'"):
         fill_polyline(_regular(60), "liepa", "exact")
-    assert fill_polyline(_regular(60), "liepa", "auto").method in ("liepa", "exact")
+    # 60 * 60 * 61 * 10 bytes of exact tables do not fit in 1 MiB: auto takes Liepa's recurrence
+    assert fill_polyline(_regular(60), "liepa", "auto").method == "liepa"
+
+
+def test_auto_exact_search_limit_is_inclusive(monkeypatch):
+    # config.HOLES_EXACT_MAX_N vertices still get the exact search, one more gets Liepa's
+    monkeypatch.setattr(optri.config, "HOLES_EXACT_MAX_N", 6)
+    rng = np.random.default_rng(5)
+    for n, expected in ((6, "exact"), (7, "liepa")):
+        pts = _regular(n) + np.column_stack((np.zeros((n, 2)), rng.normal(0, 0.3, n)))
+        t = fill_polyline(pts, "liepa", "auto")
+        assert t.method == expected, n
+        t.check()
 
 
 @pytest.mark.parametrize("method", ["exact", "liepa", "delaunay"])

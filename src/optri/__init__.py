@@ -31,6 +31,7 @@ from .polygon import Polygon, as_polygon, require_simple
 from .result import Triangulation
 from .simple import valid_diagonals
 from .solve import triangulate
+from .teaching import Trace, trace
 from .weights import WEIGHTS, Weight, custom_weight
 
 __all__ = [
@@ -44,6 +45,7 @@ __all__ = [
     "OptriError",
     "Polygon",
     "TableTooLargeError",
+    "Trace",
     "Triangulation",
     "Weight",
     "WeightError",
@@ -60,6 +62,7 @@ __all__ = [
     "matrix_chain",
     "random_triangulation",
     "require_simple",
+    "trace",
     "triangulate",
     "triangulate_many",
     "valid_diagonals",

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
-from typing import cast
+from dataclasses import dataclass, field
+from typing import Any, cast
 
 import numpy as np
+from numpy.typing import NDArray
 
 from .errors import InvalidPolygonError
 from .solve import triangulate
@@ -26,11 +27,21 @@ class ChainOrder:
         Like ``"((A1(A2A3))((A4A5)A6))"``.
     splits : dict
         ``splits[(i, j)] = k``: product A_{i+1..j} splits after A_k.
+    m : ndarray of int, shape (M + 1, M + 1)
+        CLRS's cost table, indexed as in the book (1-based; row and column 0
+        unused): ``m[i, j]`` is the fewest scalar multiplications for
+        A_i ... A_j, i <= j, exact integers (int64, or Python ints in an object
+        array when a cost exceeds int64); 0 below the diagonal.
+    s : ndarray of int64, shape (M + 1, M + 1)
+        CLRS's split table: ``s[i, j] = k`` for i < j, the optimal product
+        (A_i ... A_k)(A_{k+1} ... A_j); 0 elsewhere (no matrix is numbered 0).
     """
 
     cost: int
     parenthesization: str
     splits: dict[tuple[int, int], int]
+    m: NDArray[Any] = field(default_factory=lambda: np.zeros((0, 0), np.int64), repr=False)
+    s: NDArray[np.int64] = field(default_factory=lambda: np.zeros((0, 0), np.int64), repr=False)
 
 
 def matrix_chain(dims: Sequence[int], method: str = "auto") -> ChainOrder:
@@ -66,6 +77,8 @@ def matrix_chain(dims: Sequence[int], method: str = "auto") -> ChainOrder:
     >>> c = matrix_chain([30, 35, 15, 5, 10, 20, 25])
     >>> c.cost, c.parenthesization
     (15125, '((A1(A2A3))((A4A5)A6))')
+    >>> int(c.m[2, 5]), int(c.s[1, 6])      # CLRS Figure 15.5
+    (7125, 3)
     """
     d = np.asarray(dims)
     if d.ndim != 1 or len(d) < 3:
@@ -77,10 +90,31 @@ def matrix_chain(dims: Sequence[int], method: str = "auto") -> ChainOrder:
         or np.any(d != np.round(d))
     ):
         raise InvalidPolygonError(f"matrix dimensions must be positive integers, got {list(dims)}")
-    t = triangulate(d.astype(np.float64), weight="product", method=method)
+    t = triangulate(d.astype(np.float64), weight="product", method=method, keep_table=True)
     splits = {(int(i), int(j)): int(k) for i, k, j in np.sort(t.triangles, axis=1).tolist()}
     cost = cast(float, t.weight)  # a scalar objective
-    return ChainOrder(int(round(cost)), _parens(splits, 0, len(d) - 1), splits)
+    assert t.table is not None  # keep_table=True: every engine keeps it
+    m, s = _clrs_tables(t.table, [int(v) for v in d])
+    return ChainOrder(int(round(cost)), _parens(splits, 0, len(d) - 1), splits, m, s)
+
+
+def _clrs_tables(table: NDArray[np.float64], d: list[int]) -> tuple[NDArray[Any], NDArray[Any]]:
+    """CLRS's m and s (1-based) from the polygon table: chord (i - 1, j) is A_i ... A_j.
+
+    The splits come from the table's lower half; the costs are recomputed from
+    them in exact integers, shortest products first.
+    """
+    size = len(d) - 1
+    s = np.zeros((size + 1, size + 1), dtype=np.int64)
+    m = [[0] * (size + 1) for _ in range(size + 1)]
+    for length in range(2, size + 1):
+        for i in range(1, size - length + 2):
+            j = i + length - 1
+            k = int(table[j, i - 1])
+            s[i, j] = k
+            m[i][j] = m[i][k] + m[k + 1][j] + d[i - 1] * d[k] * d[j]
+    big = max(max(row) for row in m) >= 2**63
+    return np.array(m, dtype=object if big else np.int64), s
 
 
 def _parens(splits: dict[tuple[int, int], int], i: int, j: int) -> str:

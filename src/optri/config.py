@@ -21,6 +21,19 @@ MEMORY_FRACTION = 0.8
 MEMORY_LIMIT_BYTES: int | None = None
 #: Largest n the brute-force oracle accepts (Catalan(n-2) triangulations).
 BRUTE_MAX_N = 13
+#: The un-memoized recursion (``method="naive"``, :func:`optri.trace`) makes 3^(n-2) calls
+#: on an n-gon (59,049 at 12, about 3 events each when traced); it refuses larger polygons.
+NAIVE_MAX_N = 12
+#: :func:`optri.trace` keeps every event (about 4 C(n, 3) of them for memo: 1.1 million at
+#: 120); it refuses larger polygons.
+TRACE_MAX_N = 120
+#: The explorer page (``optri explore``) embeds its traces (about 20 bytes an event, 2 MB
+#: at 40) and redraws the n x n table each step; it refuses larger polygons.
+EXPLORE_MAX_N = 40
+#: ``Trace.animate`` draws each frame with matplotlib (about 0.1 s each); it refuses more.
+ANIMATE_MAX_FRAMES = 1500
+#: Notebook HTML (``Triangulation._repr_html_``) shows the n x n table up to this n.
+HTML_TABLE_MAX_N = 24
 #: Relative tolerance for geometric predicates (collinearity, convexity).
 GEOMETRY_RTOL = 1e-12
 #: Valid-diagonal mask: up to this n the numpy O(n^3) mask is used while numba is not

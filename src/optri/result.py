@@ -11,6 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .drawing.figures import plot_triangulation
+from .drawing.html import triangulation_html
 from .drawing.svg import triangulation_svg
 from .io.geo import to_shapely
 from .objective import Cost, Objective
@@ -119,16 +120,30 @@ class Triangulation:
         return {"type": "MultiPolygon", "coordinates": polys}
 
     def _repr_svg_(self) -> str:
-        """SVG drawing for notebooks: triangles filled, polygon outlined (2-D input).
+        """SVG drawing for notebooks: triangles filled, polygon outlined.
+
+        3-D input is drawn from x and y; vertex values (e.g. the paper's
+        pentagon 5, 1, 5, 1, 5) on a regular n-gon labelled with the values.
 
         >>> import optri
         >>> svg = optri.triangulate([[0, 0], [1, 0], [1, 1], [0, 1]])._repr_svg_()
         >>> svg.startswith("<svg") and svg.count("<polygon") == 3
         True
+        >>> svg = optri.triangulate([5, 1, 5, 1, 5], "product")._repr_svg_()
+        >>> svg.count("<polygon"), svg.count("<text")
+        (4, 5)
         """
-        if self.vertices.ndim != 2:
-            return ""
         return triangulation_svg(self.vertices, self.triangles)
+
+    def _repr_html_(self) -> str:
+        """HTML for notebooks: the drawing with the paper's n x n table beside it.
+
+        >>> import optri
+        >>> html = optri.triangulate([5, 1, 5, 1, 5], "product", method="memo")._repr_html_()
+        >>> "<svg" in html and "<table" in html and "-1" not in html
+        True
+        """
+        return triangulation_html(self)
 
     def __repr__(self) -> str:
         return (
@@ -139,16 +154,23 @@ class Triangulation:
     def check(self, rtol: float = 1e-9) -> None:
         """Assert every invariant of a triangulation; raise AssertionError if one fails.
 
-        Checks: n - 2 triangles of distinct in-range vertices; every polygon side
-        in exactly one triangle and every diagonal in exactly two; n - 3 pairwise
-        non-crossing diagonals; for planar input every triangle counter-clockwise
-        and the triangle areas summing to the polygon's area; the cost recomputed
-        from the triangles equal to :attr:`weight`.
+        Checks: n - 2 triangles of distinct in-range vertices; pairwise
+        non-crossing diagonals; every polygon side in exactly one triangle and
+        every diagonal in exactly two; n - 3 diagonals; for planar input every
+        triangle counter-clockwise and the triangle areas summing to the
+        polygon's area; the cost recomputed from the triangles equal to
+        :attr:`weight`.
+
+        Crossings are tested before the edge counts: with every edge count right
+        no two diagonals crossed in an exhaustive search up to n = 8, so tested
+        after them the crossing test would never fire; first, it names the fault.
         """
         n, tris = self.n, self.triangles
         _require(tris.shape == (n - 2, 3), f"expected {n - 2} triangles, got {tris.shape}")
         _require(bool(((tris >= 0) & (tris < n)).all()), "vertex index out of range")
         _require(all(len(set(t)) == 3 for t in tris.tolist()), "degenerate index triangle")
+        diags = self.diagonals
+        _require(chords_cross_free(diags), "two diagonals cross")
         edges: dict[tuple[int, int], int] = {}
         for a, b, c in tris.tolist():
             for e in ((a, b), (b, c), (c, a)):
@@ -158,9 +180,7 @@ class Triangulation:
             side = b - a == 1 or (a == 0 and b == n - 1)
             _require(count == (1 if side else 2), f"edge {(a, b)} used {count} times")
         _require(len(edges) == 2 * n - 3, "sides missing from the triangulation")
-        diags = self.diagonals
         _require(len(diags) == n - 3, f"expected {n - 3} diagonals, got {len(diags)}")
-        _require(chords_cross_free(diags), "two diagonals cross")
         if self.vertices.ndim == 2 and self.vertices.shape[1] == 2:
             self._check_areas(rtol)
         if self._recompute is not None:

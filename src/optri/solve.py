@@ -22,7 +22,7 @@ from .result import Triangulation, recompute_cost
 from .simple import allowed_chords, zero_area_triangles
 from .weights import WeightLike, resolve_weights
 
-__all__ = ["build_problem", "load_polygon", "solve_problem", "triangulate"]
+__all__ = ["build_problem", "load_polygon", "solution_result", "solve_problem", "triangulate"]
 
 PolygonLike = ArrayLike | Polygon | str | os.PathLike[str]
 
@@ -61,9 +61,10 @@ def triangulate(
         objective.
     objective : {"sum", "max"} or pair
         How triangle weights combine: total, bottleneck, or lexicographic.
-    method : {"auto", "memo", "table", "brute", "fast", "gpu"}
+    method : {"auto", "memo", "table", "naive", "brute", "fast", "gpu"}
         ``"memo"``: the paper's top-down memoization; ``"table"``: bottom-up
-        square matrix; ``"brute"``: all triangulations (n <= 13); ``"fast"``:
+        square matrix; ``"naive"``: the recursion without its table (3^(n-2)
+        calls, n <= 12, for teaching); ``"brute"``: all triangulations (n <= 13); ``"fast"``:
         compiled; ``"gpu"``: CUDA; ``"auto"``: the fastest that can take it.
     progress : callable, optional
         ``progress(done, total)`` called as the table fills.
@@ -208,6 +209,19 @@ def load_polygon(vertices: PolygonLike) -> Polygon:
     if hasattr(vertices, "__geo_interface__"):  # shapely or any GeoJSON-like geometry
         return as_polygon(geo_polygon_coords(vertices))
     return as_polygon(vertices)  # type: ignore[arg-type]
+
+
+def solution_result(
+    problem: Problem, method: str, solution: Solution, seconds: float = 0.0
+) -> Triangulation:
+    """The :class:`Triangulation` of an engine's answer, built as :func:`triangulate` does.
+
+    Triangles in input vertex indices; :meth:`Triangulation.check` recomputes the cost.
+    """
+    return _to_result(
+        problem, solution.cost, solution.triangles, method, seconds, solution.table,
+        solution.stats,
+    )
 
 
 def _report_degenerate(problem: Problem, triangles: NDArray[np.int64], stats: Any) -> None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import time
+from typing import Any
 
 import click
 
@@ -83,14 +84,38 @@ def solve(
 @main.command()
 @click.argument("dims", nargs=-1, type=int, required=True)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
-def chain(dims: tuple[int, ...], as_json: bool) -> None:
+@click.option(
+    "--tables", is_flag=True, help="Also print CLRS's cost table m and split table s."
+)
+def chain(dims: tuple[int, ...], as_json: bool, tables: bool) -> None:
     """Cheapest matrix-chain order for dimensions D0 D1 ... Dn."""
     order = matrix_chain(list(dims))
     if as_json:
-        click.echo(json.dumps({"cost": order.cost, "parenthesization": order.parenthesization}))
-    else:
-        click.echo(f"cost: {order.cost}")
-        click.echo(f"order: {order.parenthesization}")
+        out: dict[str, object] = {"cost": order.cost, "parenthesization": order.parenthesization}
+        if tables:
+            out["m"] = [[int(v) for v in row[1:]] for row in order.m[1:]]
+            out["s"] = [[int(v) for v in row[1:]] for row in order.s[1:]]
+        click.echo(json.dumps(out))
+        return
+    click.echo(f"cost: {order.cost}")
+    click.echo(f"order: {order.parenthesization}")
+    if tables:
+        size = order.m.shape[0] - 1
+        click.echo("m[i, j]: fewest scalar multiplications for A_i ... A_j (CLRS 15.2)")
+        click.echo(_clrs_table(order.m, range(1, size + 1), range(1, size + 1), 0))
+        click.echo("s[i, j]: the optimal product splits after A_k")
+        click.echo(_clrs_table(order.s, range(1, size), range(2, size + 1), 1))
+
+
+def _clrs_table(table: Any, rows: range, cols: range, gap: int) -> str:
+    """CLRS's upper-triangular layout: 1-based labels, cells with j >= i + gap shown."""
+    texts = [[str(int(table[i, j])) if j >= i + gap else "" for j in cols] for i in rows]
+    width = max(len(str(cols[-1])), *(len(t) for row in texts for t in row))
+    label = len(str(rows[-1]))
+    lines = [" " * label + " " + " ".join(str(j).rjust(width) for j in cols)]
+    for i, row in zip(rows, texts):
+        lines.append((str(i).rjust(label) + " " + " ".join(t.rjust(width) for t in row)).rstrip())
+    return "\n".join(lines)
 
 
 __all__ = ["chain", "solve"]

@@ -15,9 +15,12 @@ from ..objective import Cost, Objective
 from ..polygon import Polygon
 from ..weights import Weight
 
-__all__ = ["Problem", "ProgressFn", "Solution", "chord_rows", "with_sides"]
+__all__ = ["Observer", "Problem", "ProgressFn", "Solution", "chord_rows", "with_sides"]
 
 ProgressFn = Callable[[int, int], None]
+#: ``observer(kind, i, j, k, value)``: told each step of a Python engine (see
+#: :attr:`Problem.observer`); ``k`` and ``value`` are None where meaningless.
+Observer = Callable[[str, int, int, "int | None", Any], None]
 
 
 @dataclass
@@ -48,6 +51,13 @@ class Problem:
         first's optimum (see :attr:`optri.objective.Objective.two_phase`).
     options : dict
         Engine-specific extras.
+    observer : callable or None
+        ``observer(kind, i, j, k, value)``, told every step of the Python
+        engines (memo, table, naive): ``"call"`` (a sub-polygon requested),
+        ``"hit"`` (a request answered from the table), ``"candidate"`` (split k
+        of chord (i, j) evaluated, its value) and ``"store"`` (chord (i, j)
+        filled: its optimal k and value). :func:`optri.trace` records them;
+        compiled engines ignore it.
     """
 
     polygon: Polygon
@@ -59,6 +69,7 @@ class Problem:
     dtype: Any = np.float64
     gates: tuple[tuple[Weight, float], ...] = ()
     options: dict[str, Any] = field(default_factory=dict)
+    observer: Observer | None = None
 
     @property
     def n(self) -> int:

@@ -100,6 +100,9 @@ class Recurrence:
         The chord mask (sides set), None for every chord.
     evaluations : int
         Triangle weights evaluated so far by :meth:`cell`.
+    watch : callable or None
+        The problem's observer (:attr:`Problem.observer`), told of each
+        candidate split :meth:`cell` evaluates.
     """
 
     def __init__(self, problem: Problem) -> None:
@@ -108,6 +111,7 @@ class Recurrence:
         self.ok = problem.allowed_rows()
         self.weight = problem.evaluator()
         self.evaluations = 0
+        self.watch = problem.observer
 
     def splits(self, i: int, j: int) -> Iterable[int]:
         """:func:`split_points` of chord (i, j) under this problem's mask."""
@@ -121,9 +125,11 @@ class Recurrence:
         """Evaluate cost(i, j): yield each needed sub-chord, receive its cost, return (best, k).
 
         Splits are tried in increasing k and a later one wins only when strictly
-        better, so ties go to the smallest k in every engine.
+        better, so ties go to the smallest k in every engine. The observer, if
+        any, is told of each candidate: ``watch("candidate", i, j, k, value)``.
         """
         combine, less, w = self.objective.combine, self.objective.less, self.weight
+        watch = self.watch
         best: Any = self.objective.worst
         arg = -1
         for k in self.splits(i, j):
@@ -131,6 +137,8 @@ class Recurrence:
             b = yield k, j
             self.evaluations += 1
             c = combine(a, b, w(i, k, j))
+            if watch is not None:
+                watch("candidate", i, j, k, c)
             if less(c, best):
                 best, arg = c, k
         return best, arg
