@@ -437,7 +437,7 @@ MUTATIONS: list[Mutation] = [
     M(
         "manifest-ignores-weight",
         "src/optri/batch/driver.py",
-        '"weight": repr(options["weight"]),',
+        '"weight": repr(s.options["weight"]),',
         '"weight": "perimeter",',
         (RESUME,),
     ),
@@ -451,8 +451,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "stale-temporaries-kept",
         "src/optri/batch/layout.py",
-        'for p in self.parts_dir.glob(".part-*.tmp"):',
-        'for p in self.parts_dir.glob(".none-*.tmp"):',
+        'for p in self.parts_dir.glob(".part-*.tmp*"):',
+        'for p in self.parts_dir.glob(".none-*.tmp*"):',
         (RESUME,),
     ),
     M(
