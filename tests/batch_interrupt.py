@@ -40,12 +40,12 @@ def interrupt_part(part: int, sig: int) -> None:
     real = driver.write_part
     calls = 0
 
-    def write_part(path: Any, fmt: str, records: Sequence[dict], coords: Sequence[Any]) -> None:
+    def write_part(path: Any, fmt: str, records: Sequence[dict], *args: Any, **kw: Any) -> None:
         nonlocal calls
         calls += 1
         if calls == part:
             records = _SignalAfterFirst(records, sig)
-        real(path, fmt, records, coords)
+        real(path, fmt, records, *args, **kw)
 
     driver.write_part = write_part  # type: ignore[assignment]
 

@@ -83,7 +83,7 @@ def test_feature_collection_is_streamed_across_block_edges(tmp_path, monkeypatch
     }
     src.write_text(json.dumps(data, indent=2))
     items = list(readers.read_items(src))
-    assert [it.coords for it in items] == [r["coordinates"] for r in ROWS[:4]]
+    assert [it.coords.tolist() for it in items] == [r["coordinates"] for r in ROWS[:4]]
 
 
 def test_geoparquet_in_and_out(tmp_path):

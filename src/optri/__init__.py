@@ -8,7 +8,7 @@
 from __future__ import annotations
 
 from ._version import __version__
-from .batch import BatchSummary, batch
+from .batch import BatchSummary, batch, triangulate_many
 from .chain import ChainOrder, matrix_chain
 from .drawing import format_table
 from .enumeration import (
@@ -64,5 +64,6 @@ __all__ = [
     "require_simple",
     "trace",
     "triangulate",
+    "triangulate_many",
     "valid_diagonals",
 ]

@@ -20,6 +20,7 @@ EXTRAS = {
     "geopandas": "geo",
     "pyogrio": "geo",
     "pyarrow": "geo",
+    "pyproj": "geo",
     "mapbox_earcut": "compare",
 }
 

@@ -74,6 +74,10 @@ BATCH_IN_FLIGHT_PER_WORKER = 2
 BATCH_ROWS_PER_READ = 4096
 #: Batch: bytes read at a time by the streaming GeoJSON parser.
 BATCH_READ_BLOCK = 1 << 20
+#: Batch: deepest nesting of JSON attribute values kept (deeper values make an error record).
+BATCH_MAX_JSON_DEPTH = 64
+#: Batch: seconds between checks that the parent still lives, in workers without pidfd.
+BATCH_WATCHDOG_SECONDS = 0.5
 #: CLI: show a progress bar for ``optri solve`` from this many vertices on.
 CLI_PROGRESS_MIN_N = 1500
 #: method="auto" picks the GPU engine (when a GPU is present) from this many vertices on.

@@ -499,7 +499,7 @@ MUTATIONS: list[Mutation] = [
     M(
         "manifest-ignores-weight",
         "src/optri/batch/driver.py",
-        '"weight": repr(options["weight"]),',
+        '"weight": repr(s.options["weight"]),',
         '"weight": "perimeter",',
         (RESUME,),
     ),
@@ -513,8 +513,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "stale-temporaries-kept",
         "src/optri/batch/layout.py",
-        'for p in self.parts_dir.glob(".part-*.tmp"):',
-        'for p in self.parts_dir.glob(".none-*.tmp"):',
+        'for p in self.parts_dir.glob(".part-*.tmp*"):',
+        'for p in self.parts_dir.glob(".none-*.tmp*"):',
         (RESUME,),
     ),
     M(
