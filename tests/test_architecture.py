@@ -30,6 +30,7 @@ LAYERS = [
     ["optri.result"],
     ["optri.engines"],
     ["optri.simple"],
+    ["optri.domains"],
     ["optri.solve", "optri.chain"],
     ["optri.enumeration", "optri.holes"],
     ["optri.batch", "optri.paper", "optri.bench"],
@@ -44,6 +45,7 @@ ALGORITHMS = (
     "optri.objective",
     "optri.engines",
     "optri.simple",
+    "optri.domains",
     "optri.enumeration",
     "optri.holes",
 )
