@@ -89,6 +89,8 @@ class BruteDomain:
         self.points = np.concatenate(rings)
         self.q = [(Fraction(x), Fraction(y)) for x, y in self.points.tolist()]
         self.n = n = len(self.q)
+        self._rows = [tuple(r) for r in self.points.tolist()]
+        self._weights: dict[tuple, float] = {}
         # every turn's sign, exactly, once
         self.o = [
             [[_orient(self.q[a], self.q[b], self.q[c]) for c in range(n)] for b in range(n)]
@@ -212,14 +214,18 @@ class BruteDomain:
     def weight(self, name, tri) -> float:
         """Weight ``name`` of a triangle: ``diagonal`` by its definition, others by formula."""
         a, b, c = sorted(tri)
-        rows = [tuple(r) for r in self.points.tolist()]
-        if name == "diagonal":
-            total = 0.0
-            for x, y in ((a, b), (b, c), (a, c)):
-                if (x, y) not in self.inner and (y, x) not in self.inner:
-                    total += 0.5 * math.dist(rows[x], rows[y])
-            return total
-        return triangle_weight(WEIGHTS[name].code, rows, a, b, c)
+        key = (name, a, b, c)
+        if key not in self._weights:
+            rows = self._rows
+            if name == "diagonal":
+                value = 0.0
+                for x, y in ((a, b), (b, c), (a, c)):
+                    if (x, y) not in self.inner and (y, x) not in self.inner:
+                        value += 0.5 * math.dist(rows[x], rows[y])
+            else:
+                value = triangle_weight(WEIGHTS[name].code, rows, a, b, c)
+            self._weights[key] = value
+        return self._weights[key]
 
     def best(self, triangulations, name, objective="sum") -> float:
         """Optimal value of ``name`` under ``objective`` over ``triangulations``."""

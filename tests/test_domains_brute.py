@@ -16,7 +16,7 @@ import optri  # noqa: E402
 from domain_polys import SUM_WEIGHTS, BruteDomain, small_domains  # noqa: E402
 
 SETTINGS = settings(
-    max_examples=25, deadline=None, suppress_health_check=[HealthCheck.filter_too_much]
+    max_examples=40, deadline=None, suppress_health_check=[HealthCheck.filter_too_much]
 )
 
 

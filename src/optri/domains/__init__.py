@@ -12,7 +12,7 @@ with a proven bound. :func:`optri.triangulate` sends polygons with holes here.
 
 from __future__ import annotations
 
-from .candidates import Candidates, candidates, valid_diagonals
+from .candidates import Candidates, find_candidates, valid_diagonals
 from .domain import Domain, as_domain
 from .random_domains import random_domain
 from .solver import METHODS, triangulate_domain
@@ -22,7 +22,7 @@ __all__ = [
     "Candidates",
     "Domain",
     "as_domain",
-    "candidates",
+    "find_candidates",
     "random_domain",
     "triangulate_domain",
     "valid_diagonals",

@@ -20,10 +20,19 @@ from numpy.typing import NDArray
 from ..predicates import on_open_segment, orient
 from .domain import Domain
 
-__all__ = ["Candidates", "candidates", "in_wedge", "side_signs", "valid_diagonals"]
+__all__ = [
+    "Candidates",
+    "diagonals_and_turns",
+    "find_candidates",
+    "in_wedge",
+    "side_signs",
+    "valid_diagonals",
+]
 
 #: Elements per block of the chord-against-vertex tests (memory ~ 100 bytes each).
 _CELLS = 1 << 20
+#: Boundary edges on each side of a chord's ends that screen it before the full test.
+_NEAR = 4
 
 
 @dataclass(frozen=True)
@@ -44,6 +53,9 @@ class Candidates:
     signs : ndarray of int8, shape (T, 3)
         +1 where the side runs from its smaller vertex to its larger one, else -1:
         which side of the edge the triangle lies on.
+    turns : ndarray of int8, shape (E - N, N)
+        ``orient(a, b, v)`` of every vertex ``v`` against each diagonal ``(a, b)``
+        (row ``e - N`` for edge ``e``): crossing tests become look-ups.
     """
 
     edges: NDArray[np.int64]
@@ -51,6 +63,7 @@ class Candidates:
     triangles: NDArray[np.int64]
     sides: NDArray[np.int64]
     signs: NDArray[np.int8]
+    turns: NDArray[np.int8]
 
     @property
     def is_diagonal(self) -> NDArray[np.bool_]:
@@ -76,17 +89,27 @@ def in_wedge(domain: Domain, i: NDArray[np.int64], j: NDArray[np.int64]) -> NDAr
 def valid_diagonals(domain: Domain) -> NDArray[np.int64]:
     """The valid diagonals of ``domain`` as sorted pairs ``(a, b)``, ``a < b``; (D, 2).
 
-    Notes
-    -----
-    O(N^2) in-cone tests, then each surviving chord against every vertex and
-    boundary edge: O(N^3) time in numpy blocks, O(N) memory per chord.
+    See :func:`diagonals_and_turns`.
 
     Examples
     --------
     >>> from optri.domains import as_domain
     >>> d = as_domain([[0, 0], [3, 0], [3, 3], [0, 3]], [[[1, 1], [2, 1], [2, 2], [1, 2]]])
-    >>> valid_diagonals(d).tolist()   # each corner sees two hole corners
+    >>> valid_diagonals(d).tolist()   # each corner sees three hole corners
     [[0, 4], [0, 5], [0, 7], [1, 4], [1, 5], [1, 6], [2, 5], [2, 6], [2, 7], [3, 4], [3, 6], [3, 7]]
+    """
+    return diagonals_and_turns(domain)[0]
+
+
+def diagonals_and_turns(domain: Domain) -> tuple[NDArray[np.int64], NDArray[np.int8]]:
+    """The valid diagonals of ``domain``, and every vertex's side of each; (D, 2), (D, N).
+
+    Notes
+    -----
+    O(N^2) in-cone tests, then each surviving chord against every vertex and
+    boundary edge: O(N^3) time in numpy blocks, O(N) memory per chord. Most
+    chords that are not diagonals cross a boundary edge near one of their ends,
+    so those few edges screen them out first.
     """
     n = domain.n
     i, j = np.triu_indices(n, 1)
@@ -98,56 +121,111 @@ def valid_diagonals(domain: Domain) -> NDArray[np.int64]:
     i, j = i[ok], j[ok]
     k = np.arange(n)
     edge_sides = side_signs(domain.vertices, np.column_stack((k, domain.nxt)))
-    clear = np.ones(len(i), dtype=bool)
+    # most chords that are not diagonals leave the domain close to an end: screen those first
+    keep = ~_crossed_near_ends(domain, i, j, edge_sides)
+    i, j = i[keep], j[keep]
+    pairs, turns = [], []
     step = max(1, _CELLS // n)
     for lo in range(0, len(i), step):
-        clear[lo : lo + step] = _clear(domain, i[lo : lo + step], j[lo : lo + step], edge_sides)
-    return np.column_stack((i[clear], j[clear])).astype(np.int64).reshape(-1, 2)
+        ci, cj = i[lo : lo + step], j[lo : lo + step]
+        blocked, sv = _crossed(domain, ci, cj, k, edge_sides, through=True)
+        pairs.append(np.column_stack((ci[~blocked], cj[~blocked])))
+        turns.append(sv[~blocked])
+    if not pairs:
+        return np.zeros((0, 2), dtype=np.int64), np.zeros((0, n), dtype=np.int8)
+    return np.concatenate(pairs).astype(np.int64), np.concatenate(turns)
 
 
-def side_signs(points: NDArray[np.float64], seg: NDArray[np.int64]) -> NDArray[np.int8]:
-    """``orient(a, b, p)`` of every point ``p`` against each segment ``(a, b)``; (S, N) int8."""
-    out = np.empty((len(seg), len(points)), dtype=np.int8)
-    step = max(1, _CELLS // max(len(points), 1))
+def side_signs(
+    points: NDArray[np.float64], seg: NDArray[np.int64], at: NDArray[np.int64] | None = None
+) -> NDArray[np.int8]:
+    """``orient(a, b, p)`` of points ``p`` (all, or those ``at``) against segments ``(a, b)``.
+
+    Returns an ``(S, P)`` int8 array.
+    """
+    targets = points if at is None else points[at]
+    out = np.empty((len(seg), len(targets)), dtype=np.int8)
+    step = max(1, _CELLS // max(len(targets), 1))
     for lo in range(0, len(seg), step):
         s = seg[lo : lo + step]
-        shape = (len(s), len(points), 2)
+        shape = (len(s), len(targets), 2)
         a = np.broadcast_to(points[s[:, 0]][:, None, :], shape)
         b = np.broadcast_to(points[s[:, 1]][:, None, :], shape)
-        out[lo : lo + step] = orient(a, b, np.broadcast_to(points[None, :, :], shape))
+        out[lo : lo + step] = orient(a, b, np.broadcast_to(targets[None, :, :], shape))
     return out
 
 
-def _clear(
+def _crossed_near_ends(
     domain: Domain, i: NDArray[np.int64], j: NDArray[np.int64], edge_sides: NDArray[np.int8]
 ) -> NDArray[np.bool_]:
-    """No vertex on the open chord and no boundary edge crossing it properly.
+    """Chords ``(i, j)`` crossed properly by one of the ``_NEAR`` boundary edges around an end."""
+    p, nxt, prv = domain.vertices, domain.nxt, domain.prv
+    out = np.zeros(len(i), dtype=bool)
+    step = max(1, _CELLS // (8 * _NEAR))
+    for lo in range(0, len(i), step):
+        ci, cj = i[lo : lo + step], j[lo : lo + step]
+        for base in (ci, cj):
+            walk = [base]
+            for _ in range(_NEAR):
+                walk.insert(0, prv[walk[0]])
+            for _ in range(_NEAR + 1):
+                walk.append(nxt[walk[-1]])
+            ring = np.stack(walk, axis=1)  # (C, 2 NEAR + 2) consecutive boundary vertices
+            shape = (*ring.shape, 2)
+            a = np.broadcast_to(p[ci][:, None, :], shape)
+            b = np.broadcast_to(p[cj][:, None, :], shape)
+            side = orient(a, b, p[ring])
+            starts = ring[:, :-1]
+            apart = edge_sides[starts, ci[:, None]] * edge_sides[starts, cj[:, None]] < 0
+            hit = (side[:, :-1] * side[:, 1:] < 0) & apart
+            out[lo : lo + step] |= hit.any(axis=1)
+    return out
 
-    ``edge_sides[e, v]``: the side of boundary edge ``e -> nxt[e]`` vertex ``v`` is on.
+
+def _crossed(
+    domain: Domain,
+    i: NDArray[np.int64],
+    j: NDArray[np.int64],
+    edges: NDArray[np.int64],
+    edge_sides: NDArray[np.int8],
+    through: bool = False,
+) -> tuple[NDArray[np.bool_], NDArray[np.int8]]:
+    """Chords ``(i, j)`` crossed properly by a boundary edge ``e -> nxt[e]`` of ``edges``.
+
+    ``edge_sides[e, v]``: the side of edge ``e`` vertex ``v`` is on. With
+    ``through`` (``edges`` all of them), a vertex on the open chord blocks it too.
+    Also returns the chords' sides of the edges' ends.
     """
     p, nxt = domain.vertices, domain.nxt
-    sv = side_signs(p, np.column_stack((i, j)))  # (C, N): each vertex against each chord
-    ends_apart = (edge_sides[:, i] * edge_sides[:, j]).T < 0
-    blocked = ((sv * sv[:, nxt] < 0) & ends_apart).any(axis=1)
-    r, v = np.nonzero(sv == 0)  # collinear: on the open chord, or beyond it
-    on = on_open_segment(p[i[r]], p[j[r]], p[v])
-    blocked[r[on]] = True
-    return ~blocked
+    ends = np.unique(np.concatenate((edges, nxt[edges])))
+    col = np.full(domain.n, -1, dtype=np.int64)
+    col[ends] = np.arange(len(ends))
+    sv = side_signs(p, np.column_stack((i, j)), ends)  # (C, ends): chord sides
+    ends_apart = (edge_sides[edges][:, i] * edge_sides[edges][:, j]).T < 0
+    blocked = ((sv[:, col[edges]] * sv[:, col[nxt[edges]]] < 0) & ends_apart).any(axis=1)
+    if through:
+        r, v = np.nonzero(sv == 0)  # collinear: on the open chord, or beyond it
+        v = ends[v]
+        on = on_open_segment(p[i[r]], p[j[r]], p[v])
+        blocked[r[on]] = True
+    return blocked, sv
 
 
-def candidates(domain: Domain, diagonals: NDArray[np.int64] | None = None) -> Candidates:
+def find_candidates(domain: Domain, diagonals: NDArray[np.int64] | None = None) -> Candidates:
     """Every candidate triangle of ``domain`` with its sides' edge ids.
 
     Examples
     --------
     >>> from optri.domains import as_domain
     >>> d = as_domain([[0, 0], [3, 0], [3, 3], [0, 3]], [[[1, 1], [2, 1], [2, 2], [1, 2]]])
-    >>> c = candidates(d)
+    >>> c = find_candidates(d)
     >>> len(c.edges), len(c.triangles)      # 8 boundary edges + 12 diagonals
     (20, 16)
     """
     if diagonals is None:
-        diagonals = valid_diagonals(domain)
+        diagonals, turns = diagonals_and_turns(domain)
+    else:
+        turns = side_signs(domain.vertices, diagonals)
     n = domain.n
     k = np.arange(n)
     boundary = np.sort(np.column_stack((k, domain.nxt)), axis=1)
@@ -159,7 +237,7 @@ def candidates(domain: Domain, diagonals: NDArray[np.int64] | None = None) -> Ca
     tris = tris[_empty(domain, tris)]
     tris = tris[np.lexsort((tris[:, 2], tris[:, 1], tris[:, 0]))]
     sides, signs = _side_ids(edges, n, tris)
-    return Candidates(edges, n, tris, sides, signs)
+    return Candidates(edges, n, tris, sides, signs, turns)
 
 
 def _oriented_triples(domain: Domain, usable: NDArray[np.bool_]) -> NDArray[np.int64]:

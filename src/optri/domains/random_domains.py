@@ -13,14 +13,14 @@ __all__ = ["random_domain"]
 
 
 def random_domain(
-    n: int, holes: int = 1, *, seed: int | None = None
+    n: int, holes: int = 1, *, seed: int | None = None, depth: float = 0.4
 ) -> tuple[NDArray[np.float64], list[NDArray[np.float64]]]:
     """A random polygon with ``holes`` holes and ``n`` vertices in all: ``(exterior, holes)``.
 
     The exterior is star-shaped around the origin (jittered angles, radii in
-    [0.6, 1]), counter-clockwise; about half the vertices go to the holes,
-    small star-shaped rings placed apart from each other and from the
-    exterior, clockwise.
+    [1 - ``depth``, 1]: deeper is spikier), counter-clockwise; about half the
+    vertices go to the holes, small star-shaped rings placed apart from each
+    other and from the exterior, clockwise.
 
     Raises
     ------
@@ -40,7 +40,7 @@ def random_domain(
     rng = np.random.default_rng(seed)
     k = min(max(3, n // (2 * holes)), (n - 8) // holes) if holes else 0
     n_ext = n - k * holes
-    ext = _star(rng, n_ext, 0.6, 1.0)
+    ext = _star(rng, n_ext, 1.0 - depth, 1.0)
     if holes == 0:
         return ext, []
     a, b = ext, np.roll(ext, -1, axis=0)

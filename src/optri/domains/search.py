@@ -105,7 +105,7 @@ def solve_component(
         raise NoTriangulationError(
             "no triangulation of the polygon with holes uses only triangles of finite weight"
         )
-    forced = forced_diagonals(setup.domain, cand, kept)
+    forced = forced_diagonals(cand, kept)
     setup.count("forced_diagonals", int(forced.sum()))
     fixed = ~cand.is_diagonal | forced
     found = [

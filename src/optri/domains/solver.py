@@ -15,7 +15,7 @@ from ..errors import EngineUnavailableError, WeightError
 from ..objective import Cost, Objective, ObjectiveLike, as_objective
 from ..result import Triangulation
 from ..weights import WeightLike, resolve_weights
-from .candidates import candidates
+from .candidates import find_candidates
 from .domain import Domain, as_domain
 from .pieces import Gate
 from .search import Found, Setup, solve_component, total
@@ -121,7 +121,7 @@ def triangulate_domain(
     limit = config.DOMAIN_TIME_LIMIT if time_limit is None else time_limit
     start = time.perf_counter()
     weights = domain_weights(domain, resolve_weights(weight, len(obj.components)))
-    cand = candidates(domain)
+    cand = find_candidates(domain)
     values = np.column_stack([w.many(cand.triangles) for w in weights])
     usable = np.zeros((domain.n, domain.n), dtype=bool)
     usable[cand.edges[:, 0], cand.edges[:, 1]] = True
