@@ -97,3 +97,19 @@ def test_the_count_of_a_square_annulus():
     t = _solve(ext, [hole], weight="diagonal")
     assert len(t.triangles) == 8 + 2 - 2
     assert _close(t.weight, 4 * math.sqrt(2) + 4 * math.sqrt(5))  # corners, then trapezoids
+
+
+@SETTINGS
+@given(small_domains())
+def test_bridged_heuristic_is_a_triangulation_with_a_valid_bound(dom):
+    ext, holes = dom
+    brute = BruteDomain(ext, holes)
+    all_tr = brute.triangulations()
+    seen = {frozenset(tr) for tr in all_tr}
+    for name, objective in (("perimeter", "sum"), ("max_angle", "max")):
+        t = optri.triangulate((ext, holes), weight=name, objective=objective, method="bridge")
+        t.check()
+        assert _in_brute(seen, t)
+        best = brute.best(all_tr, name, objective)
+        assert t.bound <= best + 1e-9 and best <= t.weight + 1e-9
+        assert t.optimality == ("proven" if t.method == "dp" else "heuristic")

@@ -77,8 +77,9 @@ def test_time_limit_gives_a_labelled_heuristic_with_a_valid_bound(monkeypatch):
     monkeypatch.setattr(config, "DOMAIN_MIN_SOLVER_SECONDS", 1e-6)
     tri = optri.triangulate((ext, holes), weight="perimeter", time_limit=1e-9)
     tri.check()
-    assert tri.optimality == "heuristic" and tri.gap > 0
-    assert tri.bound <= exact.weight + 1e-9 <= tri.weight + 2e-9
+    assert tri.optimality == "heuristic" and 0 < tri.gap < 1
+    assert math.isfinite(tri.bound) and tri.bound <= exact.weight + 1e-9 <= tri.weight + 2e-9
+    assert tri.gap == pytest.approx((tri.weight - tri.bound) / tri.weight)
 
 
 def test_time_limited_max_is_labelled_and_bounded(monkeypatch):
@@ -88,7 +89,7 @@ def test_time_limited_max_is_labelled_and_bounded(monkeypatch):
     tri = optri.triangulate((ext, holes), weight="max_angle", objective="max", time_limit=1e-9)
     tri.check()
     assert tri.optimality == "heuristic"
-    assert tri.bound <= exact.weight <= tri.weight
+    assert math.isfinite(tri.bound) and tri.bound <= exact.weight <= tri.weight
 
 
 def test_geometry_inputs_agree():

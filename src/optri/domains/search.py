@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import MissingDependencyError, NoTriangulationError
+from .bounds import max_floor, sum_floor
 from .bridge import bridge_block
 from .candidates import Candidates
 from .domain import Domain
@@ -196,31 +197,20 @@ def _sum_block(
         return Found(out.chosen, value, value, True)
     setup.parts.add("bridge")
     options = ([] if out.chosen is None else [out.chosen]) + fallbacks()
-    return _best(setup, options, c, "sum", out.bound)
-
-
-def _edge_floor(setup: Setup, block: Block, fixed: NDArray[np.bool_], c: int) -> float:
-    """Largest, over the block's fixed edge sides, of the lightest triangle covering it."""
-    t = block.triangles
-    s, g = setup.cand.sides[t], setup.cand.signs[t]
-    on = fixed[s]
-    key = (2 * s + (g > 0))[on]
-    w = np.broadcast_to(setup.values[t, c][:, None], s.shape)[on]
-    order = np.lexsort((w, key))
-    first = np.ones(len(key), dtype=bool)
-    first[1:] = key[order][1:] != key[order][:-1]
-    return float(w[order][first].max())
+    floor = sum_floor(setup.cand, block, fixed, setup.values[:, c])
+    return _best(setup, options, c, "sum", max(out.bound, floor))
 
 
 def _bound(setup: Setup, block: Block, fixed: NDArray[np.bool_], c: int, component: str) -> float:
-    """A cheap lower bound on the block's optimum: the edge floor, or the LP relaxation."""
+    """A lower bound on the block's optimum: a floor (:mod:`.bounds`), or the LP relaxation."""
     if component == "max":
-        return _edge_floor(setup, block, fixed, c)
+        return max_floor(setup.cand, block, fixed, setup.values[:, c])
+    floor = sum_floor(setup.cand, block, fixed, setup.values[:, c])
     try:
         out = _solve(setup, block.triangles, fixed, setup.values[block.triangles, c], relax=True)
     except MissingDependencyError:
-        return -math.inf
-    return out.bound
+        return floor
+    return max(floor, out.bound)
 
 
 def _max_block(
@@ -228,7 +218,7 @@ def _max_block(
 ) -> Found:
     """Bisection on the threshold over the block's distinct triangle weights."""
     t, vals = block.triangles, setup.values[block.triangles, c]
-    floor = _edge_floor(setup, block, fixed, c)
+    floor = max_floor(setup.cand, block, fixed, setup.values[:, c])
     required = side_keys(setup.cand, t, fixed)
     if fallbacks:
         best = min(fallbacks, key=lambda o: total(setup.values[o, c], "max"))
