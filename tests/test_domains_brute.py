@@ -112,4 +112,6 @@ def test_bridged_heuristic_is_a_triangulation_with_a_valid_bound(dom):
         assert _in_brute(seen, t)
         best = brute.best(all_tr, name, objective)
         assert t.bound <= best + 1e-9 and best <= t.weight + 1e-9
-        assert t.optimality == ("proven" if t.method == "dp" else "heuristic")
+        assert (t.optimality == "proven") == (t.gap <= 1e-9)
+        if t.optimality == "proven":
+            assert _close(t.weight, best)

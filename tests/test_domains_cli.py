@@ -48,7 +48,17 @@ def test_solve_prints_optimality_and_takes_a_time_limit(files):
 def test_solve_bridge_is_labelled_heuristic(tmp_path):
     ext, holes = random_domain(40, 3, seed=2)  # no forced diagonal: one block with holes
     (tmp_path / "r.wkt").write_text(shapely.Polygon(ext, holes).wkt)
-    r = CliRunner().invoke(main, ["solve", str(tmp_path / "r.wkt"), "--method", "bridge", "--json"])
+    args = [
+        "solve",
+        str(tmp_path / "r.wkt"),
+        "-m",
+        "bridge",
+        "-w",
+        "max_angle",
+        "--objective",
+        "max",
+    ]
+    r = CliRunner().invoke(main, [*args, "--json"])
     assert r.exit_code == 0, r.output
     out = json.loads(r.output)
     assert out["optimality"] == "heuristic" and out["method"] == "bridge"

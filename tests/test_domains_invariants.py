@@ -61,14 +61,19 @@ def test_decomposition_agrees_with_the_whole_program(seed):
     assert math.isclose(a.weight, b.weight, rel_tol=1e-9)
 
 
-def test_heuristic_is_labelled_and_bounded():
+@pytest.mark.parametrize(("weight", "objective"), [("perimeter", "sum"), ("max_angle", "max")])
+def test_bridged_heuristic_is_labelled_and_bounded(weight, objective):
     ext, holes = random_domain(60, 3, seed=4)
-    exact = optri.triangulate((ext, holes), weight="perimeter")
-    heur = optri.triangulate((ext, holes), weight="perimeter", method="bridge")
+    exact = optri.triangulate((ext, holes), weight=weight, objective=objective)
+    heur = optri.triangulate((ext, holes), weight=weight, objective=objective, method="bridge")
     heur.check()
-    assert heur.optimality == "heuristic" and "bridge" in heur.method
+    assert "bridge" in heur.method
     assert heur.bound <= exact.weight + 1e-9 <= heur.weight + 2e-9
-    assert heur.gap == pytest.approx((heur.weight - heur.bound) / heur.weight)
+    assert heur.gap == pytest.approx((heur.weight - heur.bound) / abs(heur.weight))
+    # proven only where the bound meets the value (the relaxation proves the bridges right)
+    assert (heur.optimality == "proven") == (heur.gap <= 1e-9)
+    if objective == "max":  # the edge floor is far below: labelled, with its gap
+        assert heur.optimality == "heuristic" and heur.gap > 0.05
 
 
 def test_time_limit_gives_a_labelled_heuristic_with_a_valid_bound(monkeypatch):

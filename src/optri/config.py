@@ -93,6 +93,10 @@ DOMAIN_TIME_LIMIT: float | None = None
 #: (HiGHS needs a positive limit; this bounds how far a run can overshoot it per call).
 DOMAIN_MIN_SOLVER_SECONDS = 0.05
 
+#: Polygons with holes: a heuristic answer within this relative distance of its proven
+#: lower bound counts as proven (the solver's own optimality tolerance is about 1e-9).
+DOMAIN_PROVEN_RTOL = 1e-9
+
 _DEFAULTS = {k: v for k, v in dict(globals()).items() if k.isupper()}
 
 

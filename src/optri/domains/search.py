@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import config
 from ..errors import MissingDependencyError, NoTriangulationError
 from .bounds import max_floor, sum_floor
 from .bridge import bridge_block
@@ -161,6 +162,7 @@ def _block(
 def _best(
     setup: Setup, options: Sequence[NDArray[np.int64]], c: int, component: str, bound: float
 ) -> Found:
+    """The best of ``options``: proven after all when it meets ``bound``."""
     if not options:
         raise NoTriangulationError(
             "the time limit was reached before any triangulation of "
@@ -168,7 +170,9 @@ def _best(
         )
     values = [total(setup.values[o, c], component) for o in options]
     m = int(np.argmin(values))
-    return Found(options[m], values[m], min(bound, values[m]), False)
+    value = values[m]
+    proven = value - bound <= config.DOMAIN_PROVEN_RTOL * max(1.0, abs(value))
+    return Found(options[m], value, value if proven else min(bound, value), proven)
 
 
 def _solve(
