@@ -179,6 +179,14 @@ def _collinear(ring: NDArray[np.float64]) -> bool:
     return bool((orient(a, b, ring) == 0).all())
 
 
+def _named(domain: Domain, a: int) -> str:
+    """Boundary edge ``a -> nxt[a]`` named in input order, as ``"u-v"`` with v after u."""
+    b = int(domain.nxt[a])
+    k = int(domain.ring[a])
+    s, m = int(domain.starts[k]), domain.sizes[k]
+    return f"{a}-{b}" if b == s + (a - s + 1) % m else f"{b}-{a}"
+
+
 def _edge(start: int, size: int, e: int) -> str:
     return f"{start + e}-{start + (e + 1) % size}"
 
@@ -214,8 +222,8 @@ def _require_apart(domain: Domain, names: list[str]) -> None:
             m, how = hit
             a, b = int(e[m]), int(f[m])
             raise InvalidPolygonError(
-                f"{names[ring[a]]} and {names[ring[b]]} meet: edges {a}-{int(nxt[a])} and "
-                f"{b}-{int(nxt[b])} {how}; rings must be disjoint"
+                f"{names[ring[a]]} and {names[ring[b]]} meet: edges {_named(domain, a)} and "
+                f"{_named(domain, b)} {how}; rings must be disjoint"
             )
 
 
