@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 shapely = pytest.importorskip("shapely")
@@ -115,3 +116,49 @@ def test_bridged_heuristic_is_a_triangulation_with_a_valid_bound(dom):
         assert (t.optimality == "proven") == (t.gap <= 1e-9)
         if t.optimality == "proven":
             assert _close(t.weight, best)
+
+
+@SETTINGS
+@given(small_domains(), st.sampled_from(SUM_WEIGHTS))
+def test_floors_are_lower_bounds(dom, name):
+    from optri.domains import as_domain, find_candidates
+    from optri.domains.bounds import max_floor, sum_floor
+    from optri.domains.reduce import blocks
+    from optri.domains.weighing import DomainWeight
+    from optri.weights import get_weight
+
+    ext, holes = dom
+    brute = BruteDomain(ext, holes)
+    all_tr = brute.triangulations()
+    d = as_domain(ext, holes)
+    cand = find_candidates(d)
+    values = DomainWeight(d, get_weight(name)).many(cand.triangles)
+    fixed = ~cand.is_diagonal  # no forced diagonal: the blocks are the domain's faces
+    floors_sum, floors_max = 0.0, -math.inf
+    for block in blocks(cand, np.ones(len(values), dtype=bool), fixed):
+        floors_sum += sum_floor(cand, block, fixed, values)
+        floors_max = max(floors_max, max_floor(cand, block, fixed, values))
+    assert floors_sum <= brute.best(all_tr, name) + 1e-9
+    assert floors_max <= brute.best(all_tr, name, "max") + 1e-9
+
+
+def test_max_is_proven_where_an_exact_block_holds_the_maximum():
+    # found by hypothesis: the bridged block's bound is below its value, but the maximum
+    # comes from a block the DP solved exactly, so the whole answer is proven
+    ext = [
+        [0.92389948, 0.16177549],
+        [0.4703455, 0.58363801],
+        [-0.4738874, 0.68217634],
+        [-0.81312559, 0.14511649],
+        [-0.48294862, -0.7689661],
+        [0.15440862, -0.98593242],
+    ]
+    holes = [
+        [[0.51285579, -0.05958531], [0.27798894, -0.31051117], [0.27794525, 0.03280629]],
+        [[-0.03188118, 0.10247251], [-0.21383255, 0.05239338], [-0.12608362, 0.28761137]],
+    ]
+    brute = BruteDomain(ext, holes)
+    best = brute.best(brute.triangulations(), "max_angle", "max")
+    t = optri.triangulate((ext, holes), weight="max_angle", objective="max", method="bridge")
+    assert t.method == "bridge+dp" and _close(t.weight, best)
+    assert t.optimality == "proven" and t.gap == 0.0

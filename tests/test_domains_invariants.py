@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 
@@ -173,3 +174,21 @@ def test_nan_weight_is_named():
     ext, holes = random_domain(14, 1, seed=0)
     with pytest.raises(WeightError, match="NaN"):
         triangulate_domain(ext, holes, weight=lambda i, k, j: math.nan)
+
+
+def test_check_catches_broken_triangulations():
+    ext = [[0, 0], [3, 0], [3, 3], [0, 3]]
+    hole = [[1, 1], [2, 1], [2, 2], [1, 2]]
+    good = optri.triangulate((ext, [hole]), weight="diagonal")
+    good.check()
+    tris = good.triangles.copy()
+    broken = [
+        tris[:-1],  # a triangle missing
+        np.concatenate([tris[:-1], tris[-1:, ::-1]]),  # one clockwise
+        np.concatenate([tris[:-1], [[4, 5, 6]]]),  # one inside the hole
+        np.concatenate([tris[:-2], [[0, 1, 5], [0, 5, 3]]]),  # overlapping
+    ]
+    for t in broken:
+        bad = dataclasses.replace(good, triangles=np.asarray(t, dtype=np.int64), _recompute=None)
+        with pytest.raises(AssertionError, match="Triangulation.check"):
+            bad.check()

@@ -117,8 +117,14 @@ def solve_component(
     value = total(setup.values[chosen, c], component)
     bounds = [f.bound for f in found]
     bound = math.fsum(bounds) if component == "sum" else max(bounds)
-    proven = all(f.proven for f in found)
+    # under "max" an unproven block below a proven maximum elsewhere leaves no gap
+    proven = all(f.proven for f in found) or _meets(value, bound)
     return Found(chosen, value, value if proven else min(bound, value), proven)
+
+
+def _meets(value: float, bound: float) -> bool:
+    """``value`` is within the proven tolerance of its lower ``bound``."""
+    return value - bound <= config.DOMAIN_PROVEN_RTOL * max(1.0, abs(value))
 
 
 def _block(
@@ -171,7 +177,7 @@ def _best(
     values = [total(setup.values[o, c], component) for o in options]
     m = int(np.argmin(values))
     value = values[m]
-    proven = value - bound <= config.DOMAIN_PROVEN_RTOL * max(1.0, abs(value))
+    proven = _meets(value, bound)
     return Found(options[m], value, value if proven else min(bound, value), proven)
 
 
