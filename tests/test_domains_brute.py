@@ -118,16 +118,13 @@ def test_bridged_heuristic_is_a_triangulation_with_a_valid_bound(dom):
             assert _close(t.weight, best)
 
 
-@SETTINGS
-@given(small_domains(), st.sampled_from(SUM_WEIGHTS))
-def test_floors_are_lower_bounds(dom, name):
+def _floors_below_optima(ext, holes, name):
     from optri.domains import as_domain, find_candidates
     from optri.domains.bounds import max_floor, sum_floor
     from optri.domains.reduce import blocks
     from optri.domains.weighing import DomainWeight
     from optri.weights import get_weight
 
-    ext, holes = dom
     brute = BruteDomain(ext, holes)
     all_tr = brute.triangulations()
     d = as_domain(ext, holes)
@@ -142,23 +139,74 @@ def test_floors_are_lower_bounds(dom, name):
     assert floors_max <= brute.best(all_tr, name, "max") + 1e-9
 
 
-def test_max_is_proven_where_an_exact_block_holds_the_maximum():
-    # found by hypothesis: the bridged block's bound is below its value, but the maximum
-    # comes from a block the DP solved exactly, so the whole answer is proven
+@SETTINGS
+@given(small_domains(), st.sampled_from(SUM_WEIGHTS))
+def test_floors_are_lower_bounds(dom, name):
+    _floors_below_optima(*dom, name)
+
+
+def test_sum_floor_on_a_polygon_with_ears():
+    # ears (two boundary sides) take one share per side: counted whole, the floor of
+    # min_angle would exceed the optimum here
     ext = [
-        [0.92389948, 0.16177549],
-        [0.4703455, 0.58363801],
-        [-0.4738874, 0.68217634],
-        [-0.81312559, 0.14511649],
-        [-0.48294862, -0.7689661],
-        [0.15440862, -0.98593242],
+        [-1, 19],
+        [-10, 15],
+        [-17, 8],
+        [-15, -5],
+        [-6, -17],
+        [4, -14],
+        [14, -11],
+        [14, -1],
+        [11, 15],
     ]
-    holes = [
-        [[0.51285579, -0.05958531], [0.27798894, -0.31051117], [0.27794525, 0.03280629]],
-        [[-0.03188118, 0.10247251], [-0.21383255, 0.05239338], [-0.12608362, 0.28761137]],
-    ]
+    _floors_below_optima(ext, [[[2, -2], [2, -5], [-2, -3]]], "min_angle")
+
+
+def _anti_bridge(domain):
+    """Heavy where a triangle has a short diagonal: the bridges' own weakness."""
+    nxt, p = domain.nxt.tolist(), domain.vertices
+
+    def w(i, k, j):
+        worst = 0.0
+        for a, b in ((i, k), (k, j), (i, j)):
+            if nxt[a] != b and nxt[b] != a:
+                worst = max(worst, 1.0 / math.dist(p[a], p[b]))
+        return worst
+
+    return w
+
+
+@SETTINGS
+@given(small_domains())
+def test_max_bisection_beats_the_bridges_exactly(dom):
+    from optri.domains import as_domain
+
+    ext, holes = dom
     brute = BruteDomain(ext, holes)
-    best = brute.best(brute.triangulations(), "max_angle", "max")
-    t = optri.triangulate((ext, holes), weight="max_angle", objective="max", method="bridge")
-    assert t.method == "bridge+dp" and _close(t.weight, best)
-    assert t.optimality == "proven" and t.gap == 0.0
+    w = _anti_bridge(as_domain(ext, holes))
+    best = brute.best(brute.triangulations(), w, "max")
+    for method in ("auto", "ip"):
+        t = _solve(ext, holes, weight=w, objective="max", method=method)
+        assert _close(t.weight, best)
+
+
+def test_max_bisection_goes_below_the_heuristic():
+    from optri.domains import as_domain, find_candidates, random_domain
+    from optri.domains.program import solve_program
+    from optri.domains.reduce import blocks, prune
+
+    d = as_domain(*random_domain(30, 2, seed=1))
+    w = _anti_bridge(d)
+    heur = optri.triangulate(d, weight=w, objective="max", method="bridge")
+    t = optri.triangulate(d, weight=w, objective="max", method="ip")
+    t.check()
+    assert t.optimality == "proven" and t.weight < heur.weight - 1.0
+    # nothing lighter than the optimum triangulates the polygon
+    cand = find_candidates(d)
+    keep = prune(cand, np.array([w(*sorted(x)) < t.weight for x in cand.triangles.tolist()]))
+    if keep is not None:
+        fixed = ~cand.is_diagonal
+        outs = [
+            solve_program(cand, b.triangles, fixed, None, None) for b in blocks(cand, keep, fixed)
+        ]
+        assert any(o.status == "infeasible" for o in outs)

@@ -192,3 +192,24 @@ def test_check_catches_broken_triangulations():
         bad = dataclasses.replace(good, triangles=np.asarray(t, dtype=np.int64), _recompute=None)
         with pytest.raises(AssertionError, match="Triangulation.check"):
             bad.check()
+
+
+def test_walk_chords_may_not_cross_a_bridge():
+    from optri.domains import find_candidates
+    from optri.domains.pieces import walk_mask
+    from optri.domains.reduce import trace_walk
+
+    d = as_domain([[0, 0], [3, 0], [3, 3], [0, 3]], [[[1, 1], [2, 1], [2, 2], [1, 2]]])
+    cand = find_candidates(d)
+    usable = np.zeros((d.n, d.n), dtype=bool)
+    usable[cand.edges[:, 0], cand.edges[:, 1]] = True
+    usable |= usable.T
+    bridge = np.array([[0, 5]])  # (0, 0)-(2, 1); diagonal 1-4, (3, 0)-(1, 1), crosses it
+    k = np.arange(d.n)
+    walk = trace_walk(
+        d.vertices, np.concatenate([np.column_stack((k, d.nxt)), bridge, bridge[:, ::-1]])
+    )
+    assert walk is not None and len(walk) == d.n + 2
+    pos = {v: i for i, v in enumerate(walk) if v in (1, 4)}
+    assert walk_mask(d.vertices, usable, walk)[pos[1], pos[4]]  # inside, if not for the bridge
+    assert not walk_mask(d.vertices, usable, walk, bridge)[pos[1], pos[4]]
