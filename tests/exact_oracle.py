@@ -150,9 +150,10 @@ def exact_simple(points: np.ndarray) -> bool:
             c, d = f, (f + 1) % n
             if b == c or d == a:  # adjacent: they share one vertex, must not fold back
                 s, p, q = (b, a, d) if b == c else (a, b, c)
-                if o(p, s, q) == 0 and (x[p] - x[s]) * (x[q] - x[s]) + (y[p] - y[s]) * (
-                    y[q] - y[s]
-                ) > 0:
+                if (
+                    o(p, s, q) == 0
+                    and (x[p] - x[s]) * (x[q] - x[s]) + (y[p] - y[s]) * (y[q] - y[s]) > 0
+                ):
                     return False
                 continue
             o1, o2, o3, o4 = o(a, b, c), o(a, b, d), o(c, d, a), o(c, d, b)

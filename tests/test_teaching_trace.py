@@ -198,9 +198,10 @@ def test_trace_refuses_what_it_cannot_record(monkeypatch):
 
 def test_naive_engine_solves_like_the_others():
     values = [3, 7, 4, 5, 2, 6]
-    assert optri.triangulate(values, "product", method="naive").weight == optri.triangulate(
-        values, "product", method="brute"
-    ).weight
+    assert (
+        optri.triangulate(values, "product", method="naive").weight
+        == optri.triangulate(values, "product", method="brute").weight
+    )
 
 
 def test_recording_changes_nothing():

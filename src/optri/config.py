@@ -120,6 +120,16 @@ FAST_CHUNK_WORK = 3e8
 #: else ~/.cache/optri); read once, when the first kernel module loads.
 JIT_CACHE_DIR: str | None = None
 
+#: Polygons with holes: default ``time_limit`` of the search in seconds (None: no limit).
+DOMAIN_TIME_LIMIT: float | None = None
+#: Polygons with holes: the least time given to one solver call, even past the limit
+#: (HiGHS needs a positive limit; this bounds how far a run can overshoot it per call).
+DOMAIN_MIN_SOLVER_SECONDS = 0.05
+
+#: Polygons with holes: a heuristic answer within this relative distance of its proven
+#: lower bound counts as proven (the solver's own optimality tolerance is about 1e-9).
+DOMAIN_PROVEN_RTOL = 1e-9
+
 _DEFAULTS = {k: v for k, v in dict(globals()).items() if k.isupper()}
 
 

@@ -328,6 +328,8 @@ def orient(a: Array, b: Array, c: Array) -> NDArray[np.int64]:
 
     >>> orient(np.array([0., 0.]), np.array([1., 0.]), np.array([[1., 1.], [2., 0.]])).tolist()
     [1, 0]
+    >>> int(orient(np.array([0., 0.]), np.array([1., 0.]), np.array([2., 0.])))  # one triple
+    0
     """
     a, b, c = np.broadcast_arrays(
         np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64),
@@ -340,11 +342,13 @@ def orient(a: Array, b: Array, c: Array) -> NDArray[np.int64]:
         det = left - right
         bound = np.maximum(ORIENT_FILTER * (np.abs(left) + np.abs(right)), _FILTER_FLOOR)
         pos, neg = det > bound, det < -bound
-    out = pos.astype(np.int64) - neg.astype(np.int64)
-    todo = ~(pos | neg)
+    out = np.atleast_1d(pos.astype(np.int64) - neg.astype(np.int64))
+    todo = np.atleast_1d(~(pos | neg))
     if todo.any():
+        shape = out.shape + (2,)
+        a, b, c = (x.reshape(shape) for x in (a, b, c))
         out[todo] = _exact_rows(a[todo], b[todo], c[todo])
-    return out
+    return out.reshape(pos.shape)
 
 
 def _exact_rows(a: Array, b: Array, c: Array) -> NDArray[np.int64]:

@@ -50,6 +50,20 @@ class Triangulation:
         Engine instrumentation (weight evaluations, look-ups, cells...).
     seconds : float
         Wall time of the engine.
+    optimality : {"proven", "heuristic"} or None
+        How optimality was established: ``"proven"`` (the DP, or an integer
+        program solved with gap 0), ``"heuristic"`` (a limit stopped the
+        search: :attr:`bound` and :attr:`gap` say how far from optimal it may
+        be), None where the producer does not say (enumeration, 3-D search).
+    bound : float, tuple or None
+        A proven lower bound on the optimum (equal to :attr:`weight` when
+        proven; ``-inf`` when nothing is known).
+    gap : float or None
+        Relative gap ``(weight - bound) / |weight|``: 0 when proven.
+    rings : tuple of int
+        For a polygon with holes, the vertex counts of the exterior ring and of
+        each hole (vertices are numbered in that order); empty for a simple
+        polygon.
     """
 
     vertices: NDArray[np.float64]
@@ -64,6 +78,15 @@ class Triangulation:
     stats: dict[str, int] = field(default_factory=dict)
     seconds: float = 0.0
     _recompute: Callable[[NDArray[np.int64]], Cost] | None = field(default=None, repr=False)
+    optimality: str | None = None
+    bound: Cost | None = None
+    gap: float | None = None
+    rings: tuple[int, ...] = ()
+
+    @property
+    def holes(self) -> int:
+        """Number of holes of the triangulated polygon (0 for a simple polygon)."""
+        return max(len(self.rings) - 1, 0)
 
     @property
     def n(self) -> int:
@@ -77,8 +100,8 @@ class Triangulation:
 
     @property
     def diagonals(self) -> NDArray[np.int64]:
-        """The n - 3 diagonals as sorted ``(a, b)`` pairs, ``a < b``."""
-        return diagonals_of(self.triangles, self.n)
+        """Diagonals as sorted ``(a, b)`` pairs, ``a < b``: n - 3 (n + 3h - 3 with h holes)."""
+        return diagonals_of(self.triangles, self.n, self.rings)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary: n, weight, triangles, diagonals, method, seconds, ..."""
@@ -98,6 +121,10 @@ class Triangulation:
             "orientation": self.orientation,
             "seconds": self.seconds,
             "stats": dict(self.stats),
+            "optimality": self.optimality,
+            "bound": _json_cost(self.bound),
+            "gap": None if self.gap is None else _json_float(self.gap),
+            **({"rings": list(self.rings)} if self.rings else {}),
         }
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
@@ -167,6 +194,9 @@ class Triangulation:
         no two diagonals crossed in an exhaustive search up to n = 8, so tested
         after them the crossing test would never fire; first, it names the fault.
         """
+        if self.rings:
+            self._check_domain(rtol)
+            return
         n, tris = self.n, self.triangles
         _require(tris.shape == (n - 2, 3), f"expected {n - 2} triangles, got {tris.shape}")
         _require(bool(((tris >= 0) & (tris < n)).all()), "vertex index out of range")
@@ -189,6 +219,43 @@ class Triangulation:
             again = self._recompute(self.triangles)
             _require(_close(again, self.weight, rtol), f"cost {self.weight} != recomputed {again}")
 
+    def _check_domain(self, rtol: float) -> None:
+        """Invariants of a triangulation of a polygon with holes (:attr:`rings`).
+
+        n + 2h - 2 triangles, all counter-clockwise; as chains, each boundary
+        edge once in its ring's inner direction and every other edge once each
+        way. Summed, the triangles' boundaries then leave exactly the domain's
+        boundary, so the triangles tile the domain; areas are compared too.
+        """
+        n, tris, h = self.n, self.triangles, self.holes
+        _require(sum(self.rings) == n, f"ring sizes {self.rings} do not add up to {n}")
+        _require(tris.shape == (n + 2 * h - 2, 3), f"expected {n + 2 * h - 2} triangles")
+        _require(bool(((tris >= 0) & (tris < n)).all()), "vertex index out of range")
+        inner = set(_ring_edges(self.rings, self._inner_forward()))
+        used: dict[tuple[int, int], int] = {}
+        for a, b, c in tris.tolist():
+            for e in ((a, b), (b, c), (c, a)):
+                used[e] = used.get(e, 0) + 1
+        for (a, b), count in used.items():
+            _require(count == 1, f"edge {(a, b)} used {count} times in the same direction")
+            if (a, b) not in inner:
+                _require((b, a) in used and (b, a) not in inner, f"edge {(a, b)} unmatched")
+        _require(inner <= used.keys(), "a boundary edge is in no triangle")
+        _require(len(self.diagonals) == n + 3 * h - 3, "wrong number of diagonals")
+        self._check_areas(rtol)
+        if self._recompute is not None:
+            again = self._recompute(self.triangles)
+            _require(_close(again, self.weight, rtol), f"cost {self.weight} != recomputed {again}")
+
+    def _inner_forward(self) -> list[bool]:
+        """Per ring, whether walking it in index order keeps the domain on the left."""
+        out, start = [], 0
+        for k, m in enumerate(self.rings):
+            area = signed_area(self.vertices[start : start + m, :2])
+            out.append((area > 0) == (k == 0))
+            start += m
+        return out
+
     def _check_areas(self, rtol: float) -> None:
         # every triangle counter-clockwise, decided exactly; zero-area ones pass
         p = self.vertices
@@ -203,12 +270,24 @@ class Triangulation:
             (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
         )
         total = math.fsum(areas.tolist())
-        shoelace = abs(signed_area(q))  # triangles are CCW whatever the input orientation
+        shoelace = _domain_area(q, self.rings)  # triangles are CCW whatever the orientation
         slack = 64 * len(p) * np.finfo(float).eps  # rounding of both sums, |q| < 1
         _require(
             math.isclose(total, shoelace, rel_tol=rtol, abs_tol=slack),
             f"triangle areas sum to {total}, polygon area is {shoelace} (centred, scaled)",
         )
+
+
+def _domain_area(q: NDArray[np.float64], rings: tuple[int, ...]) -> float:
+    """Area of the polygon (less its holes, ``rings`` the ring sizes; empty: one ring)."""
+    if not rings:
+        return abs(signed_area(q))
+    total, start = 0.0, 0
+    for k, m in enumerate(rings):
+        area = abs(signed_area(q[start : start + m]))
+        total += area if k == 0 else -area
+        start += m
+    return total
 
 
 def _centred_unit(points: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -220,15 +299,40 @@ def _centred_unit(points: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.ldexp(q, -math.frexp(big)[1]) if big > 0 else q
 
 
-def diagonals_of(triangles: NDArray[np.int64], n: int) -> NDArray[np.int64]:
-    """Sorted unique diagonals (non-side edges) of index triangles."""
+def diagonals_of(
+    triangles: NDArray[np.int64], n: int, rings: tuple[int, ...] = ()
+) -> NDArray[np.int64]:
+    """Sorted unique diagonals (non-side edges) of index triangles.
+
+    ``rings``: the ring sizes of a polygon with holes (sides are then the edges
+    of each ring); empty for a simple polygon.
+
+    >>> diagonals_of(np.array([[0, 1, 4], [1, 2, 4]]), 6, (3, 3)).tolist()
+    [[0, 4], [1, 4], [2, 4]]
+    """
     if len(triangles) == 0:
         return np.zeros((0, 2), dtype=np.int64)
     e = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
     e = np.sort(e, axis=1)
-    gap = e[:, 1] - e[:, 0]
-    e = e[(gap != 1) & (gap != n - 1)]
+    if rings:
+        sides = np.sort(np.array(_ring_edges(rings), dtype=np.int64).reshape(-1, 2), axis=1)
+        side_keys = sides[:, 0] * n + sides[:, 1]
+        e = e[~np.isin(e[:, 0] * n + e[:, 1], side_keys)]
+    else:
+        gap = e[:, 1] - e[:, 0]
+        e = e[(gap != 1) & (gap != n - 1)]
     return np.unique(e, axis=0).astype(np.int64).reshape(-1, 2)
+
+
+def _ring_edges(rings: tuple[int, ...], forward: list[bool] | None = None) -> list[tuple[int, int]]:
+    """Edges ``(v, next)`` of each ring in index order (reversed where ``forward`` is False)."""
+    out, start = [], 0
+    for k, m in enumerate(rings):
+        for v in range(m):
+            a, b = start + v, start + (v + 1) % m
+            out.append((a, b) if forward is None or forward[k] else (b, a))
+        start += m
+    return out
 
 
 def chords_cross_free(chords: NDArray[np.int64]) -> bool:
@@ -265,6 +369,12 @@ def recompute_cost(
         return objective.finalize(objective.aggregate(vals))
 
     return again
+
+
+def _json_cost(v: Cost | None) -> Any:
+    if v is None:
+        return None
+    return [_json_float(x) for x in v] if isinstance(v, tuple) else _json_float(v)
 
 
 def _json_float(v: float) -> float | str:

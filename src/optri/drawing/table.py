@@ -43,10 +43,7 @@ def table_cells(
     chords = {(int(a), int(b)) for a, b in _internal_diagonals(tri)} | {(0, n - 1)}
     if style == "vertex":
         cells = [
-            [
-                _num(t[r, c]) if r <= c else (_split(t[r, c]) if c < r - 1 else "-")
-                for c in range(n)
-            ]
+            [_num(t[r, c]) if r <= c else (_split(t[r, c]) if c < r - 1 else "-") for c in range(n)]
             for r in range(n)
         ]
         marks: list[tuple[int, int]] = [(i, j) for i, j in chords] + [(j, i) for i, j in chords]

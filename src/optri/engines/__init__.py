@@ -54,9 +54,7 @@ for _spec in (
     EngineSpec(
         "brute", "optri.engines.brute", "exhaustive search over all triangulations (oracle)"
     ),
-    EngineSpec(
-        "naive", "optri.engines.naive", "un-memoized recursion, 3^(n-2) calls (teaching)"
-    ),
+    EngineSpec("naive", "optri.engines.naive", "un-memoized recursion, 3^(n-2) calls (teaching)"),
     EngineSpec("fast", "optri.engines.jit", "numba-compiled, parallel, one n x n table"),
     EngineSpec("gpu", "optri.engines.gpu", "numba-cuda tiled wavefront on one GPU"),
     EngineSpec(

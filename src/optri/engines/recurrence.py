@@ -144,8 +144,9 @@ class Recurrence:
         return best, arg
 
 
-def walk(root: State, expand: Callable[[State], tuple[tuple[int, int, int], Sequence[State]]],
-         limit: int) -> list[tuple[int, int, int]]:
+def walk(
+    root: State, expand: Callable[[State], tuple[tuple[int, int, int], Sequence[State]]], limit: int
+) -> list[tuple[int, int, int]]:
     """Triangles of an optimal solution, from the ``root`` state down.
 
     ``expand(state)`` gives the state's triangle ``(i, k, j)`` and its child

@@ -60,9 +60,7 @@ def frame_steps(events: Sequence[Any], kinds: Sequence[str]) -> list[int]:
     return steps + [len(events)]
 
 
-def animate(
-    trace: Trace, path: str | Path, *, kinds: Sequence[str], fps: float, dpi: int
-) -> Path:
+def animate(trace: Trace, path: str | Path, *, kinds: Sequence[str], fps: float, dpi: int) -> Path:
     """Write the animation of ``trace`` to ``path`` (``.gif`` or ``.mp4``), atomically.
 
     Raises

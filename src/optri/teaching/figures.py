@@ -126,7 +126,13 @@ def plot_recursion_tree(source: Any, ax: Any = None, *, title: str | None = None
             label += f"\n{value_text(node.value)}"
         s = style[node.status]
         ax.text(
-            x, d, label, ha="center", va="center", fontsize=7, zorder=2,
+            x,
+            d,
+            label,
+            ha="center",
+            va="center",
+            fontsize=7,
+            zorder=2,
             bbox={"boxstyle": "round,pad=0.25", "fc": s["fc"], "ec": s["ec"], "ls": s["ls"]},
         )
     hits = sum(n.status == "hit" for n in nodes)
