@@ -5,7 +5,7 @@ A weight gives each candidate triangle ``(i, k, j)`` (vertex indices,
 or maximizes those numbers over the triangles of a triangulation. Built-ins:
 
 ``"perimeter"``
-    |v_i v_k| + |v_k v_j| + |v_j v_i|, the paper's Eq. (1).
+    ``|v_i v_k| + |v_k v_j| + |v_j v_i|``, the paper's Eq. (1).
 ``"diagonal"``
     half the length of each triangle side that is a diagonal, so a
     triangulation's total is the length of its diagonals: the classic minimum
@@ -230,6 +230,7 @@ class Weight:
 
 WeightLike = Union[str, Weight, Callable[..., float]]
 
+#: The built-in weights by name, and any added with :func:`register_weight`.
 WEIGHTS: dict[str, Weight] = {}
 
 
