@@ -23,7 +23,7 @@ import optri  # noqa: E402  (after the path set-up above)
 
 project = "optri"
 author = "the optri developers"
-copyright = "2026, the optri developers (MIT licence)"  # noqa: A001  (Sphinx's name)
+copyright = "2026, the optri developers (MIT licence)"
 release = version = optri.__version__
 
 extensions = [
@@ -69,7 +69,12 @@ html_title = f"optri {version}"
 html_static_path: list[str] = []
 html_show_sourcelink = False
 
-# the API reference and the command-line page are written from optri.__all__, each
-# public subpackage's __all__ and the click group, so new names and commands appear
-# without editing any page here
-optri_reference.write_reference(HERE)
+
+def setup(app: object) -> None:
+    """Write the API reference and the command-line page before Sphinx reads the sources.
+
+    They come from optri.__all__, each public subpackage's __all__ and the click group,
+    so new names and commands appear without editing any page. Here rather than at
+    import, so that importing this file (pytest's --doctest-modules does) writes nothing.
+    """
+    optri_reference.write_reference(HERE)
