@@ -52,6 +52,12 @@ class Polygon:
         Orientation of the input; None for values and non-planar 3D input.
     convex : bool
         Strictly convex (no three consecutive collinear vertices).
+
+    Examples
+    --------
+    >>> p = as_polygon([[0, 0], [0, 1], [1, 1], [1, 0]])    # clockwise
+    >>> p.orientation, p.convex, p.order.tolist()
+    ('cw', True, [0, 3, 2, 1])
     """
 
     vertices: NDArray[np.float64]

@@ -49,6 +49,14 @@ class Triangulation:
         Engine instrumentation (weight evaluations, look-ups, cells...).
     seconds : float
         Wall time of the engine.
+
+    Examples
+    --------
+    >>> import optri
+    >>> t = optri.triangulate([[0, 0], [2, 0], [2, 1], [0, 1]])
+    >>> t.triangles.tolist(), round(t.weight, 6), t.orientation
+    ([[0, 1, 3], [1, 2, 3]], 10.472136, 'ccw')
+    >>> t.check()  # raises AssertionError if an invariant fails
     """
 
     vertices: NDArray[np.float64]

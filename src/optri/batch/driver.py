@@ -44,6 +44,14 @@ class BatchSummary:
         Wall time of this run.
     output : Path
         The output directory or file.
+
+    Examples
+    --------
+    >>> import optri, tempfile, pathlib
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "footprints.ndjson"
+    >>> s = optri.batch(optri.data.path("footprints.ndjson"), out, workers=1)
+    >>> s.total, s.ok, s.errors       # one bow-tie among the 31 footprints
+    (31, 30, 1)
     """
 
     total: int
