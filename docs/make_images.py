@@ -1,9 +1,11 @@
-"""Regenerate the pictures of docs/learn.md into docs/images/ (run from the repository root).
+"""Regenerate the pictures of the README and docs/learn.md into docs/images/.
 
-    python docs/make_images.py
+    python docs/make_images.py        (from the repository root)
 
 Figures 2 and 3 and the GIF need matplotlib and pillow; the explorer screenshots need
-Playwright and Chromium from the system packages (skipped with a message without them).
+Playwright and Chromium from the system packages (skipped with a message without them);
+the README's two pictures are the gallery scripts' figures (examples/plot_*.py, the same
+that ``make docs`` runs), which need the compare and mesh extras.
 Every PNG is reduced to a small palette so the repository stays light.
 """
 
@@ -16,6 +18,12 @@ from pathlib import Path
 
 OUT = Path(__file__).resolve().parent / "images"
 PENTAGON = [5, 1, 5, 1, 5]
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+#: README picture <- the gallery script that draws it
+README_PICTURES = {
+    "italy_earcut_vs_optimal.png": "plot_ear_clipping_vs_optimal.py",
+    "mesh_hole_filled.png": "plot_mesh_hole.py",
+}
 
 
 def _shrink(path: Path, colours: int = 96) -> None:
@@ -70,11 +78,29 @@ def screenshots() -> None:
         _shrink(OUT / name)
 
 
+def readme_pictures() -> None:
+    """Run each gallery script behind a README picture and save its last figure."""
+    import runpy
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    for name, script in README_PICTURES.items():
+        plt.close("all")
+        runpy.run_path(str(EXAMPLES / script), run_name="__main__")
+        plt.gcf().savefig(OUT / name, dpi=80, bbox_inches="tight")
+        _shrink(OUT / name, colours=64)
+    plt.close("all")
+
+
 def main() -> None:
     """Write every picture and list the sizes."""
     OUT.mkdir(exist_ok=True)
     figures()
     screenshots()
+    readme_pictures()
     for f in sorted(OUT.iterdir()):
         print(f"{f.name}: {f.stat().st_size // 1024} KiB")
 

@@ -24,7 +24,7 @@ LAYERS = [
     ["optri.errors", "optri.config", "optri._version", "optri._optional"],
     ["optri.predicates"],
     ["optri.polygon"],
-    ["optri.io"],
+    ["optri.io", "optri.data"],
     ["optri.weights", "optri.objective"],
     ["optri.drawing"],
     ["optri.result"],

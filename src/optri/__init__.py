@@ -7,6 +7,7 @@
 
 from __future__ import annotations
 
+from . import data
 from ._version import __version__
 from .batch import BatchSummary, batch, triangulate_many
 from .chain import ChainOrder, matrix_chain
@@ -55,6 +56,7 @@ __all__ = [
     "best_triangulations",
     "count_triangulations",
     "custom_weight",
+    "data",
     "enumerate_triangulations",
     "fill_holes",
     "fill_polyline",

@@ -36,6 +36,12 @@ class ChainOrder:
     s : ndarray of int64, shape (M + 1, M + 1)
         CLRS's split table: ``s[i, j] = k`` for i < j, the optimal product
         (A_i ... A_k)(A_{k+1} ... A_j); 0 elsewhere (no matrix is numbered 0).
+
+    Examples
+    --------
+    >>> c = matrix_chain([10, 30, 5, 60])
+    >>> c.cost, c.parenthesization
+    (4500, '((A1A2)A3)')
     """
 
     cost: int

@@ -31,6 +31,7 @@ __all__ = [
     "NoTriangulationError",
     "OptriError",
     "TableTooLargeError",
+    "UnknownSampleError",
     "WeightError",
 ]
 
@@ -90,6 +91,10 @@ class BatchFailedError(OptriError):
     def __init__(self, message: str, summary: Any = None) -> None:
         super().__init__(message)
         self.summary = summary
+
+
+class UnknownSampleError(OptriError, LookupError):
+    """No bundled sample file has that name (:mod:`optri.data`); the message lists them."""
 
 
 class HoleSkippedWarning(UserWarning):

@@ -61,6 +61,12 @@ class Polygon:
     ints : tuple of int or None
         The exact values of integer vertex values (1-D input of integer type):
         weights such as ``"product"`` compute with them exactly.
+
+    Examples
+    --------
+    >>> p = as_polygon([[0, 0], [0, 1], [1, 1], [1, 0]])    # clockwise
+    >>> p.orientation, p.convex, p.order.tolist()
+    ('cw', True, [0, 3, 2, 1])
     """
 
     vertices: NDArray[np.float64]

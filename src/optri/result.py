@@ -64,6 +64,14 @@ class Triangulation:
         For a polygon with holes, the vertex counts of the exterior ring and of
         each hole (vertices are numbered in that order); empty for a simple
         polygon.
+
+    Examples
+    --------
+    >>> import optri
+    >>> t = optri.triangulate([[0, 0], [2, 0], [2, 1], [0, 1]])
+    >>> t.triangles.tolist(), round(t.weight, 6), t.orientation
+    ([[0, 1, 3], [1, 2, 3]], 10.472136, 'ccw')
+    >>> t.check()  # raises AssertionError if an invariant fails
     """
 
     vertices: NDArray[np.float64]

@@ -5,7 +5,7 @@ A weight gives each candidate triangle ``(i, k, j)`` (vertex indices,
 or maximizes those numbers over the triangles of a triangulation. Built-ins:
 
 ``"perimeter"``
-    |v_i v_k| + |v_k v_j| + |v_j v_i|, the paper's Eq. (1).
+    ``|v_i v_k| + |v_k v_j| + |v_j v_i|``, the paper's Eq. (1).
 ``"diagonal"``
     half the length of each triangle side that is a diagonal, so a
     triangulation's total is the length of its diagonals: the classic minimum
@@ -279,6 +279,12 @@ class Weight:
     compiled : callable or None
         The user's function when it is numba-compiled (``numba.njit``), so the
         compiled engine can call it: ``w(vertices, i, k, j)`` over input indices.
+
+    Examples
+    --------
+    >>> w = WEIGHTS["perimeter"]
+    >>> w.name, w.needs
+    ('perimeter', 'points')
     """
 
     name: str
@@ -320,6 +326,7 @@ class Weight:
 
 WeightLike = Union[str, Weight, Callable[..., float]]
 
+#: The built-in weights by name, and any added with :func:`register_weight`.
 WEIGHTS: dict[str, Weight] = {}
 
 
@@ -384,6 +391,13 @@ def custom_weight(func: Callable[..., float], name: str = "custom") -> Weight:
     numba-compiled ``func`` (``@numba.njit``) taking ``(vertices, i, k, j)``
     runs inside the compiled engine (``method="fast"``); any other callable
     makes ``method="auto"`` use a Python engine.
+
+    Examples
+    --------
+    >>> import optri
+    >>> spread = custom_weight(lambda i, k, j: (j - i) ** 2)   # prefers short index spans
+    >>> optri.triangulate([[0, 0], [1, 0], [1, 1], [0, 1], [-1, 0.5]], weight=spread).weight
+    24.0
     """
     wants_vertices = _positional_arity(getattr(func, "py_func", func)) >= 4
     compiled = func if wants_vertices and _is_numba_function(func) else None

@@ -35,6 +35,14 @@ class BatchSummary:
         The output directory or file.
     duplicates : int
         Records whose id an earlier record of the same output already has.
+
+    Examples
+    --------
+    >>> import optri, tempfile, pathlib
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "footprints.ndjson"
+    >>> s = optri.batch(optri.data.path("footprints.ndjson"), out, workers=1)
+    >>> s.total, s.ok, s.errors       # one bow-tie among the 31 footprints
+    (31, 30, 1)
     """
 
     total: int

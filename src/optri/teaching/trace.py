@@ -69,6 +69,13 @@ class Trace:
         (or value) input; a clockwise polygon is traced reversed, vertex 0 kept
         first, and ``order[i]`` is the input index of vertex ``i``.
     order : ndarray of int64
+
+    Examples
+    --------
+    >>> import optri
+    >>> t = optri.trace([5, 1, 5, 1, 5], "product")
+    >>> t.method, len(t.events), t.result.weight
+    ('memo', 52, 35.0)
     """
 
     method: str
