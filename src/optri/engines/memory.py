@@ -4,9 +4,9 @@ The ceiling is ``config.MEMORY_FRACTION`` of the memory this process may still
 take: the least of the container's room (cgroup v2 ``memory.max`` minus
 ``memory.current``, or cgroup v1 ``memory.limit_in_bytes`` minus
 ``memory.usage_in_bytes``, less reclaimable page cache, over the process's
-cgroup and its ancestors) and the machine's ``MemAvailable`` (``/proc/meminfo``); ``config.MEMORY_LIMIT_BYTES``
-overrides it all. Where the cgroup files are is found once and cached; their
-values are read on every check (a few small files).
+cgroup and its ancestors) and the machine's ``MemAvailable`` (``/proc/meminfo``);
+``config.MEMORY_LIMIT_BYTES`` overrides it all. Where the cgroup files are is
+found once and cached; their values are read on every check (a few small files).
 """
 
 from __future__ import annotations
