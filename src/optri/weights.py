@@ -507,9 +507,10 @@ def compiled_weight_error(
     assert func is not None
     found = _first_failing(func, polygon, allowed, budget)
     where = f"triangle {found}" if found is not None else "a triangle"
+    first = (str(exc).strip().splitlines() or [""])[0]
     return WeightError(
         f"weight {weight.name!r} raised {type(exc).__name__} inside the compiled engine on "
-        f"{where}: {exc}"
+        f"{where}: {first}"
     )
 
 

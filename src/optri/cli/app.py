@@ -28,8 +28,16 @@ class _Group(click.Group):
         except OSError as exc:
             _fail(f"{getattr(exc, 'filename', None) or ''}: {exc.strerror or exc}".lstrip(": "))
         except KeyboardInterrupt:
-            click.echo("optri: interrupted", err=True)
-            sys.exit(130)
+            _interrupted()
+        except SystemError as exc:  # a Ctrl-C noticed as a compiled kernel returned
+            if not isinstance(exc.__cause__ or exc.__context__, KeyboardInterrupt):
+                raise
+            _interrupted()
+
+
+def _interrupted() -> None:
+    click.echo("optri: interrupted", err=True)
+    sys.exit(130)
 
 
 def _fail(message: str) -> None:

@@ -15,11 +15,18 @@ import math
 
 import numpy as np
 
+from ..engines.memory import require_memory
 from ..engines.recurrence import Rows, chords_by_length, split_points
 from ..errors import InvalidPolygonError
 from .builder import PolygonOrN, as_enumerable, usable_chords
 
-__all__ = ["catalan", "count_table", "count_triangulations"]
+__all__ = [
+    "catalan",
+    "count_bytes",
+    "count_table",
+    "count_triangulations",
+    "require_count_memory",
+]
 
 
 def catalan(m: int) -> int:
@@ -62,10 +69,37 @@ def count_triangulations(vertices_or_n: PolygonOrN) -> int:
             raise InvalidPolygonError(f"a polygon needs at least 3 vertices, got {n}")
         return catalan(n - 2)
     polygon = as_enumerable(vertices_or_n)
+    if polygon.convex or polygon.is_values:
+        return catalan(polygon.n - 2)
+    require_count_memory(polygon.n, "counting the triangulations")
     ok = usable_chords(polygon)
     if ok is None:
         return catalan(polygon.n - 2)
     return count_table(ok)[0][polygon.n - 1]
+
+
+def count_bytes(n: int) -> int:
+    """Peak bytes of :func:`count_table` for ``n`` vertices, with the chord mask it reads.
+
+    The mask as a numpy array and as nested lists (8 bytes a cell), the count rows
+    (8 bytes a cell) and one big int per chord: count(i, j) <= Catalan(j - i - 1)
+    < 4^(j - i), about 28 + (j - i) / 4 bytes, so about n^3 / 24 bytes in all.
+
+    >>> count_bytes(2000) // 10**6
+    464
+    """
+    cells = n * n
+    ints = sum((n - length) * (32 + length // 4) for length in range(2, n))
+    return cells + 8 * cells + 8 * cells + ints
+
+
+def require_count_memory(n: int, what: str) -> None:
+    """Refuse (:class:`~optri.errors.TableTooLargeError`) before counting can run out of memory."""
+    require_memory(
+        count_bytes(n),
+        f"{what} of a {n}-vertex simple polygon (exact big-int counts of every chord)",
+        "count a smaller polygon, or a convex one (Catalan numbers need no table)",
+    )
 
 
 def count_table(ok: Rows) -> list[list[int]]:
