@@ -17,7 +17,8 @@ import numpy as np
 
 from ..engines.memory import require_memory
 from ..engines.recurrence import Rows, chords_by_length, split_points
-from ..errors import InvalidPolygonError
+from .. import config
+from ..errors import InvalidParameterError, InvalidPolygonError
 from .builder import PolygonOrN, as_enumerable, usable_chords
 
 __all__ = [
@@ -67,11 +68,16 @@ def count_triangulations(vertices_or_n: PolygonOrN) -> int:
         n = int(vertices_or_n)
         if n < 3:
             raise InvalidPolygonError(f"a polygon needs at least 3 vertices, got {n}")
+        if n > config.COUNT_MAX_N:
+            shown = n if n.bit_length() < 64 else f"2**{n.bit_length() - 1} or more"
+            raise InvalidParameterError(
+                f"the count for n = {shown} has about 0.6 n digits; counts are computed "
+                f"up to n = {config.COUNT_MAX_N} (config.COUNT_MAX_N)"
+            )
         return catalan(n - 2)
     polygon = as_enumerable(vertices_or_n)
-    if polygon.convex or polygon.is_values:
-        return catalan(polygon.n - 2)
-    require_count_memory(polygon.n, "counting the triangulations")
+    if not (polygon.convex or polygon.is_values):
+        require_count_memory(polygon.n, "counting the triangulations")
     ok = usable_chords(polygon)
     if ok is None:
         return catalan(polygon.n - 2)

@@ -57,6 +57,10 @@ def read_rings(path: str | os.PathLike[str]) -> list[NDArray[np.float64]]:
         text = p.read_text()
     except OSError as exc:
         raise InvalidPolygonError(f"cannot read {p}: {exc.strerror or exc}") from exc
+    except UnicodeDecodeError as exc:
+        raise InvalidPolygonError(
+            f"{p}: not a UTF-8 text file (byte {exc.start}: {exc.reason})"
+        ) from exc
     suffix = p.suffix.lower()
     if suffix == ".wkt":
         return rings_from_wkt(text)
@@ -70,6 +74,8 @@ def _parse_json(text: str, path: Path) -> list[NDArray[np.float64]]:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise InvalidPolygonError(f"{path}:{exc.lineno}: invalid JSON ({exc.msg})") from exc
+    except RecursionError as exc:
+        raise InvalidPolygonError(f"{path}: JSON nested too deeply") from exc
     if isinstance(data, dict) and "type" in data:  # GeoJSON: every ring
         return rings_from_geojson(data)
     if isinstance(data, dict) and "exterior" in data:
