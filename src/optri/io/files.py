@@ -93,9 +93,12 @@ def _parse_json(text: str, path: Path) -> list[NDArray[np.float64]]:
 
 def _as_array(data: object, path: Path) -> NDArray[np.float64]:
     try:
-        return np.asarray(data, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
+        arr = np.asarray(data, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError) as exc:
         raise InvalidPolygonError(f"{path}: expected a list of [x, y] pairs or numbers") from exc
+    if arr.ndim not in (1, 2):
+        raise InvalidPolygonError(f"{path}: expected a list of [x, y] pairs or numbers")
+    return arr
 
 
 def _parse_csv(text: str, path: Path) -> NDArray[np.float64]:
