@@ -97,44 +97,162 @@ def _api_rows():
     rows = []
     add = rows.append
     for obj in BAD_OBJECTIVES:
-        add((f"triangulate-objective-{_id(obj)}", lambda o=obj: optri.triangulate(SQ, objective=o), WeightError))
-        add((f"best-objective-{_id(obj)}", lambda o=obj: optri.best_triangulations(SQ, k=2, objective=o), WeightError))
-        add((f"many-objective-{_id(obj)}", lambda o=obj: optri.triangulate_many([SQ], objective=o), WeightError))
+        add(
+            (
+                f"triangulate-objective-{_id(obj)}",
+                lambda o=obj: optri.triangulate(SQ, objective=o),
+                WeightError,
+            )
+        )
+        add(
+            (
+                f"best-objective-{_id(obj)}",
+                lambda o=obj: optri.best_triangulations(SQ, k=2, objective=o),
+                WeightError,
+            )
+        )
+        add(
+            (
+                f"many-objective-{_id(obj)}",
+                lambda o=obj: optri.triangulate_many([SQ], objective=o),
+                WeightError,
+            )
+        )
     for w in BAD_WEIGHTS:
-        add((f"triangulate-weight-{_id(w)}", lambda w=w: optri.triangulate(SQ, weight=w), WeightError))
-        add((f"best-weight-{_id(w)}", lambda w=w: optri.best_triangulations(SQ, weight=w, k=2), WeightError))
+        add(
+            (
+                f"triangulate-weight-{_id(w)}",
+                lambda w=w: optri.triangulate(SQ, weight=w),
+                WeightError,
+            )
+        )
+        add(
+            (
+                f"best-weight-{_id(w)}",
+                lambda w=w: optri.best_triangulations(SQ, weight=w, k=2),
+                WeightError,
+            )
+        )
     for k in BAD_K:
-        err = ParameterTypeError if not isinstance(k, int) or isinstance(k, bool) else InvalidParameterError
+        err = (
+            ParameterTypeError
+            if not isinstance(k, int) or isinstance(k, bool)
+            else InvalidParameterError
+        )
         add((f"best-k-{_id(k)}", lambda k=k: optri.best_triangulations(SQ, k=k), err))
     for m in BAD_METHODS:
-        add((f"triangulate-method-{_id(m)}", lambda m=m: optri.triangulate(SQ, method=m), EngineUnavailableError))
-        add((f"many-method-{_id(m)}", lambda m=m: optri.triangulate_many([SQ], method=m), EngineUnavailableError))
+        add(
+            (
+                f"triangulate-method-{_id(m)}",
+                lambda m=m: optri.triangulate(SQ, method=m),
+                EngineUnavailableError,
+            )
+        )
+        add(
+            (
+                f"many-method-{_id(m)}",
+                lambda m=m: optri.triangulate_many([SQ], method=m),
+                EngineUnavailableError,
+            )
+        )
     for d in BAD_DTYPES:
-        add((f"triangulate-dtype-{_id(d)}", lambda d=d: optri.triangulate(SQ, dtype=d), InvalidParameterError))
-        add((f"fast-dtype-{_id(d)}", lambda d=d: optri.triangulate(SQ, dtype=d, method="fast"), InvalidParameterError))
+        add(
+            (
+                f"triangulate-dtype-{_id(d)}",
+                lambda d=d: optri.triangulate(SQ, dtype=d),
+                InvalidParameterError,
+            )
+        )
+        add(
+            (
+                f"fast-dtype-{_id(d)}",
+                lambda d=d: optri.triangulate(SQ, dtype=d, method="fast"),
+                InvalidParameterError,
+            )
+        )
     for s in BAD_SECONDS:
-        add((f"time_limit-{_id(s)}", lambda s=s: optri.triangulate(SQ, time_limit=s), InvalidParameterError))
+        add(
+            (
+                f"time_limit-{_id(s)}",
+                lambda s=s: optri.triangulate(SQ, time_limit=s),
+                InvalidParameterError,
+            )
+        )
     for f in BAD_FLAGS:
-        add((f"keep_table-{_id(f)}", lambda f=f: optri.triangulate(SQ, keep_table=f), ParameterTypeError))
+        add(
+            (
+                f"keep_table-{_id(f)}",
+                lambda f=f: optri.triangulate(SQ, keep_table=f),
+                ParameterTypeError,
+            )
+        )
     for i, cb in enumerate(BAD_CALLBACKS):
         add((f"progress-{i}", lambda cb=cb: optri.triangulate(SQ, progress=cb), ParameterTypeError))
     for s in BAD_SEEDS:
-        add((f"random-seed-{_id(s)}", lambda s=s: optri.random_triangulation(PENT, seed=s), ParameterTypeError))
+        add(
+            (
+                f"random-seed-{_id(s)}",
+                lambda s=s: optri.random_triangulation(PENT, seed=s),
+                ParameterTypeError,
+            )
+        )
     for name, func in BAD_USER_WEIGHTS.items():
         for method in ENGINES_FOR_WEIGHTS:
-            add((f"user-weight-{name}-{method}", lambda f=func, m=method: optri.triangulate(PENT, weight=f, method=m), WeightError))
-        add((f"user-weight-{name}-mask", lambda f=func: optri.triangulate(ARROW, weight=f, method="table"), WeightError))
-        add((f"user-weight-{name}-best", lambda f=func: optri.best_triangulations(PENT, weight=f, k=3), WeightError))
-        add((f"user-weight-{name}-enumerate", lambda f=func: list(optri.enumerate_triangulations(PENT, weight=f)), WeightError))
-        add((f"user-weight-{name}-random", lambda f=func: optri.random_triangulation(PENT, seed=1, weight=f), WeightError))
+            add(
+                (
+                    f"user-weight-{name}-{method}",
+                    lambda f=func, m=method: optri.triangulate(PENT, weight=f, method=m),
+                    WeightError,
+                )
+            )
+        add(
+            (
+                f"user-weight-{name}-mask",
+                lambda f=func: optri.triangulate(ARROW, weight=f, method="table"),
+                WeightError,
+            )
+        )
+        add(
+            (
+                f"user-weight-{name}-best",
+                lambda f=func: optri.best_triangulations(PENT, weight=f, k=3),
+                WeightError,
+            )
+        )
+        add(
+            (
+                f"user-weight-{name}-enumerate",
+                lambda f=func: list(optri.enumerate_triangulations(PENT, weight=f)),
+                WeightError,
+            )
+        )
+        add(
+            (
+                f"user-weight-{name}-random",
+                lambda f=func: optri.random_triangulation(PENT, seed=1, weight=f),
+                WeightError,
+            )
+        )
     for v in [None, "x", 1.5, [], [[0, 0]], [[0, 0], [1, 1]], [[0, 0], [1, 0], [math.nan, 1]]]:
         add((f"count-{_id(v)}", lambda v=v: optri.count_triangulations(v), InvalidPolygonError))
     for v in [10**5000, 10**400, 10**7, config.COUNT_MAX_N + 1]:
-        add((f"count-huge-{v.bit_length()}", lambda v=v: optri.count_triangulations(v), InvalidParameterError))
+        add(
+            (
+                f"count-huge-{v.bit_length()}",
+                lambda v=v: optri.count_triangulations(v),
+                InvalidParameterError,
+            )
+        )
     for dims in [[], [1], [1, 2], [1, -2, 3], [1, 0, 3], ["a", "b", "c"], [1.5, 2, 3], None]:
         add((f"chain-{_id(dims)}", lambda d=dims: optri.matrix_chain(d), InvalidPolygonError))
     for style in ["svg", None, 5]:
-        add((f"format_table-{_id(style)}", lambda s=style: optri.format_table(optri.triangulate(SQ, method="memo"), s), OptriError))
+        add(
+            (
+                f"format_table-{_id(style)}",
+                lambda s=style: optri.format_table(optri.triangulate(SQ, method="memo"), s),
+                OptriError,
+            )
+        )
     return rows
 
 
@@ -147,11 +265,17 @@ def test_api_bad_input_raises_own_error(call, expected):
         call()
     assert isinstance(info.value, expected), repr(info.value)
     if isinstance(info.value, WeightError) and "triangle (" in str(info.value):
-        assert info.value.__cause__ is not None or "NaN" in str(info.value) or "returned" in str(info.value)
+        assert (
+            info.value.__cause__ is not None
+            or "NaN" in str(info.value)
+            or "returned" in str(info.value)
+        )
 
 
 def test_user_weight_error_names_triangle_and_chains_cause():
-    with pytest.raises(WeightError, match=r"raised ZeroDivisionError on triangle \(\d, \d, \d\)") as info:
+    with pytest.raises(
+        WeightError, match=r"raised ZeroDivisionError on triangle \(\d, \d, \d\)"
+    ) as info:
         optri.triangulate(PENT, weight=lambda i, k, j: 1 / 0, method="memo")
     assert isinstance(info.value.__cause__, ZeroDivisionError)
 
@@ -175,7 +299,9 @@ def test_numba_weight_raising_in_compiled_engine_is_a_weight_error():
             raise ValueError("boom")
         return 1.0
 
-    with pytest.raises(WeightError, match=r"inside the compiled engine on triangle \(0, 2, \d\)") as info:
+    with pytest.raises(
+        WeightError, match=r"inside the compiled engine on triangle \(0, 2, \d\)"
+    ) as info:
         optri.triangulate(PENT, weight=w, method="fast")
     assert not isinstance(info.value, SystemError)
     assert isinstance(info.value.__cause__, ValueError)
@@ -208,7 +334,9 @@ def _star(n):
 def test_memory_guard_refuses_before_allocating(monkeypatch, call):
     """A tiny monkeypatched ceiling: every large request is refused, naming limit and way out."""
     monkeypatch.setattr(config, "MEMORY_LIMIT_BYTES", 50 << 20)
-    with pytest.raises(TableTooLargeError, match=r"needs .* MB but only 52.4 MB .*MEMORY_LIMIT_BYTES.*; \w+"):
+    with pytest.raises(
+        TableTooLargeError, match=r"needs .* MB but only 52.4 MB .*MEMORY_LIMIT_BYTES.*; \w+"
+    ):
         call()
 
 
@@ -220,7 +348,9 @@ def test_memory_ceiling_reads_cgroup_limits(monkeypatch, tmp_path):
     (v2 / "memory.max").write_text("1000000\n")
     (v2 / "memory.current").write_text("400000\n")
     (v2 / "memory.stat").write_text("anon 1\ninactive_file 100000\n")
-    monkeypatch.setattr(memory, "_cgroup_files", lambda: ((v2 / "memory.max", v2 / "memory.current"),))
+    monkeypatch.setattr(
+        memory, "_cgroup_files", lambda: ((v2 / "memory.max", v2 / "memory.current"),)
+    )
     assert memory.cgroup_room() == 1000000 - 300000
     monkeypatch.setattr(config, "MEMORY_FRACTION", 0.5)
     assert memory.available_memory_bytes() == 350000
@@ -240,7 +370,9 @@ def test_cgroup_files_found_from_proc_self_cgroup(monkeypatch, tmp_path):
     proc.write_text("4:memory:/a/b\n0::/\n")
     monkeypatch.setattr(memory, "_ROOT", root)
     real_path = memory.Path
-    monkeypatch.setattr(memory, "Path", lambda p: proc if p == "/proc/self/cgroup" else real_path(p))
+    monkeypatch.setattr(
+        memory, "Path", lambda p: proc if p == "/proc/self/cgroup" else real_path(p)
+    )
     memory._cgroup_files.cache_clear()
     try:
         files = memory._cgroup_files()
@@ -289,13 +421,24 @@ CLI_FILES = {
 
 CLI_ROWS = []
 for _name in CLI_FILES:
-    for _cmd in (["solve"], ["solve", "-m", "memo"], ["count"], ["best", "-k", "2"], ["enumerate", "-k", "2"]):
+    for _cmd in (
+        ["solve"],
+        ["solve", "-m", "memo"],
+        ["count"],
+        ["best", "-k", "2"],
+        ["enumerate", "-k", "2"],
+    ):
         CLI_ROWS.append((f"{'-'.join(_cmd)}-{_name}", [*_cmd, "{file}"], _name, 2))
 CLI_ROWS += [
     ("solve-missing-file", ["solve", "/nonexistent/x.csv"], None, 2),
     ("solve-directory", ["solve", "{dir}"], None, 2),
     ("solve-bad-weight", ["solve", "-w", "nope", "{ok}"], None, 2),
-    ("solve-bad-pair", ["solve", "-w", "perimeter,area,area", "--objective", "sum,max", "{ok}"], None, 2),
+    (
+        "solve-bad-pair",
+        ["solve", "-w", "perimeter,area,area", "--objective", "sum,max", "{ok}"],
+        None,
+        2,
+    ),
     ("solve-bad-objective", ["solve", "--objective", "avg", "{ok}"], None, 2),
     ("best-k0", ["best", "-k", "0", "{ok}"], None, 2),
     ("best-k-neg", ["best", "-k", "-3", "{ok}"], None, 2),
@@ -309,14 +452,26 @@ CLI_ROWS += [
     ("chain-text", ["chain", "a", "b", "c"], None, 2),
     ("fill-missing", ["fill", "/nonexistent.obj", "-o", "{dir}/o.obj"], None, 2),
     ("fill-garbage", ["fill", "{file}", "-o", "{dir}/o.obj"], "binary.csv", 2),
-    ("batch-bad-weight", ["batch", "{file}", "-o", "{dir}/out.ndjson", "-w", "nope", "-q"], "ok.ndjson", 2),
-    ("batch-bad-objective", ["batch", "{file}", "-o", "{dir}/out.ndjson", "--objective", "x", "-q"], "ok.ndjson", 2),
+    (
+        "batch-bad-weight",
+        ["batch", "{file}", "-o", "{dir}/out.ndjson", "-w", "nope", "-q"],
+        "ok.ndjson",
+        2,
+    ),
+    (
+        "batch-bad-objective",
+        ["batch", "{file}", "-o", "{dir}/out.ndjson", "--objective", "x", "-q"],
+        "ok.ndjson",
+        2,
+    ),
     ("batch-missing", ["batch", "/nonexistent.ndjson", "-o", "{dir}/out.ndjson", "-q"], None, 2),
 ]
 CLI_FILES["ok.ndjson"] = b'{"id": 1, "coordinates": [[0, 0], [1, 0], [1, 1]]}\n'
 
 
-@pytest.mark.parametrize("args, fname, code", [r[1:] for r in CLI_ROWS], ids=[r[0] for r in CLI_ROWS])
+@pytest.mark.parametrize(
+    "args, fname, code", [r[1:] for r in CLI_ROWS], ids=[r[0] for r in CLI_ROWS]
+)
 def test_cli_bad_input_is_one_line_and_exit_code(tmp_path, args, fname, code):
     ok = tmp_path / "ok.csv"
     ok.write_text("0,0\n1,0\n1,1\n0,1\n")
@@ -357,8 +512,11 @@ BATCH_LINES = [
     ("coords_repeat", b'{"coordinates": [[0, 0], [1, 0], [1, 0], [0, 1]]}'),
     ("coords_collinear", b'{"coordinates": [[0, 0], [1, 0], [2, 0]]}'),
     ("coords_ragged", b'{"coordinates": [[0, 0], [1], [1, 1, 1, 1]]}'),
-    ("coords_huge_int", b'{"coordinates": [[0, 0], [' + b"9" * 400 + b', 0], [1, 1]]}'),
-    ("geometry_point", b'{"type": "Feature", "geometry": {"type": "Point", "coordinates": [1, 2]}}'),
+    ("coords_huge_int", b'{"coordinates": [[0, 0], [' + b"9" * 400 + b", 0], [1, 1]]}"),
+    (
+        "geometry_point",
+        b'{"type": "Feature", "geometry": {"type": "Point", "coordinates": [1, 2]}}',
+    ),
     ("geometry_null", b'{"type": "Feature", "geometry": null}'),
     ("geometry_string", b'{"type": "Feature", "geometry": "POLYGON"}'),
     ("geometry_coords5", b'{"type": "Feature", "geometry": {"type": "Polygon", "coordinates": 5}}'),
@@ -370,7 +528,13 @@ BATCH_LINES = [
     ("bom_in_middle", b"\xef\xbb\xbf{}"),
     ("empty_object", b"{}"),
     ("duplicate_keys", b'{"coordinates": [[0, 0]], "coordinates": 5}'),
-    ("big_properties", b'{"coordinates": [[0, 0], [1, 0], [1, 1]], "properties": ' + b"[" * 200 + b"]" * 200 + b"}"),
+    (
+        "big_properties",
+        b'{"coordinates": [[0, 0], [1, 0], [1, 1]], "properties": '
+        + b"[" * 200
+        + b"]" * 200
+        + b"}",
+    ),
 ]
 GOOD_LINE = b'{"id": "good%d", "coordinates": [[0, 0], [4, 0], [5, 3], [2, 5], [-1, 3]]}'
 # lines the reader takes as polygons (they are fine, or their oddity is only in attributes)

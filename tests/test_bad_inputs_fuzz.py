@@ -21,11 +21,15 @@ from optri.io import read_rings
 
 JSON = st.recursive(
     st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=4),
-    lambda inner: st.lists(inner, max_size=5)
-    | st.dictionaries(
-        st.sampled_from(["type", "coordinates", "geometry", "features", "exterior", "holes", "x"]),
-        inner,
-        max_size=4,
+    lambda inner: (
+        st.lists(inner, max_size=5)
+        | st.dictionaries(
+            st.sampled_from(
+                ["type", "coordinates", "geometry", "features", "exterior", "holes", "x"]
+            ),
+            inner,
+            max_size=4,
+        )
     ),
     max_leaves=25,
 )

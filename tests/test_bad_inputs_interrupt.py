@@ -28,15 +28,20 @@ def star(n):
     return np.column_stack((r * np.cos(a), r * np.sin(a)))
 """
 
-MASK = STAR + """
+MASK = (
+    STAR
+    + """
 from optri.simple import valid_diagonals
 valid_diagonals(star(200))  # kernels loaded (compiled or from the cache)
 print("go", flush=True)
 valid_diagonals(star(14000))  # several seconds inside one kernel call
 print("finished", flush=True)
 """
+)
 
-CLI = STAR + """
+CLI = (
+    STAR
+    + """
 import optri
 optri.triangulate(star(200), method="fast")  # kernels loaded
 np.savetxt("star.csv", star(6000), delimiter=",")
@@ -44,6 +49,7 @@ from optri.cli import main
 print("go", flush=True)
 main(["solve", "star.csv", "-m", "fast", "-q"])
 """
+)
 
 
 def _interrupt(code, tmp_path, delay):

@@ -41,7 +41,9 @@ def count(source: str) -> None:
 @click.argument("source")
 @click.option("--weight", "-w", default=None, help=_WEIGHT_HELP + " Default: none.")
 @click.option("--objective", "-o", default="sum", show_default=True, help="sum or max.")
-@click.option("--limit", "-k", type=int, default=None, help="Stop after this many.")
+@click.option(
+    "--limit", "-k", type=click.IntRange(min=0), default=None, help="Stop after this many."
+)
 @click.option("--json", "as_json", is_flag=True, help="One JSON object per line.")
 def enumerate_cmd(
     source: str, weight: str | None, objective: str, limit: int | None, as_json: bool

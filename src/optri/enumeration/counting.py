@@ -15,9 +15,9 @@ import math
 
 import numpy as np
 
+from .. import config
 from ..engines.memory import require_memory
 from ..engines.recurrence import Rows, chords_by_length, split_points
-from .. import config
 from ..errors import InvalidParameterError, InvalidPolygonError
 from .builder import PolygonOrN, as_enumerable, usable_chords
 

@@ -11,12 +11,13 @@ lazily: popping (a, b) pushes (a + 1, b) and (a, b + 1).
 from __future__ import annotations
 
 import heapq
+import math
 from typing import Any
 
 from .. import config
 from ..engines.memory import require_memory
 from ..engines.recurrence import chords_by_length, split_points, walk
-from ..errors import InvalidPolygonError, WeightError
+from ..errors import InvalidPolygonError, NoTriangulationError, WeightError
 from ..objective import ObjectiveLike, as_objective
 from ..params import check_count
 from ..result import Triangulation
@@ -99,11 +100,22 @@ def best_triangulations(
     top = best.get((0, n - 1), [])
     if not top:
         raise InvalidPolygonError("the polygon has no triangulation with its allowed chords")
+    _require_finite(top[0][0])
     out = []
     for rank, entry in enumerate(top):
         tris = _expand(best, 0, n - 1, rank)
         out.append(build(tris, obj.finalize(entry[0])))
     return out
+
+
+def _require_finite(cost: Any) -> None:
+    """The cheapest cost must be finite: an infinite one means the weights overflow."""
+    values = cost if isinstance(cost, tuple) else (cost,)
+    if not all(v == -math.inf or math.isfinite(v) for v in values):
+        raise NoTriangulationError(
+            f"the cheapest cost {cost} is not a finite number: the weights are infinite or "
+            f"overflow float64 (coordinates near 1e308); scale the coordinates down"
+        )
 
 
 def kbest_bytes(n: int, k: int, convex: bool = True) -> int:
