@@ -54,7 +54,7 @@ def read_rings(path: str | os.PathLike[str]) -> list[NDArray[np.float64]]:
     """
     p = Path(path)
     try:
-        text = p.read_text()
+        text = p.read_text(encoding="utf-8-sig")  # a byte-order mark is not a vertex
     except OSError as exc:
         raise InvalidPolygonError(f"cannot read {p}: {exc.strerror or exc}") from exc
     except UnicodeDecodeError as exc:
