@@ -91,7 +91,8 @@ def triangulate(
         A polygon with holes takes ``"auto"``, ``"ip"`` or ``"bridge"``
         (:data:`optri.domains.METHODS`).
     progress : callable, optional
-        ``progress(done, total)`` called as the table fills.
+        ``progress(done, total)`` called as the table fills. An exception it raises
+        stops the solve and propagates unchanged (a way to cancel).
     keep_table : bool, optional
         Keep the n x n table (default: the Python engines keep it).
     dtype : numpy dtype
@@ -109,11 +110,17 @@ def triangulate(
 
     Raises
     ------
+    InvalidParameterError
+        A parameter it cannot take (``dtype``, ``time_limit``, ``keep_table``,
+        ``progress``), checked before any work; :class:`ParameterTypeError`
+        (also a ``TypeError``) for the wrong type.
     InvalidPolygonError
         Fewer than 3 vertices, NaN/inf, repeated vertices, a polygon the
         method cannot take.
     WeightError
-        Unknown weight, weight not fitting the input, a weight returning NaN.
+        Unknown weight or objective, weight not fitting the input, a user weight
+        that raises or returns a non-number or NaN (the triangle named, the
+        original exception chained).
     NoTriangulationError
         The optimum is not a finite float64 (weights that overflow, such as
         lengths of a polygon with coordinates near 1e308): never returned as inf.
