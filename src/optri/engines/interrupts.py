@@ -10,10 +10,10 @@ prints "interrupted" and exits 130); any other cause is re-raised as itself
 (its ``__cause__`` kept) so callers can wrap it in their own error.
 
 >>> with interruptible():
-...     raise SystemError("kernel returned a result with an exception set") from KeyboardInterrupt()
+...     raise SystemError("kernel returned a result with an exception set") from ValueError("w")
 Traceback (most recent call last):
 ...
-KeyboardInterrupt
+ValueError: w
 """
 
 from __future__ import annotations
