@@ -134,11 +134,7 @@ def _flush_stdout() -> None:
 
 @contextlib.contextmanager
 def _process_settings() -> Iterator[None]:
-    """Big integers printed in full; SIGTERM unwinds like Ctrl-C (temporary files removed)."""
-    digits = getattr(sys, "get_int_max_str_digits", None)
-    old_digits = digits() if digits else None
-    if old_digits is not None:
-        sys.set_int_max_str_digits(0)
+    """SIGTERM unwinds like Ctrl-C, so temporary files are removed."""
     old_term = None
     _TERMINATED["flag"] = False
     if threading.current_thread() is threading.main_thread():
@@ -153,8 +149,6 @@ def _process_settings() -> Iterator[None]:
     finally:
         if old_term is not None:
             signal.signal(signal.SIGTERM, old_term)
-        if old_digits is not None:
-            sys.set_int_max_str_digits(old_digits)
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})

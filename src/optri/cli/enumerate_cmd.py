@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import sys
 import time
 from typing import Any
 
@@ -49,12 +50,28 @@ def count(source: str, columns: tuple[str, ...] | None, as_json: bool, quiet: bo
     with progress_bar("counting", not quiet):
         total = count_triangulations(polygon)
     seconds = time.perf_counter() - start
+    text = full_digits(total)
     if as_json:
         n = polygon if isinstance(polygon, int) else len(polygon)
-        text = str(total)
         click.echo(f'{{"n": {n}, "count": {text}, "digits": {len(text)}, "seconds": {seconds}}}')
     else:
-        click.echo(str(total))
+        click.echo(text)
+
+
+def full_digits(value: int) -> str:
+    """Every decimal digit of ``value``, past Python's 4300-digit ``str(int)`` limit.
+
+    >>> len(full_digits(10**5000))
+    5001
+    """
+    limit = getattr(sys, "get_int_max_str_digits", lambda: 0)()
+    if limit == 0:
+        return str(value)
+    sys.set_int_max_str_digits(0)
+    try:
+        return str(value)
+    finally:
+        sys.set_int_max_str_digits(limit)
 
 
 @main.command(name="enumerate", epilog=_SOURCE_HELP)
@@ -125,4 +142,4 @@ def best(
             click.echo(_line(rank, tri, True))
 
 
-__all__ = ["best", "count", "enumerate_cmd"]
+__all__ = ["best", "count", "enumerate_cmd", "full_digits"]

@@ -118,11 +118,13 @@ class OutputPath(click.ParamType):
             return path
         except OSError as exc:
             self.fail(f"{path}: {exc.strerror}", param, ctx)
-        if self.kind == "dir" and not stat.S_ISDIR(mode):
+        if stat.S_ISDIR(mode):
+            if self.kind == "file":
+                self.fail(f"{path} is a directory; give a file name", param, ctx)
+            return path
+        if self.kind == "dir":
             self.fail(f"{path} exists and is not a directory", param, ctx)
-        if self.kind == "file" and stat.S_ISDIR(mode):
-            self.fail(f"{path} is a directory; give a file name", param, ctx)
-        if not stat.S_ISREG(mode) and not (self.kind == "any" and stat.S_ISDIR(mode)):
+        if not stat.S_ISREG(mode):
             self.fail(
                 f"{path} is not a regular file (a device, FIFO or socket); optri replaces "
                 f"regular files only",

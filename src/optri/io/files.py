@@ -72,8 +72,9 @@ def read_rings(
         message names the file and line.
     """
     text = read_text(path)
-    p = Path(path)
-    suffix = "" if str(path) == STDIN else p.suffix.lower()
+    stdin = str(path) == STDIN
+    p = Path("standard input" if stdin else path)
+    suffix = "" if stdin else p.suffix.lower()
     if suffix not in (".wkt", ".json", ".geojson", ".csv", ".tsv", ".txt"):
         head = text.lstrip()[:1]
         suffix = ".json" if head in ("{", "[") else ".wkt" if _WKT.match(text) else ".csv"
@@ -81,7 +82,7 @@ def read_rings(
         return rings_from_wkt(text)
     if suffix in (".json", ".geojson"):
         return _parse_json(text, p)
-    return [parse_delimited(text, str(path), columns)]
+    return [parse_delimited(text, str(p), columns)]
 
 
 def read_text(path: str | os.PathLike[str]) -> str:
