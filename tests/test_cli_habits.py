@@ -44,7 +44,7 @@ def _options(command):
 
 def test_each_short_flag_has_one_meaning_across_commands():
     meanings: dict[str, set[str]] = {}
-    for name, command in _commands().items():
+    for command in _commands().values():
         for opt in _options(command):
             longs = [o for o in opt.opts + opt.secondary_opts if o.startswith("--")]
             for short in (o for o in opt.opts if not o.startswith("--")):
@@ -266,7 +266,7 @@ LAYOUTS = {
     "semicolon": "x;y\n0;0\n2;0\n2;2\n0;2\n",
     "tab": "0\t0\n2\t0\n2\t2\n0\t2\n",
     "spaces": "  0   0\n2 0\n 2  2\n0 2\n",
-    "text column": "lon,lat,name\n0,0,a\n2,0,\"b, c\"\n2,2,d\n0,2,e\n",
+    "text column": 'lon,lat,name\n0,0,a\n2,0,"b, c"\n2,2,d\n0,2,e\n',
     "id first": "id,x,y\n10,0,0\n11,2,0\n12,2,2\n13,0,2\n",
     "lat,lon named": "name;lat;lon\na;0;0\nb;0;2\nc;2;2\nd;2;0\n",
     "comments, crlf": "# a square\r\nx,y\r\n0,0\r\n2,0\r\n\r\n2,2\r\n0,2\r\n",

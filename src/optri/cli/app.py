@@ -33,11 +33,17 @@ _TERMINATED = {"flag": False}
 class _Group(click.Group):
     """A click group that turns every error into one line and exit 2."""
 
-    def main(self, args: Any = None, prog_name: Any = None, *a: Any, **kw: Any) -> Any:
-        standalone = kw.pop("standalone_mode", True)
+    def main(  # type: ignore[override]
+        self,
+        args: Any = None,
+        prog_name: str | None = None,
+        complete_var: str | None = None,
+        standalone_mode: bool = True,
+        **extra: Any,
+    ) -> Any:
         with _process_settings():
             try:
-                code = super().main(args, prog_name, *a, standalone_mode=False, **kw)
+                code = super().main(args, prog_name, complete_var, False, **extra)
                 _flush_stdout()
             except click.exceptions.NoArgsIsHelpError as exc:
                 click.echo(exc.ctx.get_help() if exc.ctx else "")
@@ -50,7 +56,7 @@ class _Group(click.Group):
             except SystemExit as exc:
                 code = exc.code
         code = code if isinstance(code, int) else 0
-        if standalone:
+        if standalone_mode:
             sys.exit(code)
         return code
 

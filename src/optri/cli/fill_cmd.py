@@ -14,10 +14,10 @@ from ..holes import METHODS, HoleRecord, fill_holes
 from ..holes.boundary import edge_summary
 from ..holes.search import kernels_cached
 from ..io.meshes import mesh_format, read_mesh, write_mesh
-from .stdin import mesh_input
 from .app import main
 from .options import input_path, output_option
 from .progress import announce, compile_notice, progress_bar
+from .stdin import mesh_input
 
 
 def _summary(rec: HoleRecord) -> str:

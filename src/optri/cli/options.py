@@ -111,6 +111,7 @@ class OutputPath(click.ParamType):
         self.kind = kind
 
     def convert(self, value: Any, param: Any, ctx: Any) -> str:
+        """The path, or a one-line usage error when it exists and is of the wrong kind."""
         path = os.fspath(value)
         try:
             mode = os.stat(path).st_mode
@@ -138,6 +139,7 @@ class PlotPath(OutputPath):
     """An output file whose suffix names a format matplotlib writes (png, svg, pdf, ...)."""
 
     def convert(self, value: Any, param: Any, ctx: Any) -> str:
+        """The path, or a one-line usage error naming the formats matplotlib writes."""
         path = super().convert(value, param, ctx)
         suffix = Path(path).suffix.lower().lstrip(".")
         formats = _plot_formats()

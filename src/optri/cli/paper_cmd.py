@@ -19,7 +19,7 @@ from .progress import compile_notice, progress_bar
 )
 @click.option("--quick", is_flag=True, help="A seconds-long run (small n, one repeat).")
 @click.option("--no-figures", is_flag=True, help="Skip the PNGs.")
-@click.option("--json", "as_json", is_flag=True, help="Print the report's path and seconds as JSON.")
+@click.option("--json", "as_json", is_flag=True, help="Print the report's path and time as JSON.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
 def paper(output: str, quick: bool, no_figures: bool, as_json: bool, quiet: bool) -> None:
     """Reproduce Selimi et al. (2019): Tables 2-4, Figures 1-7, notes on the paper."""

@@ -115,4 +115,3 @@ def _make_bar(description: str, counts: bool, console: Any) -> tuple[Any, Any]:
     columns += [TimeElapsedColumn(), TimeRemainingColumn()]
     bar = Progress(*columns, console=console, transient=True)
     return bar, bar.add_task(description, total=None, rate="")
-

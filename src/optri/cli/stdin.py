@@ -23,9 +23,9 @@ STDIN = "-"
 
 
 def sniff_mesh(head: bytes) -> str:
-    """The mesh format (obj, ply, stl, off) of a file starting with ``head``.
+    r"""The mesh format (obj, ply, stl, off) of a file starting with ``head``.
 
-    >>> sniff_mesh(b"ply\\nformat ascii 1.0\\n"), sniff_mesh(b"# cube\\nv 0 0 0\\n")
+    >>> sniff_mesh(b"ply\nformat ascii 1.0\n"), sniff_mesh(b"# cube\nv 0 0 0\n")
     ('ply', 'obj')
     """
     text = head.lstrip()
@@ -44,11 +44,11 @@ def sniff_mesh(head: bytes) -> str:
 
 
 def sniff_layer(head: bytes) -> str:
-    """The batch input format of a layer starting with ``head`` (stdin has no suffix).
+    r"""The batch input format of a layer starting with ``head`` (stdin has no suffix).
 
     >>> sniff_layer(b'{"type": "FeatureCollection", "features": []}')
     'geojson'
-    >>> sniff_layer(b'{"id": 1, "coordinates": [[0, 0], [1, 0], [0, 1]]}\\n{"id": 2}')
+    >>> sniff_layer(b'{"id": 1, "coordinates": [[0, 0], [1, 0], [0, 1]]}\n{"id": 2}')
     'ndjson'
     """
     if head.startswith(b"PAR1"):

@@ -54,8 +54,7 @@ def parse_columns(spec: str) -> tuple[str, ...]:
     parts = tuple(p.strip() for p in spec.split(","))
     if len(parts) not in (2, 3) or not all(parts):
         raise InvalidPolygonError(
-            f"--columns takes two or three column names or numbers such as x,y or 2,3; "
-            f"got {spec!r}"
+            f"--columns takes two or three column names or numbers such as x,y or 2,3; got {spec!r}"
         )
     return parts
 
@@ -63,7 +62,7 @@ def parse_columns(spec: str) -> tuple[str, ...]:
 def parse_delimited(
     text: str, name: str, columns: Sequence[str] | None = None
 ) -> NDArray[np.float64]:
-    """Vertices (n x 2 or n x 3) or vertex values (n,) from delimited text.
+    r"""Vertices (n x 2 or n x 3) or vertex values (n,) from delimited text.
 
     Parameters
     ----------
@@ -82,9 +81,9 @@ def parse_delimited(
 
     Examples
     --------
-    >>> parse_delimited("lon;lat;name\\n0;0;a\\n1;0;b\\n0;1;c\\n", "f.csv").tolist()
+    >>> parse_delimited("lon;lat;name\n0;0;a\n1;0;b\n0;1;c\n", "f.csv").tolist()
     [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
-    >>> parse_delimited("id x y\\n7 0 0\\n8 2 0\\n9 0 2\\n", "f", ["x", "y"]).tolist()
+    >>> parse_delimited("id x y\n7 0 0\n8 2 0\n9 0 2\n", "f", ["x", "y"]).tolist()
     [[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]
     """
     lines = [
@@ -138,9 +137,7 @@ def _sniff(sample: list[str]) -> str:
 
 def _is_header(first: list[str], second: list[str]) -> bool:
     """Text in the first line where the second line holds a number."""
-    return any(
-        not _is_number(a) and _is_number(b) for a, b in zip(first, second, strict=False)
-    )
+    return any(not _is_number(a) and _is_number(b) for a, b in zip(first, second, strict=False))
 
 
 def _numeric_column(rows: list[tuple[int, list[str]]], c: int) -> bool:

@@ -104,9 +104,9 @@ def read_text(path: str | os.PathLike[str]) -> str:
 
 
 def decode_text(data: bytes, name: str) -> str:
-    """UTF-8 (or UTF-16 with a byte-order mark) bytes as text, without the mark.
+    r"""UTF-8 (or UTF-16 with a byte-order mark) bytes as text, without the mark.
 
-    >>> decode_text(b"\\xef\\xbb\\xbfx,y", "f.csv")
+    >>> decode_text(b"\xef\xbb\xbfx,y", "f.csv")
     'x,y'
 
     Raises
