@@ -311,7 +311,7 @@ def cli_files(tmp: Path) -> None:
         ["solve", "-m", "memo", "-q"],
         ["count"],
         ["best", "-k", "2"],
-        ["enumerate", "-k", "2"],
+        ["enumerate", "-n", "2"],
         ["solve", "--json", "-q"],
     ]
     suffixes = [".csv", ".json", ".geojson", ".wkt", ".txt"]

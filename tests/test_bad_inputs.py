@@ -426,7 +426,7 @@ for _name in CLI_FILES:
         ["solve", "-m", "memo"],
         ["count"],
         ["best", "-k", "2"],
-        ["enumerate", "-k", "2"],
+        ["enumerate", "-n", "2"],
     ):
         CLI_ROWS.append((f"{'-'.join(_cmd)}-{_name}", [*_cmd, "{file}"], _name, 2))
 CLI_ROWS += [
