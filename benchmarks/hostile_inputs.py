@@ -97,7 +97,8 @@ def run_cli(category: str, label: str, argv: list[str]) -> None:
     finally:
         signal.alarm(0)
     err = [ln for ln in res.stderr.splitlines() if ln.strip()]
-    if not isinstance(res.exception, (SystemExit, type(None))) or "Traceback" in res.stderr:
+    escaped = "Traceback" in res.stderr or "a bug in optri" in res.stderr  # the catch-all
+    if not isinstance(res.exception, (SystemExit, type(None))) or escaped:
         record(category, "traceback", f"{label}: {res.exception!r}"[:200])
     elif res.exit_code == 0:
         record(category, "answer", label)

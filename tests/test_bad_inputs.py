@@ -484,6 +484,7 @@ def test_cli_bad_input_is_one_line_and_exit_code(tmp_path, args, fname, code):
     assert isinstance(result.exception, SystemExit), repr(result.exception)  # no traceback
     err = [ln for ln in result.stderr.splitlines() if ln.strip()]
     assert "Traceback" not in result.stderr
+    assert "a bug in optri" not in result.stderr  # the CLI's catch-all: not a clean error
     own = [ln for ln in err if ln.startswith("optri: error:")]
     if own:  # a library error: exactly one line
         assert len(own) == 1 and len(err) == 1, err

@@ -76,6 +76,7 @@ def test_cli_solve_on_any_file_exits_cleanly(tmp_path, data, suffix):
     if result.exit_code == 2:
         lines = [ln for ln in result.stderr.splitlines() if ln.strip()]
         assert len(lines) == 1 and lines[0].startswith("optri: error:"), lines
+        assert "a bug in optri" not in lines[0]  # the CLI's catch-all: not a clean error
 
 
 @settings(
