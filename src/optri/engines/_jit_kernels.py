@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 from llvmlite import ir
 from numba import njit, prange, types
+from numba.core import cgutils
 from numba.extending import intrinsic, overload
 
 from ..weights import WeightCode
@@ -59,6 +60,25 @@ def _fmin(typingctx, a, b):
         t = args[0].type
         fn = builder.module.declare_intrinsic("llvm.minnum", [t], ir.FunctionType(t, [t, t]))
         return builder.call(fn, args, fastmath=("nnan", "nsz"))
+
+    return sig, codegen
+
+
+@intrinsic
+def _borrowed(typingctx, arr):
+    """``arr`` without its reference count, for the kernels' inner loops.
+
+    Every slice of an array adds to and takes from the reference count of the
+    array it views: two atomic operations per slice, on one cache line that all
+    threads share. A borrowed array (null ``meminfo``) makes those no-ops. The
+    caller keeps the array alive; nothing borrowed may outlive the call.
+    """
+    sig = arr(arr)
+
+    def codegen(context, builder, signature, args):
+        ary = context.make_array(signature.args[0])(context, builder, value=args[0])
+        ary.meminfo = cgutils.get_null_value(ary.meminfo.type)
+        return ary._getvalue()
 
     return sig, codegen
 
@@ -119,15 +139,12 @@ def _any_allowed(mask, use_mask, i0, i1, j0, j1):
 
 @kernel(fastmath=_FASTMATH)
 def _far(T, mask, use_mask, i0, i1, j0, j1):
-    """``T[i, j] = min over i1 <= k < j0 of T[i, k] + T[j, k]`` for the tile's cells.
+    """``T[i, j] = min(T[i, j], min over i1 <= k < j0 of T[i, k] + T[j, k])``.
 
     With a chord mask, blocks of cells that are all disallowed are skipped: a
     simple polygon has few valid diagonals, so most of the product is never
     needed (disallowed cells end up +inf either way).
     """
-    for i in range(i0, i1):
-        for j in range(j0, j1):
-            T[i, j] = np.inf
     if not _any_allowed(mask, use_mask, i0, i1, j0, j1):
         return
     for k0 in range(i1, j0, _KBLOCK):
@@ -146,31 +163,98 @@ def _far(T, mask, use_mask, i0, i1, j0, j1):
                 _block11(T, i1 - 1, j, k0, k1)
 
 
+@kernel(fastmath=_FASTMATH, inline="always")
+def _store(T, pts, code, mask, use_mask, i, j, best):
+    """Final ``E(i, j) = best + 2 e(i, j)`` (+inf for a disallowed chord), both halves."""
+    if use_mask and not mask[i, j]:
+        v = np.inf  # not a diagonal: never used
+    else:
+        v = best + 2.0 * edge_weight(code, pts, i, j)
+    T[i, j] = v
+    T[j, i] = v
+
+
+@kernel(fastmath=_FASTMATH, inline="always")
+def _cell(T, pts, code, mask, use_mask, i, j, i1, j0):
+    """Cell (i, j) alone: its near splits ``i < k < i1`` and ``j0 <= k < j``."""
+    if j == i + 1:
+        v = edge_weight(code, pts, i, j)  # a side: cost 0, so E = e
+        T[i, j] = v
+        T[j, i] = v
+        return
+    lo, hi = min(i1, j), max(j0, i1)
+    best = _rowmin(T[i, j], T[i, i + 1 : lo], T[j, i + 1 : lo])
+    best = _rowmin(best, T[i, hi:j], T[j, hi:j])
+    _store(T, pts, code, mask, use_mask, i, j, best)
+
+
+@kernel(fastmath=_FASTMATH)
+def _near24(T, pts, code, mask, use_mask, i, j, i1, j0):
+    """Near splits of cells (i..i+1, j..j+3), ``j >= i + 3``, then their final values.
+
+    Splits ``i + 2 <= k < j`` are common to all eight cells and run in the
+    register block (below the tile's rows, then left of its columns); the few
+    splits through the block's own cells (``k = i + 1`` and ``j <= k < j + 3``)
+    follow, in dependency order: row i + 1 left to right, then row i.
+    """
+    lo, hi = min(i1, j), max(j0, i1)
+    if lo > i + 2:
+        _block24(T, i, j, i + 2, lo)
+    if j > hi:
+        _block24(T, i, j, hi, j)
+    for r in range(i + 1, i - 1, -1):
+        for c in range(j, j + 4):
+            best = T[r, c]
+            if r == i:
+                best = _fmin(best, T[i, i + 1] + T[i + 1, c])
+            for k in range(j, c):
+                best = _fmin(best, T[r, k] + T[k, c])
+            _store(T, pts, code, mask, use_mask, r, c, best)
+
+
+@kernel(fastmath=_FASTMATH)
+def _near_rows(T, pts, code, mask, use_mask, r, i1, j0, j1):
+    """Rows r and r + 1 of a tile: cells alone where a block does not fit, else blocks."""
+    first = max(j0, r + 1)
+    jb = max(first, r + 3)  # from here every cell of a 2 x 4 block is a chord
+    for c in range(first, min(jb, j1)):
+        if c > r + 1:
+            _cell(T, pts, code, mask, use_mask, r + 1, c, i1, j0)
+        _cell(T, pts, code, mask, use_mask, r, c, i1, j0)
+    j = jb
+    while j + 4 <= j1:
+        if _any_allowed(mask, use_mask, r, r + 2, j, j + 4):
+            _near24(T, pts, code, mask, use_mask, r, j, i1, j0)
+        else:
+            for rr in range(r, r + 2):
+                for c in range(j, j + 4):
+                    T[rr, c] = np.inf
+                    T[c, rr] = np.inf
+        j += 4
+    for c in range(j, j1):
+        _cell(T, pts, code, mask, use_mask, r + 1, c, i1, j0)
+        _cell(T, pts, code, mask, use_mask, r, c, i1, j0)
+
+
 @kernel(fastmath=_FASTMATH)
 def _tile(T, pts, code, mask, use_mask, tile, ti, tj):
     n = T.shape[0]
     i0, i1 = ti * tile, min(n, ti * tile + tile)
     j0, j1 = tj * tile, min(n, tj * tile + tile)
+    for i in range(i0, i1):
+        for j in range(max(j0, i + 2), j1):
+            T[i, j] = np.inf
     if tj > ti + 1:
         _far(T, mask, use_mask, i0, i1, j0, j1)
-    # near splits, in dependency order: rows upwards, columns rightwards
-    for i in range(i1 - 1, i0 - 1, -1):
-        ri = T[i]
-        for j in range(max(j0, i + 1), j1):
-            if j == i + 1:
-                v = edge_weight(code, pts, i, j)  # a side: cost 0, so E = e
-            elif use_mask and not mask[i, j]:
-                v = np.inf  # not a diagonal: never computed
-            else:
-                rj = T[j]
-                if tj <= ti + 1:
-                    ri[j] = np.inf  # no far splits; keeps best in the table's dtype
-                lo, hi = min(i1, j), max(j0, i1)
-                best = _rowmin(ri[j], ri[i + 1 : lo], rj[i + 1 : lo])
-                best = _rowmin(best, ri[hi:j], rj[hi:j])
-                v = best + 2.0 * edge_weight(code, pts, i, j)
-            ri[j] = v
-            T[j, i] = v
+    # near splits, in dependency order: rows upwards (in pairs), columns rightwards
+    r = i1 - 1
+    if (i1 - i0) % 2:
+        for c in range(max(j0, r + 1), j1):
+            _cell(T, pts, code, mask, use_mask, r, c, i1, j0)
+        r -= 1
+    while r > i0:
+        _near_rows(T, pts, code, mask, use_mask, r - 1, i1, j0, j1)
+        r -= 2
 
 
 @kernel(parallel=True, fastmath=_FASTMATH)
@@ -180,6 +264,7 @@ def minplus_tiles(T, pts, code, chords, tile, d0, d1):
     ``chords = (mask, use_mask)``, as for :func:`generic_tiles`.
     """
     mask, use_mask = chords
+    T, pts, mask = _borrowed(T), _borrowed(pts), _borrowed(mask)
     nt = (T.shape[0] + tile - 1) // tile
     for d in range(d0, d1):
         for t in prange(nt - d):
