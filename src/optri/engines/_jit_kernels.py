@@ -25,7 +25,6 @@ from __future__ import annotations
 import numpy as np
 from llvmlite import ir
 from numba import njit, prange, types
-from numba.core import cgutils
 from numba.extending import intrinsic, overload
 
 from ..weights import WeightCode
@@ -60,25 +59,6 @@ def _fmin(typingctx, a, b):
         t = args[0].type
         fn = builder.module.declare_intrinsic("llvm.minnum", [t], ir.FunctionType(t, [t, t]))
         return builder.call(fn, args, fastmath=("nnan", "nsz"))
-
-    return sig, codegen
-
-
-@intrinsic
-def _borrowed(typingctx, arr):
-    """``arr`` without its reference count, for the kernels' inner loops.
-
-    Every slice of an array adds to and takes from the reference count of the
-    array it views: two atomic operations per slice, on one cache line that all
-    threads share. A borrowed array (null ``meminfo``) makes those no-ops. The
-    caller keeps the array alive; nothing borrowed may outlive the call.
-    """
-    sig = arr(arr)
-
-    def codegen(context, builder, signature, args):
-        ary = context.make_array(signature.args[0])(context, builder, value=args[0])
-        ary.meminfo = cgutils.get_null_value(ary.meminfo.type)
-        return ary._getvalue()
 
     return sig, codegen
 
@@ -121,6 +101,35 @@ def _block24(T, i, j, k0, k1):
 
 
 @kernel(fastmath=_FASTMATH, inline="always")
+def _block44(T, i, j, k0, k1):
+    """Cells (i..i+3, j..j+3) over splits k0 <= k < k1: 16 sums per 8 loads.
+
+    The loop runs along contiguous rows ``T[i..i+3]`` and ``T[j..j+3]``; LLVM
+    vectorizes it over k, so the 16 minima live in vector registers until the end.
+    """
+    x0, x1, x2, x3 = T[i, k0:k1], T[i + 1, k0:k1], T[i + 2, k0:k1], T[i + 3, k0:k1]
+    y0, y1, y2, y3 = T[j, k0:k1], T[j + 1, k0:k1], T[j + 2, k0:k1], T[j + 3, k0:k1]
+    a0, a1, a2, a3 = T[i, j], T[i, j + 1], T[i, j + 2], T[i, j + 3]
+    b0, b1, b2, b3 = T[i + 1, j], T[i + 1, j + 1], T[i + 1, j + 2], T[i + 1, j + 3]
+    c0, c1, c2, c3 = T[i + 2, j], T[i + 2, j + 1], T[i + 2, j + 2], T[i + 2, j + 3]
+    d0, d1, d2, d3 = T[i + 3, j], T[i + 3, j + 1], T[i + 3, j + 2], T[i + 3, j + 3]
+    for k in range(x0.shape[0]):
+        e0, e1, e2, e3 = y0[k], y1[k], y2[k], y3[k]
+        x = x0[k]
+        a0, a1, a2, a3 = _fmin(a0, x + e0), _fmin(a1, x + e1), _fmin(a2, x + e2), _fmin(a3, x + e3)
+        x = x1[k]
+        b0, b1, b2, b3 = _fmin(b0, x + e0), _fmin(b1, x + e1), _fmin(b2, x + e2), _fmin(b3, x + e3)
+        x = x2[k]
+        c0, c1, c2, c3 = _fmin(c0, x + e0), _fmin(c1, x + e1), _fmin(c2, x + e2), _fmin(c3, x + e3)
+        x = x3[k]
+        d0, d1, d2, d3 = _fmin(d0, x + e0), _fmin(d1, x + e1), _fmin(d2, x + e2), _fmin(d3, x + e3)
+    T[i, j], T[i, j + 1], T[i, j + 2], T[i, j + 3] = a0, a1, a2, a3
+    T[i + 1, j], T[i + 1, j + 1], T[i + 1, j + 2], T[i + 1, j + 3] = b0, b1, b2, b3
+    T[i + 2, j], T[i + 2, j + 1], T[i + 2, j + 2], T[i + 2, j + 3] = c0, c1, c2, c3
+    T[i + 3, j], T[i + 3, j + 1], T[i + 3, j + 2], T[i + 3, j + 3] = d0, d1, d2, d3
+
+
+@kernel(fastmath=_FASTMATH, inline="always")
 def _block11(T, i, j, k0, k1):
     T[i, j] = _rowmin(T[i, j], T[i, k0:k1], T[j, k0:k1])
 
@@ -137,30 +146,33 @@ def _any_allowed(mask, use_mask, i0, i1, j0, j1):
     return False
 
 
-@kernel(fastmath=_FASTMATH)
+@kernel(fastmath=_FASTMATH, _nrt=False)
 def _far(T, mask, use_mask, i0, i1, j0, j1):
     """``T[i, j] = min(T[i, j], min over i1 <= k < j0 of T[i, k] + T[j, k])``.
 
-    With a chord mask, blocks of cells that are all disallowed are skipped: a
-    simple polygon has few valid diagonals, so most of the product is never
-    needed (disallowed cells end up +inf either way).
+    In blocks of 512 splits (4 + 64 rows of 512 doubles stay in L1/L2). With a
+    chord mask, blocks of cells that are all disallowed are skipped: a simple
+    polygon has few valid diagonals, so most of the product is never needed
+    (disallowed cells end up +inf either way).
     """
     if not _any_allowed(mask, use_mask, i0, i1, j0, j1):
         return
     for k0 in range(i1, j0, _KBLOCK):
         k1 = min(j0, k0 + _KBLOCK)
-        for i in range(i0, i1 - 1, 2):
+        i = i0
+        while i + 4 <= i1:
             j = j0
             while j + 4 <= j1:
-                if _any_allowed(mask, use_mask, i, i + 2, j, j + 4):
-                    _block24(T, i, j, k0, k1)
+                if _any_allowed(mask, use_mask, i, i + 4, j, j + 4):
+                    _block44(T, i, j, k0, k1)
                 j += 4
             for jj in range(j, j1):
-                _block11(T, i, jj, k0, k1)
-                _block11(T, i + 1, jj, k0, k1)
-        if (i1 - i0) % 2:
-            for j in range(j0, j1):
-                _block11(T, i1 - 1, j, k0, k1)
+                for ii in range(i, i + 4):
+                    _block11(T, ii, jj, k0, k1)
+            i += 4
+        for ii in range(i, i1):
+            for jj in range(j0, j1):
+                _block11(T, ii, jj, k0, k1)
 
 
 @kernel(fastmath=_FASTMATH, inline="always")
@@ -188,7 +200,7 @@ def _cell(T, pts, code, mask, use_mask, i, j, i1, j0):
     _store(T, pts, code, mask, use_mask, i, j, best)
 
 
-@kernel(fastmath=_FASTMATH)
+@kernel(fastmath=_FASTMATH, _nrt=False)
 def _near24(T, pts, code, mask, use_mask, i, j, i1, j0):
     """Near splits of cells (i..i+1, j..j+3), ``j >= i + 3``, then their final values.
 
@@ -212,7 +224,19 @@ def _near24(T, pts, code, mask, use_mask, i, j, i1, j0):
             _store(T, pts, code, mask, use_mask, r, c, best)
 
 
-@kernel(fastmath=_FASTMATH)
+@kernel(fastmath=_FASTMATH, inline="always")
+def _near_block(T, pts, code, mask, use_mask, i, j, i1, j0):
+    """Block (i..i+1, j..j+3) off the diagonal: register block, or +inf if all disallowed."""
+    if _any_allowed(mask, use_mask, i, i + 2, j, j + 4):
+        _near24(T, pts, code, mask, use_mask, i, j, i1, j0)
+    else:
+        for r in range(i, i + 2):
+            for c in range(j, j + 4):
+                T[r, c] = np.inf
+                T[c, r] = np.inf
+
+
+@kernel(fastmath=_FASTMATH, _nrt=False)
 def _near_rows(T, pts, code, mask, use_mask, r, i1, j0, j1):
     """Rows r and r + 1 of a tile: cells alone where a block does not fit, else blocks."""
     first = max(j0, r + 1)
@@ -223,20 +247,35 @@ def _near_rows(T, pts, code, mask, use_mask, r, i1, j0, j1):
         _cell(T, pts, code, mask, use_mask, r, c, i1, j0)
     j = jb
     while j + 4 <= j1:
-        if _any_allowed(mask, use_mask, r, r + 2, j, j + 4):
-            _near24(T, pts, code, mask, use_mask, r, j, i1, j0)
-        else:
-            for rr in range(r, r + 2):
-                for c in range(j, j + 4):
-                    T[rr, c] = np.inf
-                    T[c, rr] = np.inf
+        _near_block(T, pts, code, mask, use_mask, r, j, i1, j0)
         j += 4
     for c in range(j, j1):
         _cell(T, pts, code, mask, use_mask, r + 1, c, i1, j0)
         _cell(T, pts, code, mask, use_mask, r, c, i1, j0)
 
 
-@kernel(fastmath=_FASTMATH)
+@kernel(fastmath=_FASTMATH, _nrt=False)
+def _near_waves(T, pts, code, mask, use_mask, i0, i1, j0, j1):
+    """Near splits of a tile off the diagonal cut into whole 2 x 4 blocks.
+
+    Block (p, q) (row pair p from the bottom, column quad q from the left)
+    needs the blocks below and left of it, so the blocks of one anti-diagonal
+    p + q are independent: taken wave by wave, one block's short dependent
+    chain (its own cells, one after another) overlaps the next one's loops.
+    """
+    pairs, quads = (i1 - i0) // 2, (j1 - j0) // 4
+    for w in range(pairs + quads - 1):
+        for p in range(max(0, w - quads + 1), min(pairs, w + 1)):
+            i, j = i1 - 2 - 2 * p, j0 + 4 * (w - p)
+            if j < i + 3:  # the block holding side (i1 - 1, j0): cell by cell
+                for c in range(j, j + 4):
+                    _cell(T, pts, code, mask, use_mask, i + 1, c, i1, j0)
+                    _cell(T, pts, code, mask, use_mask, i, c, i1, j0)
+            else:
+                _near_block(T, pts, code, mask, use_mask, i, j, i1, j0)
+
+
+@kernel(fastmath=_FASTMATH, _nrt=False)
 def _tile(T, pts, code, mask, use_mask, tile, ti, tj):
     n = T.shape[0]
     i0, i1 = ti * tile, min(n, ti * tile + tile)
@@ -246,6 +285,9 @@ def _tile(T, pts, code, mask, use_mask, tile, ti, tj):
             T[i, j] = np.inf
     if tj > ti + 1:
         _far(T, mask, use_mask, i0, i1, j0, j1)
+    if tj > ti and (i1 - i0) % 2 == 0 and (j1 - j0) % 4 == 0:
+        _near_waves(T, pts, code, mask, use_mask, i0, i1, j0, j1)
+        return
     # near splits, in dependency order: rows upwards (in pairs), columns rightwards
     r = i1 - 1
     if (i1 - i0) % 2:
@@ -264,7 +306,6 @@ def minplus_tiles(T, pts, code, chords, tile, d0, d1):
     ``chords = (mask, use_mask)``, as for :func:`generic_tiles`.
     """
     mask, use_mask = chords
-    T, pts, mask = _borrowed(T), _borrowed(pts), _borrowed(mask)
     nt = (T.shape[0] + tile - 1) // tile
     for d in range(d0, d1):
         for t in prange(nt - d):
