@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 from llvmlite import ir
 from numba import njit, prange, types
+from numba.core import cgutils
 from numba.extending import intrinsic, overload
 
 from ..weights import WeightCode
@@ -61,6 +62,46 @@ def _fmin(typingctx, a, b):
         return builder.call(fn, args, fastmath=("nnan", "nsz"))
 
     return sig, codegen
+
+
+def _item_pointer(context, builder, signature, args):
+    ty = signature.args[0]
+    ary = context.make_array(ty)(context, builder, value=args[0])
+    return cgutils.get_item_pointer(context, builder, ty, ary, [args[1]], wraparound=False)
+
+
+@intrinsic
+def _fetch_add(typingctx, arr, idx):
+    """``arr[idx] += 1`` atomically; the old value (1-D int64 ``arr``)."""
+
+    def codegen(context, builder, signature, args):
+        ptr = _item_pointer(context, builder, signature, args)
+        return builder.atomic_rmw("add", ptr, ir.Constant(ir.IntType(64), 1), "seq_cst")
+
+    return types.int64(arr, idx), codegen
+
+
+@intrinsic
+def _load_acquire(typingctx, arr, idx):
+    """``arr[idx]``, an atomic load: writes released before it was set are visible."""
+
+    def codegen(context, builder, signature, args):
+        ptr = _item_pointer(context, builder, signature, args)
+        return builder.load_atomic(ptr, "acquire", 8)
+
+    return types.int64(arr, idx), codegen
+
+
+@intrinsic
+def _store_release(typingctx, arr, idx, val):
+    """``arr[idx] = val`` after every earlier write of this thread (atomic store)."""
+
+    def codegen(context, builder, signature, args):
+        ptr = _item_pointer(context, builder, signature, args)
+        builder.store_atomic(args[2], ptr, "release", 8)
+        return context.get_dummy_value()
+
+    return types.none(arr, idx, val), codegen
 
 
 # --- min-plus path (sum of an edge-decomposable weight) -----------------------------
@@ -300,16 +341,41 @@ def _tile(T, pts, code, mask, use_mask, tile, ti, tj):
 
 
 @kernel(parallel=True, fastmath=_FASTMATH)
-def minplus_tiles(T, pts, code, chords, tile, d0, d1):
+def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers):
     """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the E-table (sum, edge weight).
 
-    ``chords = (mask, use_mask)``, as for :func:`generic_tiles`.
+    ``chords = (mask, use_mask)``, as for :func:`generic_tiles`. Each of
+    ``workers`` threads takes the next tile (diagonal by diagonal) from a shared counter and starts
+    it once the two tiles it reads last, left of it and below it, are done: no
+    barrier between tile-diagonals, so no thread idles at the end of one.
     """
     mask, use_mask = chords
     nt = (T.shape[0] + tile - 1) // tile
+    d1 = min(d1, nt)
+    order = np.empty((max(0, (d1 - d0) * nt), 2), dtype=np.int64)
+    m = 0
     for d in range(d0, d1):
-        for t in prange(nt - d):
+        for t in range(nt - d):
+            order[m, 0], order[m, 1] = t, d
+            m += 1
+    done = np.zeros(nt * nt, dtype=np.int64)  # tile (ti, tj) at ti * nt + tj
+    for ti in range(nt):  # tiles of earlier calls
+        for tj in range(ti, min(nt, ti + d0)):
+            done[ti * nt + tj] = 1
+    taken = np.zeros(1, dtype=np.int64)
+    for _ in prange(workers):
+        while True:
+            k = _fetch_add(taken, 0)
+            if k >= m:
+                break
+            t, d = order[k, 0], order[k, 1]
+            if d > 0:
+                while _load_acquire(done, t * nt + t + d - 1) == 0:
+                    pass
+                while _load_acquire(done, (t + 1) * nt + t + d) == 0:
+                    pass
             _tile(T, pts, code, mask, use_mask, tile, t, t + d)
+            _store_release(done, t * nt + t + d, 1)
 
 
 @kernel()
@@ -321,16 +387,21 @@ def subtract_edges(out, pts, code):
             out[i, j] -= edge_weight(code, pts, i, j)
 
 
-@kernel()
+@kernel(fastmath=_FASTMATH)
 def minplus_split(T, i, j):
-    """Smallest k minimizing ``E(i, k) + E(k, j)``; -1 if every split is infinite."""
-    best, arg = np.inf, -1
+    """Smallest k minimizing ``E(i, k) + E(k, j)``; -1 if every split is infinite.
+
+    A vectorized minimum first, then the first split that reaches it (the
+    sums are the same additions both times, so equality is exact).
+    """
     ri, rj = T[i, i + 1 : j], T[j, i + 1 : j]
+    best = _rowmin(np.inf, ri, rj)
+    if best == np.inf:
+        return -1
     for kk in range(ri.shape[0]):
-        c = ri[kk] + rj[kk]
-        if c < best:
-            best, arg = c, i + 1 + kk
-    return arg
+        if ri[kk] + rj[kk] == best:
+            return i + 1 + kk
+    return -1
 
 
 # --- generic path (any compiled weight, sum / max / lexicographic) -------------------
