@@ -1,6 +1,7 @@
 """Batch throughput: polygons/second with 1 worker, all local cores and Dask; peak memory.
 
-Writes N seeded random polygons (8-64 vertices) to an NDJSON file, then runs
+Writes N seeded random polygons (8-64 vertices, two attributes each) to an NDJSON
+file, then runs
 ``optri.batch`` on it in a fresh process per configuration, so that each peak
 RSS (``resource.getrusage`` of the process and of its largest child) belongs to
 that configuration alone. Speed-ups are ratios to the 1-worker run timed here.
@@ -9,7 +10,9 @@ that configuration alone. Speed-ups are ratios to the 1-worker run timed here.
     python benchmarks/bench_batch.py --n 10000 --memory-ratio 10
 
 ``--memory-ratio 10`` also runs the all-cores configuration on N/10 polygons and
-reports both peaks: flat memory means they are about equal.
+reports both peaks: flat memory means they are about equal. ``--output .gpkg``
+(or ``.fgb``, ``.parquet``, ...) writes one assembled file instead of a
+directory of parts.
 """
 
 from __future__ import annotations
@@ -62,7 +65,8 @@ def write_input(path: Path, n: int, lo: int, hi: int, shape: str, seed: int) -> 
     with path.open("w") as fh:
         for i in range(n):
             coords = make(rng, int(rng.integers(lo, hi + 1)))
-            fh.write(json.dumps({"id": i, "coordinates": coords}) + "\n")
+            props = {"name": f"p{i}", "height": round(float(rng.uniform(3, 30)), 2)}
+            fh.write(json.dumps({"id": i, "coordinates": coords, "properties": props}) + "\n")
 
 
 class TreeRss(threading.Thread):
@@ -137,7 +141,7 @@ def child(args: argparse.Namespace) -> None:
     )
 
 
-def run_config(inp: Path, workers: int, scheduler: str, method: str) -> dict:
+def run_config(inp: Path, workers: int, scheduler: str, method: str, output: str = "") -> dict:
     with tempfile.TemporaryDirectory() as tmp:
         cmd = [
             sys.executable,
@@ -146,7 +150,7 @@ def run_config(inp: Path, workers: int, scheduler: str, method: str) -> dict:
             "--input",
             str(inp),
             "--out",
-            tmp + "/out",
+            tmp + "/out" + output,
             "--workers",
             str(workers),
             "--scheduler",
@@ -189,6 +193,11 @@ def main() -> None:
         help="also run all cores on N/ratio polygons and compare peak RSS",
     )
     ap.add_argument("--repeat", type=int, default=1, help="rounds; the best one is kept")
+    ap.add_argument(
+        "--output",
+        default="",
+        help="output suffix (.gpkg, .fgb, .parquet, .geojson, .ndjson); default a directory",
+    )
     ap.add_argument("--json", type=Path, help="write the results here too")
     # child mode (internal)
     ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
@@ -224,8 +233,9 @@ def main() -> None:
             configs.append((f"dask LocalCluster x{args.cores}", args.cores, "dask"))
         base = None
         print(
-            f"{args.n} {shape} polygons of {args.min_vertices}-{args.max_vertices} vertices, "
-            f"method={args.method}, {args.cores} cores"
+            f"{args.n} {shape} polygons of {args.min_vertices}-{args.max_vertices} vertices "
+            f"(2 attributes each), method={args.method}, {args.cores} cores, "
+            f"output {args.output or 'a directory of parts'}"
         )
         print(
             f"{'configuration':<26}{'polygons/s':>12}{'speed-up':>10}{'per core':>10}"
@@ -236,7 +246,7 @@ def main() -> None:
         best: dict[str, dict] = {}
         for _ in range(args.repeat):
             for name, workers, sched in configs:
-                r = run_config(inp, workers, sched, args.method)
+                r = run_config(inp, workers, sched, args.method, args.output)
                 if name not in best or r["seconds"] < best[name]["seconds"]:
                     best[name] = r
         for name, workers, _sched in configs:
@@ -255,7 +265,7 @@ def main() -> None:
             small = Path(tmp) / "small.ndjson"
             n_small = args.n // args.memory_ratio
             write_input(small, n_small, args.min_vertices, args.max_vertices, shape, args.seed)
-            r = run_config(small, args.cores, "local", args.method)
+            r = run_config(small, args.cores, "local", args.method, args.output)
             local = [c for c in configs if c[2] == "local" and c[1] == args.cores]
             if not local:
                 raise SystemExit("--memory-ratio needs the all-cores run in --configs")

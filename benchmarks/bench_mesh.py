@@ -1,16 +1,25 @@
-"""Hole filling: optri's modes side by side with CGAL and MeshLib (when installed).
+"""Hole filling: optri's modes on real hole loops and meshes, peers when installed.
 
-Times (best of --repeat, after a warm-up) and objective values of every patch,
-all evaluated with optri's own evaluator (``optri.holes.liepa_objective``:
-largest dihedral angle between adjacent triangles, incl. the mesh triangles
-across the hole's edges when the hole comes from a mesh, then total area).
+Times (best of --repeat, after an untimed warm-up that also compiles or loads
+the kernels) and objective values of every patch, all evaluated with optri's
+own evaluator (``optri.holes.liepa_objective``: largest dihedral angle
+between adjacent triangles, incl. the mesh triangles across the hole's edges,
+then total area). Each table also gives every time as a ratio to a baseline
+timed in the same run (optri's Liepa recurrence; for whole meshes, building
+the mesh's edge table with trimesh), so figures from a busy machine stay comparable.
 
-Peers: CGAL's Python bindings (``pip install cgal``;
-``triangulate_hole_polyline``: Liepa's recurrence over 3-D Delaunay faces,
-falling back to all triangles) and MeshLib (``pip install meshlib``;
-``fillHole`` with a metric, default ``maxPolygonSubdivisions=20``).
+Real data (see tests/data/README.md; skipped when absent): ``ajc_alligator.obj``
+(a flat sheet whose 433-edge border is the hole), ``pmp_hemisphere.off``
+(120 edges) and, for the large cases, ``stanford-bunny.obj`` from
+alecjacobson/common-3d-test-models (69,451 faces, 5 holes; its loops cut at
+heights give 394- and 428-edge loops, a helical strip gives a 1,920-edge one).
+Only the public API is used, so an older optri on PYTHONPATH gives "before"
+figures for the same inputs.
 
-    PYTHONPATH=src python benchmarks/bench_mesh.py [--quick] [--json out.json]
+Peers: CGAL's Python bindings (``pip install cgal``, ``triangulate_hole_polyline``)
+and MeshLib (``pip install meshlib``, ``fillHole``).
+
+    PYTHONPATH=src python benchmarks/bench_mesh.py [--data DIR ...] [--quick] [--json out.json]
 """
 
 from __future__ import annotations
@@ -19,35 +28,14 @@ import argparse
 import json
 import math
 import time
+from pathlib import Path
 
 import numpy as np
 
-from optri import fill_polyline
+from optri import fill_holes, fill_polyline
 from optri.holes import boundary_loops, liepa_objective
 
-
-def wavy_loop(n: int, seed: int = 0) -> np.ndarray:
-    """A closed, wavy, slightly noisy 3-D curve with n vertices (a saddle-like hole)."""
-    rng = np.random.default_rng(seed)
-    a = np.linspace(0, 2 * np.pi, n, endpoint=False)
-    r = 1 + 0.1 * np.cos(5 * a)
-    z = 0.3 * np.sin(2 * a) + 0.05 * np.sin(7 * a) + 0.002 * rng.normal(size=n)
-    return np.column_stack((r * np.cos(a), r * np.sin(a), z))
-
-
-def sphere_hole(subdivisions: int, cap: float):
-    """An icosphere with a cap cut off: (vertices, faces, loop, third)."""
-    import trimesh
-
-    s = trimesh.creation.icosphere(subdivisions=subdivisions)
-    keep = s.triangles_center[:, 2] <= cap
-    faces = s.faces[keep]
-    (loop, third), *_ = boundary_loops(faces)
-    return np.asarray(s.vertices), faces, loop, third
-
-
-#: CPU seconds of the last best_time call (the machine may be shared: wall time
-#: then overstates single-threaded work; both are reported)
+#: CPU seconds of the last best_time call (wall time overstates work on a busy machine)
 LAST_CPU = [0.0]
 
 
@@ -62,106 +50,127 @@ def best_time(fn, repeat: int):
     return out, best
 
 
-def cgal_patch(points, third=None):
-    from CGAL.CGAL_Kernel import Point_3
-    from CGAL.CGAL_Polygon_mesh_processing import triangulate_hole_polyline
-
-    pts = [Point_3(*map(float, p)) for p in points]
-    out: list = []
-    if third is None:
-        triangulate_hole_polyline(pts, out)
-    else:
-        triangulate_hole_polyline(pts, [Point_3(*map(float, p)) for p in third], out)
-    return np.array([(t.first, t.second, t.third) for t in out], dtype=np.int64).reshape(-1, 3)
+def wavy_loop(n: int, seed: int = 0) -> np.ndarray:
+    """A closed, wavy, slightly noisy 3-D curve with n vertices (a saddle-like hole)."""
+    rng = np.random.default_rng(seed)
+    a = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    r = 1 + 0.1 * np.cos(5 * a)
+    z = 0.3 * np.sin(2 * a) + 0.05 * np.sin(7 * a) + 0.002 * rng.normal(size=n)
+    return np.column_stack((r * np.cos(a), r * np.sin(a), z))
 
 
-def meshlib_patch(vertices, faces, loop, metric_name):
-    import meshlib.mrmeshnumpy as mn
-    import meshlib.mrmeshpy as mr
+def load(path: Path):
+    """(vertices, faces) with exactly equal positions merged: the same mesh for any optri."""
+    import trimesh
 
-    mesh = mn.meshFromFacesVerts(faces.astype(np.int32), vertices.astype(np.float32))
-    (edge,) = mesh.topology.findHoleRepresentiveEdges()
-    params = mr.FillHoleParams()
-    if metric_name != "default":
-        params.metric = getattr(mr, metric_name)(mesh)
-    mr.fillHole(mesh, edge, params)
-    new = mn.getNumpyFaces(mesh.topology)[len(faces) :]
-    where = {int(v): i for i, v in enumerate(loop)}
-    return np.array([[where[int(v)] for v in f] for f in new], dtype=np.int64).reshape(-1, 3)
+    m = trimesh.load(path, force="mesh", process=False)
+    _, first, inverse = np.unique(m.vertices, axis=0, return_index=True, return_inverse=True)
+    f = inverse.reshape(-1)[np.asarray(m.faces)]
+    f = f[(f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 0] != f[:, 2])]
+    return np.asarray(m.vertices)[first], f
 
 
-def row(name, tris, seconds, pts, third):
+def find(folders: list[str], name: str) -> Path | None:
+    return next((Path(d) / name for d in folders if (Path(d) / name).is_file()), None)
+
+
+def real_loops(folders: list[str], quick: bool) -> dict[str, tuple]:
+    """Named (points, third points) hole loops cut from the real meshes found."""
+    loops: dict[str, tuple] = {}
+    for name in ("pmp_hemisphere.off", "ajc_alligator.obj"):
+        path = find(folders, name)
+        if path is not None:
+            v, f = load(path)
+            loop, third = max(boundary_loops(f), key=lambda lt: len(lt[0]))
+            loops[f"{path.stem} border, n={len(loop)}"] = (v[loop], v[third])
+    bunny = find(folders, "stanford-bunny.obj")
+    if bunny is not None and not quick:
+        v, f = load(bunny)
+        c = v[f].mean(axis=1)
+        for q in (0.7, 0.3):  # everything below a height removed: one ragged loop
+            keep = f[c[:, 1] >= np.quantile(c[:, 1], q)]
+            loop, third = max(boundary_loops(keep), key=lambda lt: len(lt[0]))
+            loops[f"bunny cut y>q{q}, n={len(loop)}"] = (v[loop], v[third])
+    return loops
+
+
+def helix_loop(folders: list[str]) -> tuple | None:
+    """A 1,920-edge loop: the border of a helical strip cut out of the bunny."""
+    bunny = find(folders, "stanford-bunny.obj")
+    if bunny is None:
+        return None
+    v, f = load(bunny)
+    c = v[f].mean(axis=1)
+    theta = np.arctan2(c[:, 2] - np.median(c[:, 2]), c[:, 0] - np.median(c[:, 0]))
+    s = (c[:, 1] - 0.08) / 0.025 - theta / (2 * np.pi)
+    keep = f[~((np.mod(s, 1) < 0.3) & (s > 0) & (s < 2.2))]
+    loop, third = max(boundary_loops(keep), key=lambda lt: len(lt[0]))
+    return v[loop], v[third]
+
+
+def row(name, tris, seconds, pts, third, note=""):
     if tris is None or len(tris) != len(pts) - 2:
         got = 0 if tris is None else len(tris)
         return {"solver": name, "seconds": seconds, "note": f"{got} triangles (not a patch)"}
     ang, area = liepa_objective(pts, tris, third)
-    return {
+    out = {
         "solver": name,
         "seconds": seconds,
         "cpu_seconds": LAST_CPU[0],
         "max_dihedral_deg": math.degrees(ang),
         "area": area,
     }
+    if note:
+        out["note"] = note
+    return out
 
 
-def optri_rows(pts, third, repeat, exact=True):
+def optri_rows(pts, third, repeat, modes=("exact", "liepa", "delaunay")):
     rows = []
-    modes = (["exact"] if exact else []) + ["liepa", "delaunay"]
     for mode in modes:
         t, s = best_time(lambda m=mode: fill_polyline(pts, "liepa", m, third), repeat)
-        rows.append(row(f"optri {mode}", t.triangles, s, pts, third))
+        stats = getattr(t, "stats", {}) or {}
+        note = ""
+        if mode == "delaunay":
+            note = f"set {stats.get('candidates', '?')}, fallback {stats.get('fallback', '?')}"
+        rows.append(row(f"optri {mode}", t.triangles, s, pts, third, note))
     return rows
 
 
-def peer_rows(pts, third, repeat, mesh=None):
-    rows = []
+def cgal_rows(pts, third, repeat):
     try:
-        tris, s = best_time(lambda: cgal_patch(pts, third), repeat)
-        rows.append(row("CGAL triangulate_hole_polyline", tris, s, pts, third))
+        from CGAL.CGAL_Kernel import Point_3
+        from CGAL.CGAL_Polygon_mesh_processing import triangulate_hole_polyline
     except ImportError:
-        rows.append({"solver": "CGAL", "note": "not installed (pip install cgal)"})
-    if mesh is not None:
-        try:
-            for metric in ("default", "getMaxDihedralAngleMetric", "getMinAreaMetric"):
-                tris, s = best_time(lambda m=metric: meshlib_patch(*mesh, m), repeat)
-                rows.append(row(f"MeshLib fillHole {metric}", tris, s, pts, third))
-        except ImportError:
-            rows.append({"solver": "MeshLib", "note": "not installed (pip install meshlib)"})
-    return rows
+        return [{"solver": "CGAL", "note": "not installed (pip install cgal)"}]
+
+    def patch():
+        out: list = []
+        p = [Point_3(*map(float, x)) for x in pts]
+        triangulate_hole_polyline(p, [Point_3(*map(float, x)) for x in third], out)
+        return np.array([(t.first, t.second, t.third) for t in out], dtype=np.int64).reshape(-1, 3)
+
+    tris, s = best_time(patch, repeat)
+    return [row("CGAL triangulate_hole_polyline", tris, s, pts, third)]
 
 
-def area_rows(pts, repeat, mesh=None):
-    t, s = best_time(lambda: fill_polyline(pts, "area", "exact"), repeat)
-    rows = [
-        {"solver": "optri exact area", "seconds": s, "cpu_seconds": LAST_CPU[0], "area": t.weight}
-    ]
-    if mesh is not None:
-        try:
-            tris, s = best_time(lambda: meshlib_patch(*mesh, "getMinAreaMetric"), repeat)
-            rows.append(
-                {
-                    "solver": "MeshLib getMinAreaMetric",
-                    "seconds": s,
-                    "area": liepa_objective(pts, tris)[1],
-                }
-            )
-        except ImportError:
-            pass
-    return rows
-
-
-def show(title, rows):
+def show(title, rows, base_name="optri liepa"):
     print(f"\n== {title}")
-    base = next((r["seconds"] for r in rows if r.get("solver") == "optri liepa"), None)
+    base = next((r["seconds"] for r in rows if r.get("solver") == base_name), None)
     for r in rows:
-        if "note" in r and "area" not in r:
-            print(f"  {r['solver']:<40} {r['note']}")
+        if "seconds" not in r:
+            print(f"  {r['solver']:<34} {r.get('note', '')}")
             continue
-        dih = f"{r['max_dihedral_deg']:9.4f} deg" if "max_dihedral_deg" in r else " " * 13
-        ratio = f"  x{r['seconds'] / base:6.2f} vs optri liepa" if base else ""
-        cpu = f" (cpu {r['cpu_seconds'] * 1e3:9.2f})" if "cpu_seconds" in r else " " * 16
-        ms = r["seconds"] * 1e3
-        print(f"  {r['solver']:<40} {ms:10.2f} ms{cpu}  {dih}  area {r['area']:.9f}{ratio}")
+        ratio = f"  x{r['seconds'] / base:7.2f} vs {base_name}" if base else ""
+        cpu = f" (cpu {r['cpu_seconds']:8.3f})" if "cpu_seconds" in r else ""
+        if "max_dihedral_deg" in r:
+            value = f"{r['max_dihedral_deg']:9.4f} deg  area {r['area']:.9g}"
+        elif "faces_added" in r:
+            value = f"{r['faces_added']} faces, watertight {r['watertight']}"
+        else:
+            value = ""
+        note = f"  [{r['note']}]" if r.get("note") else ""
+        print(f"  {r['solver']:<34} {r['seconds']:8.3f} s{cpu}  {value}{ratio}{note}")
 
 
 def never_worse(rows):
@@ -176,45 +185,73 @@ def never_worse(rows):
     )
 
 
+def mesh_rows(v, f, repeat):
+    import trimesh
+
+    rows = []
+
+    def edge_table():  # the least any hole finder does: the mesh's unique edges
+        return trimesh.Trimesh(v, f, process=False).edges_unique
+
+    _, s = best_time(edge_table, repeat)
+    rows.append({"solver": "trimesh edges_unique", "seconds": s, "cpu_seconds": LAST_CPU[0]})
+    for method in ("auto", "liepa", "delaunay"):
+        (v2, f2), s = best_time(lambda m=method: fill_holes((v, f), method=m)[0], repeat)
+        rows.append(
+            {
+                "solver": f"optri fill_holes {method}",
+                "seconds": s,
+                "cpu_seconds": LAST_CPU[0],
+                "faces_added": len(f2) - len(f),
+                "watertight": bool(trimesh.Trimesh(v2, f2, process=False).is_watertight),
+            }
+        )
+    _, s = best_time(lambda: boundary_loops(f), repeat)
+    rows.append({"solver": "optri boundary_loops", "note": f"{s:.4f} s, cpu {LAST_CPU[0]:.4f} s"})
+    return rows
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="smaller sizes, one repetition")
+    ap.add_argument("--data", action="append", help="folders with the real meshes")
+    ap.add_argument("--quick", action="store_true", help="small inputs, one repetition")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--json", help="write all rows as JSON here")
     args = ap.parse_args()
+    folders = args.data or ["tests/data/external", "benchmarks/data"]
     repeat = 1 if args.quick else args.repeat
-    fill_polyline(wavy_loop(12), "liepa", "exact")  # compile or load the kernels
-    fill_polyline(wavy_loop(12), "liepa", "liepa")
-    fill_polyline(wavy_loop(12), "area", "exact")
     results = {}
-
-    for n in (30, 60) if args.quick else (30, 60, 120, 200):
-        pts = wavy_loop(n, seed=n)
-        rows = optri_rows(pts, None, repeat) + peer_rows(pts, None, repeat)
-        results[f"polyline n={n}"] = rows
+    for n, seed in ((60, 60),) if args.quick else ((120, 120), (200, 200)):
+        pts = wavy_loop(n, seed)
+        rows = optri_rows(pts, None, repeat) + cgal_rows(pts, np.zeros((0, 3)), repeat)
+        results[f"wavy n={n}"] = rows
         show(f"wavy polyline, n = {n}, no third points", rows)
         print(f"  optri exact never worse: {never_worse(rows)}")
-
-    for sub, cap in ((3, 0.8), (4, 0.9)) if not args.quick else ((3, 0.8),):
-        v, f, loop, third = sphere_hole(sub, cap)
-        pts, tp = v[loop], v[third]
-        rows = optri_rows(pts, tp, repeat) + peer_rows(pts, tp, repeat, (v, f, loop))
-        name = f"icosphere({sub}) hole, n = {len(loop)}, with third points"
+    for name, (pts, third) in real_loops(folders, args.quick).items():
+        rows = optri_rows(pts, third, repeat) + cgal_rows(pts, third, repeat)
         results[name] = rows
-        show(name, rows)
+        show(f"{name}, with third points (exact search's bound: Liepa's patch)", rows)
         print(f"  optri exact never worse: {never_worse(rows)}")
-        area = area_rows(pts, repeat, (v, f, loop))
-        results[name + " (area)"] = area
-        show(name + ", weight = area", area)
-
-    n = 300 if args.quick else 1000
-    pts = wavy_loop(n, seed=1)
-    rows = optri_rows(pts, None, repeat, exact=False) + peer_rows(pts, None, repeat)
-    results[f"polyline n={n}"] = rows
-    show(f"wavy polyline, n = {n} (exact O(n^4) search not run)", rows)
+    big = [
+        ("wavy n=2000 (a loop side missing from the tetrahedralization)", wavy_loop(2000, 1), None)
+    ]
+    helix = None if args.quick else helix_loop(folders)
+    if helix is not None:
+        big.append((f"bunny helical strip, n={len(helix[0])}", *helix))
+    for name, pts, third in big[:1] if args.quick else big:
+        rows = optri_rows(pts, third, repeat, ("liepa", "delaunay"))
+        rows += cgal_rows(pts, np.zeros((0, 3)) if third is None else third, repeat)
+        results[name] = rows
+        show(name + " (exact O(n^4) search not run)", rows)
+    bunny = find(folders, "stanford-bunny.obj")
+    if bunny is not None and not args.quick:
+        v, f = load(bunny)
+        rows = mesh_rows(v, f, repeat)
+        name = f"Stanford bunny, {len(f)} faces, {len(boundary_loops(f))} holes: whole-mesh fill"
+        results[name] = rows
+        show(name, rows, "trimesh edges_unique")
     if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(results, fh, indent=1)
+        Path(args.json).write_text(json.dumps(results, indent=1))
 
 
 if __name__ == "__main__":

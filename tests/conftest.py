@@ -1,8 +1,13 @@
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(__file__))
+HERE = os.path.dirname(os.path.abspath(__file__))
+# this checkout's optri, whatever else is installed; helper modules beside the tests
+sys.path[:0] = [os.path.join(os.path.dirname(HERE), "src"), HERE]
 
-import matplotlib  # noqa: E402
+# the mutation runner (tests/mutations/run.py) is a script, not tests
+collect_ignore = ["mutations"]
+
+import matplotlib  # noqa: E402  (a core dependency of optri)
 
 matplotlib.use("Agg")

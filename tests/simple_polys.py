@@ -6,9 +6,12 @@ import math
 from functools import cache
 
 import numpy as np
-import shapely
+import pytest
 from hypothesis import assume
 from hypothesis import strategies as st
+
+# an optional package: a test module importing these helpers is skipped without it
+shapely = pytest.importorskip("shapely")
 
 GRID = 12  # integer coordinates: exact arithmetic and many collinear triples
 

@@ -24,14 +24,15 @@ LAYERS = [
     ["optri.errors", "optri.config", "optri._version", "optri._optional"],
     ["optri.predicates"],
     ["optri.polygon"],
-    ["optri.io"],
+    ["optri.io", "optri.data"],
     ["optri.weights", "optri.objective"],
     ["optri.drawing"],
     ["optri.result"],
     ["optri.engines"],
     ["optri.simple"],
+    ["optri.domains"],
     ["optri.solve", "optri.chain"],
-    ["optri.enumeration", "optri.holes"],
+    ["optri.enumeration", "optri.holes", "optri.teaching"],
     ["optri.batch", "optri.paper", "optri.bench"],
     ["optri.cli", "optri.__main__"],
     ["optri"],
@@ -44,6 +45,7 @@ ALGORITHMS = (
     "optri.objective",
     "optri.engines",
     "optri.simple",
+    "optri.domains",
     "optri.enumeration",
     "optri.holes",
 )
@@ -202,12 +204,7 @@ def test_no_import_cycles_even_through_imports_inside_functions():
 
 
 def test_imports_flow_down_the_layers():
-    bad = [
-        f"{n} -> {t}"
-        for n, m in MODS.items()
-        for t in m.top | m.inner
-        if _layer(t) > _layer(n)
-    ]
+    bad = [f"{n} -> {t}" for n, m in MODS.items() for t in m.top | m.inner if _layer(t) > _layer(n)]
     assert bad == []
 
 
@@ -245,7 +242,9 @@ def test_heavy_packages_load_only_in_kernel_modules_or_on_use():
     assert bad == {}
     # kernel modules are imported at module level by other kernel modules only
     eager = [
-        f"{n} -> {t}" for n, m in MODS.items() for t in m.top & set(KERNEL_MODULES)
+        f"{n} -> {t}"
+        for n, m in MODS.items()
+        for t in m.top & set(KERNEL_MODULES)
         if n not in KERNEL_MODULES
     ]
     assert eager == []

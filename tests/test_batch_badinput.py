@@ -15,10 +15,6 @@ from optri.cli import main
 GOOD = [[0, 0], [4, 0], [5, 3], [2, 5], [-1, 3]]
 SQUARE = [[0, 0], [1, 0], [1, 1], [0, 1]]
 HOLE = [[0.2, 0.2], [0.4, 0.2], [0.3, 0.4]]
-TRUNC_FEATURE = (
-    '{"type": "FeatureCollection",\n "features": [\n {"type": "Feature", "geometry": nul'
-)
-GARBAGE = '{"type": "FeatureCollection",\n"features": [\n{"a": 1},\n{"b": }]}'
 
 BAD = {
     "too_few": ({"id": "too_few", "coordinates": [[0, 0], [1, 1]]}, "at least 3 vertices"),
@@ -83,8 +79,19 @@ def test_each_bad_kind_gives_an_error_record_and_good_ones_survive(tmp_path):
         assert rec["reason"] and "\n" not in rec["reason"] and words in rec["reason"], rec
         assert rec["triangles"] is None and rec["cost"] is None
         assert recs[f"good_after_{key}"]["status"] == "ok"
-    assert recs[len(_rows()) - 1]["reason"] == "expected a JSON object, got list"
+    assert recs[len(_rows()) - 1]["reason"] == "line 28: expected a JSON object, got list"
     assert recs["good0"]["status"] == "ok" and s.errors == len(BAD) + 1
+
+
+def test_multi_line_error_becomes_a_one_line_reason(tmp_path):
+    def weight(i, k, j):  # a user weight failing with a message of two lines
+        raise ValueError("first line\n  second line")
+
+    src = write_ndjson(tmp_path / "in.ndjson", [{"id": 1, "coordinates": SQUARE}])
+    optri.batch(src, tmp_path / "o.ndjson", workers=1, weight=weight)
+    rec = next(iter_records(tmp_path / "o.ndjson"))
+    # the user's exception keeps its type name: it is not one of optri's own
+    assert rec["status"] == "error" and rec["reason"] == "ValueError: first line second line"
 
 
 def test_single_part_multipolygon_is_its_polygon(tmp_path):
@@ -126,12 +133,6 @@ def test_cli_exit_codes(tmp_path):
     "name, text, where, words",
     [
         (
-            "trunc.ndjson",
-            '{"id": 1, "coordinates": [[0,0],[1,0],[0,1]]}\n{"id": 2, "coo',
-            ":2:",
-            "invalid JSON",
-        ),
-        (
             "trunc.geojson",
             '{"type": "FeatureCollection",\n "features": [\n {"type": "Feature", "geometry": nul',
             ":3:",
@@ -139,8 +140,8 @@ def test_cli_exit_codes(tmp_path):
         ),
         ("unclosed.geojson", '{"type": "FeatureCollection", "features": [\n', ":2:", "end of file"),
         (
-            "garbage.geojson",
-            '{"type": "FeatureCollection",\n"features": [\n{"a": 1},\n{"b": }]}',
+            "garbage_tail.geojson",
+            '{"type": "FeatureCollection",\n"features": [\n{"a": 1},\n{"b": }] x',
             ":4:",
             "invalid JSON",
         ),

@@ -83,7 +83,7 @@ def test_feature_collection_is_streamed_across_block_edges(tmp_path, monkeypatch
     }
     src.write_text(json.dumps(data, indent=2))
     items = list(readers.read_items(src))
-    assert [it.coords for it in items] == [r["coordinates"] for r in ROWS[:4]]
+    assert [it.coords.tolist() for it in items] == [r["coordinates"] for r in ROWS[:4]]
 
 
 def test_geoparquet_in_and_out(tmp_path):
@@ -148,13 +148,12 @@ def test_holes_in_geoparquet_are_errors(tmp_path):
 
 
 def test_import_loads_no_optional_batch_dependency():
-    import subprocess
-    import sys
+    from cli_run import run_python
 
     code = (
         "import sys, optri, optri.batch.driver; "
         "print(sorted(m for m in ('dask', 'distributed', 'pyarrow', 'geopandas', 'pyogrio',"
         " 'shapely', 'rich', 'concurrent.futures.process') if m in sys.modules))"
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.strip() == "[]"
+    out = run_python("-c", code)
+    assert out.returncode == 0 and out.stdout.strip() == "[]", out.stderr

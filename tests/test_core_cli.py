@@ -1,17 +1,16 @@
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import optri
+from cli_run import SRC, run_optri, run_python
 
 ROOT = Path(__file__).resolve().parents[1]
+run = run_optri
 
 
-def run(*args):
-    return subprocess.run(
-        [sys.executable, "-m", "optri", *args], capture_output=True, text=True, timeout=120
-    )
+def test_subprocesses_run_this_checkout():
+    r = run_python("-c", "import optri; print(optri.__file__)")
+    assert Path(r.stdout.strip()).resolve() == SRC / "optri" / "__init__.py", r.stderr
 
 
 def test_version_and_help():
@@ -65,5 +64,5 @@ def test_import_is_light():
         "import sys, optri; bad = [m for m in ('matplotlib', 'numba', 'trimesh', 'click', "
         "'rich', 'shapely', 'dask') if m in sys.modules]; print(bad)"
     )
-    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    r = run_python("-c", code)
     assert r.stdout.strip() == "[]", r.stdout + r.stderr

@@ -8,8 +8,18 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import optri
+from optri.engines import memo
 from optri.engines.brute import all_index_triangulations
-from strategies import POINT_WEIGHTS, convex_polygons, value_sequences
+from optri.polygon import as_polygon
+from optri.solve import build_problem
+from strategies import (
+    MAX_LED_EDGE_PAIRS,
+    POINT_WEIGHTS,
+    TWO_PHASE_CASES,
+    convex_polygons,
+    ellipse_polygon,
+    value_sequences,
+)
 
 ENGINES = ["memo", "table"]
 
@@ -48,12 +58,46 @@ def test_lexicographic_objective_matches_brute(poly):
         t.check()
 
 
+@pytest.mark.parametrize("n, seed", TWO_PHASE_CASES)
+@pytest.mark.parametrize("pair", MAX_LED_EDGE_PAIRS)
+def test_max_led_pair_is_solved_in_two_phases(n, seed, pair):
+    """("max", "sum") is not monotone: one lexicographic pass misses the optimum here."""
+    pts = ellipse_polygon(n, seed)
+    oracle = optri.triangulate(pts, pair, ("max", "sum"), method="brute")
+    one_pass = memo.solve(build_problem(as_polygon(pts), pair, ("max", "sum")))
+    assert one_pass.cost > oracle.weight and not close(one_pass.cost, oracle.weight)
+    for method in ENGINES:
+        t = optri.triangulate(pts, pair, ("max", "sum"), method=method)
+        assert close(t.weight, oracle.weight), (method, t.weight, oracle.weight)
+        t.check()
+
+
 @settings(max_examples=30, deadline=None)
 @given(values=value_sequences(3, 10))
 def test_product_weight_equals_brute(values):
     oracle = optri.triangulate(values, "product", method="brute").weight
     for method in ENGINES:
         assert optri.triangulate(values, "product", method=method).weight == oracle
+
+
+def test_max_objective_with_negative_weights():
+    # "min_angle" is minus the smallest angle: negative, so a side must count as -inf
+    tri = [[0, 0], [3, 0], [0, 4]]
+    for method in ENGINES + ["brute"]:
+        t = optri.triangulate(tri, "min_angle", "max", method=method)
+        assert t.weight == pytest.approx(-math.asin(0.6))  # the angle opposite side 3
+        poly = [[0, 0], [4, 0], [5, 3], [2, 5], [-1, 3]]
+        worst = optri.triangulate(poly, lambda i, k, j: -1.0 - i, "max", method=method)
+        assert worst.weight == -1.0  # every triangulation has a triangle at vertex 0
+
+
+def test_max_table_sides_are_zero_not_minus_infinity():
+    poly = [[0, 0], [4, 0], [5, 3], [2, 5], [-1, 3], [-2, 1]]
+    for method in ENGINES:
+        t = optri.triangulate(poly, "max_angle", "max", method=method, keep_table=True)
+        n = t.n
+        assert np.all(t.table[np.arange(n - 1), np.arange(1, n)] == 0.0)  # sides: no triangle
+        assert t.table[0, n - 1] == t.weight and np.isfinite(t.table).all()
 
 
 def test_brute_enumerates_catalan_many():
@@ -107,6 +151,7 @@ def test_clockwise_input_is_normalized():
     a = optri.triangulate(ccw, method="memo")
     b = optri.triangulate(ccw[::-1], method="memo")
     assert a.orientation == "ccw" and b.orientation == "cw"
+    assert b.order.tolist() == [0, 4, 3, 2, 1]  # internal: counter-clockwise from input 0
     assert a.weight == pytest.approx(b.weight)
     b.check()  # triangles counter-clockwise in input indices
     pts = ccw[::-1]

@@ -2,13 +2,12 @@
 
 import json
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
 import optri
+from cli_run import run_optri
 from optri import config
 
 SQUARE = [[0, 0], [1, 0], [1, 1], [0, 1]]
@@ -79,9 +78,7 @@ def test_table_too_large_refused_before_allocating(monkeypatch):
 
 
 def run_cli(*args, cwd=None):
-    return subprocess.run(
-        [sys.executable, "-m", "optri", *args], capture_output=True, text=True, cwd=cwd, timeout=120
-    )
+    return run_optri(*args, cwd=cwd)
 
 
 @pytest.mark.parametrize(
@@ -95,6 +92,32 @@ def test_cli_bad_input_one_line_exit_2(tmp_path, content):
     assert r.returncode == 2
     assert r.stderr.count("\n") == 1 and r.stderr.startswith("optri: error:")
     assert "Traceback" not in r.stderr
+
+
+def test_cli_multi_line_library_error_is_one_stderr_line(tmp_path):
+    # a file name with a newline: the library's message spans two lines
+    missing = tmp_path / "no\nsuch.csv"
+    with pytest.raises(optri.InvalidPolygonError) as info:
+        optri.io.read_polygon(missing)
+    assert "\n" in str(info.value)
+    r = run_cli("solve", str(missing))
+    assert r.returncode == 2
+    assert r.stderr.count("\n") == 1 and r.stderr.startswith("optri: error: cannot read ")
+    assert "no such.csv" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_cli_unwritable_output_is_one_line(tmp_path):
+    # --plot inside a regular file: the OSError becomes one line naming the path, exit 2
+    from click.testing import CliRunner
+
+    from optri.cli import main
+
+    f = tmp_path / "sq.csv"
+    f.write_text("0,0\n1,0\n1,1\n0,1\n")
+    res = CliRunner().invoke(main, ["solve", str(f), "--plot", str(f / "x.png")])
+    assert res.exit_code == 2, res.output
+    assert res.stderr.startswith("optri: error:") and res.stderr.count("\n") == 1
+    assert "sq.csv" in res.stderr and "Traceback" not in res.output
 
 
 def test_cli_missing_file_and_bad_weight(tmp_path):

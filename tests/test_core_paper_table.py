@@ -32,5 +32,12 @@ def test_no_table_error_and_plot():
     t2 = optri.triangulate([5, 1, 5, 1, 5], "product", method="memo")
     from optri.drawing import plot_table
 
-    assert plot_table(t2) is not None
-    assert t2.plot() is not None
+    ax = plot_table(t2)
+    cells, _ = table_cells(t2, "paper")
+    celld = ax.tables[0].get_celld()
+    drawn = [[celld[r + 1, c].get_text().get_text() for c in range(5)] for r in range(5)]
+    assert drawn == cells and drawn[0][3] == "35"  # row 0 of the drawing: column labels
+    assert [celld[0, c].get_text().get_text() for c in range(5)] == ["1", "2", "3", "4", "5"]
+    ax = t2.plot()
+    assert len(ax.lines) == len(t2.diagonals) + 1  # one line per diagonal, one for the boundary
+    assert "product sum = 35" in ax.get_title()

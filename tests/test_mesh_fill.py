@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from optri import fill_holes
+from optri import config, fill_holes
 from optri.errors import HoleSkippedWarning, InvalidPolygonError, WeightError
 from optri.holes import boundary_loops
 
@@ -37,7 +37,11 @@ def test_filled_sphere_is_watertight(weight, method):
     assert np.array_equal(filled.faces[: len(holed.faces)], holed.faces)
     for rec in records:
         assert rec.faces_added == rec.edges - 2 and rec.seconds >= 0
-        assert method == "auto" or rec.method.startswith(method.replace("auto", ""))
+        if method == "auto":  # exact search up to the limit, Liepa's recurrence above it
+            expected = "exact" if rec.edges <= config.HOLES_EXACT_MAX_N else "liepa"
+        else:
+            expected = method
+        assert rec.method.split("->")[0] == expected  # "delaunay->exact" after a fallback
 
 
 def test_new_faces_run_against_their_neighbours():
@@ -71,7 +75,9 @@ def test_skipped_holes_are_reported_and_warned():
     assert len(skipped) == sum(s > limit for s in sizes) > 0
     assert all("max_hole_edges" in r.reason and r.faces_added == 0 for r in skipped)
     assert len(filled.faces) == len(holed.faces) + sum(r.faces_added for r in records)
-    assert records[0].to_dict()["status"] in ("filled", "skipped")
+    first = records[0].to_dict()
+    assert first["status"] == ("skipped" if first["edges"] > limit else "filled")
+    assert first["faces_added"] == (0 if first["status"] == "skipped" else first["edges"] - 2)
 
 
 def test_closed_mesh_has_no_holes():
@@ -80,12 +86,14 @@ def test_closed_mesh_has_no_holes():
     assert records == [] and len(filled.faces) == len(sphere.faces)
 
 
-def test_non_manifold_boundary_is_refused():
+def test_pinched_bowtie_fills_both_loops():
     # two triangles touching at one vertex: vertex 0 has four boundary edges
     v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]], dtype=float)
     f = np.array([[0, 1, 2], [0, 3, 4]])
-    with pytest.raises(InvalidPolygonError, match="non-manifold boundary at vertex 0"):
-        fill_holes((v, f))
+    (_, f2), records = fill_holes((v, f))
+    assert [r.status for r in records] == ["filled", "filled"]
+    assert [r.pinched for r in records] == [[0], [0]]
+    assert sorted(map(sorted, f2[2:].tolist())) == [[0, 1, 2], [0, 3, 4]]
 
 
 @pytest.mark.parametrize(

@@ -47,9 +47,11 @@ def test_best(tmp_path):
 def test_enumerate_bad_file_is_one_line_error(tmp_path):
     code, out = _run("enumerate", str(tmp_path / "missing.csv"))
     assert code == 2
+    assert out.startswith("optri: error:") and out.count("\n") == 1 and "missing.csv" in out
 
 
 def test_paper_quick(tmp_path):
     code, out = _run("paper", "--out", str(tmp_path / "p"), "--quick", "--quiet", "--no-figures")
     assert code == 0, out
-    assert (tmp_path / "p" / "report.md").exists()
+    report = (tmp_path / "p" / "report.md").read_text()
+    assert "## Notes on the paper" in report and "175, 35, 35, 75, 75" in report

@@ -70,10 +70,17 @@ def test_report_quick(tmp_path):
     assert "## Machine" in text and "python:" in text and "numpy:" in text
     for name in (
         "fig1_octagon.png",
+        "fig2_cell_scheme.png",
+        "fig3_recursion_tree.png",
+        "fig3_naive_tree.png",
         "fig5_completion_time.png",
         "fig7_ratio.png",
         "table1_pentagon.png",
     ):
         assert (tmp_path / name).read_bytes()[:4] == b"\x89PNG"
+    # every figure written is embedded in the report, none merely linked
+    embedded = re.findall(r"^!\[[^\]]+\]\(([^)]+\.png)\)$", text, flags=re.M)
+    assert sorted(embedded) == sorted(p.name for p in tmp_path.glob("*.png"))
+    assert not re.search(r"^- \[[^\]]+\]\([^)]+\.png\)", text, flags=re.M)
     # the paper's Table 4 figures are printed beside the measured ones
     assert "| 0.01 | 1.7 | 0.01 | 0.8 |" in text

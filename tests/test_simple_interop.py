@@ -34,12 +34,15 @@ def test_shapely_polygon_in_triangles_out():
     assert all(g.exterior.is_ccw and poly.covers(g) for g in out.geoms)
 
 
-def test_shapely_hole_is_refused_not_dropped():
+def test_shapely_hole_is_triangulated_not_dropped():
     holed = shapely.Polygon(
         [(0, 0), (10, 0), (10, 10), (0, 10)], [[(4, 4), (6, 4), (6, 6), (4, 6)]]
     )
-    with pytest.raises(InvalidPolygonError, match="NP-hard"):
-        optri.triangulate(holed)
+    tri = optri.triangulate(holed)
+    assert tri.holes == 1 and len(tri.triangles) == 8 + 2 - 2
+    assert math.isclose(shapely.union_all(tri.to_shapely().geoms).area, holed.area)
+    with pytest.raises(InvalidPolygonError, match="geo_polygon_rings"):
+        optri.io.geo_polygon_coords(holed)  # the one-ring reader never drops a hole
 
 
 def test_clockwise_shapely_ring():
@@ -74,7 +77,7 @@ def test_read_polygon_files(tmp_path):
         assert read_polygon(tmp_path / name).tolist() == np.array(NOTCH, float).tolist()
     holed = {"type": "Polygon", "coordinates": [RING, [[1, 1], [2, 1], [1, 2], [1, 1]]]}
     (tmp_path / "h.geojson").write_text(json.dumps(holed))
-    with pytest.raises(InvalidPolygonError, match="Mulzer"):
+    with pytest.raises(InvalidPolygonError, match="read_rings"):
         read_polygon(tmp_path / "h.geojson")
 
 

@@ -6,7 +6,6 @@ import math
 
 import numpy as np
 import pytest
-import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -16,6 +15,8 @@ from optri.engines.brute import all_index_triangulations
 from optri.objective import as_objective
 from optri.solve import build_problem
 from simple_polys import ccw_of, oracle_mask, simple_polygons, star_polygons, triangle_inside_fn
+
+shapely = pytest.importorskip("shapely")
 
 polygons = st.one_of(star_polygons(4, 10), simple_polygons(4, 10))
 POINT_WEIGHTS = sorted(name for name, w in optri.WEIGHTS.items() if w.needs == "points")

@@ -7,8 +7,9 @@
 
 from __future__ import annotations
 
+from . import data
 from ._version import __version__
-from .batch import BatchSummary, batch
+from .batch import BatchSummary, batch, triangulate_many
 from .chain import ChainOrder, matrix_chain
 from .drawing import format_table
 from .enumeration import (
@@ -31,6 +32,7 @@ from .polygon import Polygon, as_polygon, require_simple
 from .result import Triangulation
 from .simple import valid_diagonals
 from .solve import triangulate
+from .teaching import Trace, trace
 from .weights import WEIGHTS, Weight, custom_weight
 
 __all__ = [
@@ -44,6 +46,7 @@ __all__ = [
     "OptriError",
     "Polygon",
     "TableTooLargeError",
+    "Trace",
     "Triangulation",
     "Weight",
     "WeightError",
@@ -53,6 +56,7 @@ __all__ = [
     "best_triangulations",
     "count_triangulations",
     "custom_weight",
+    "data",
     "enumerate_triangulations",
     "fill_holes",
     "fill_polyline",
@@ -60,6 +64,8 @@ __all__ = [
     "matrix_chain",
     "random_triangulation",
     "require_simple",
+    "trace",
     "triangulate",
+    "triangulate_many",
     "valid_diagonals",
 ]

@@ -20,14 +20,16 @@ EXTRAS = {
     "geopandas": "geo",
     "pyogrio": "geo",
     "pyarrow": "geo",
+    "pyproj": "geo",
     "mapbox_earcut": "compare",
 }
 
 
-def import_optional(name: str) -> ModuleType:
+def import_optional(name: str, extra: str | None = None) -> ModuleType:
     """Import module ``name`` or raise :class:`~optri.errors.MissingDependencyError`.
 
-    The message names the ``pip install 'optri[extra]'`` that brings it; core
+    The message names the ``pip install 'optri[extra]'`` that brings it (``extra``
+    overrides :data:`EXTRAS` where one package serves several extras); core
     dependencies (numpy, numba, matplotlib, click, rich) are named as packages.
 
     >>> import_optional("math").pi > 3
@@ -37,7 +39,7 @@ def import_optional(name: str) -> ModuleType:
         return importlib.import_module(name)
     except ImportError as exc:
         top = name.split(".")[0]
-        extra = EXTRAS.get("numba_cuda" if name.startswith("numba.cuda") else top)
+        extra = extra or EXTRAS.get("numba_cuda" if name.startswith("numba.cuda") else top)
         hint = f"pip install 'optri[{extra}]'" if extra else f"pip install {top}"
         raise MissingDependencyError(
             f"{name} is not available ({exc}); install it with: {hint}"

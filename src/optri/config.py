@@ -21,16 +21,45 @@ MEMORY_FRACTION = 0.8
 MEMORY_LIMIT_BYTES: int | None = None
 #: Largest n the brute-force oracle accepts (Catalan(n-2) triangulations).
 BRUTE_MAX_N = 13
-#: Relative tolerance for geometric predicates (collinearity, convexity).
-GEOMETRY_RTOL = 1e-12
+#: 3-D input counts as planar (then triangulated as a simple polygon in its own plane) when
+#: every vertex lies within this fraction of its extent from the plane. Every 2-D sign
+#: (collinear, convex, crossing, inside) is exact and needs no tolerance.
+PLANARITY_RTOL = 1e-9
+#: The un-memoized recursion (``method="naive"``, :func:`optri.trace`) makes 3^(n-2) calls
+#: on an n-gon (59,049 at 12, about 3 events each when traced); it refuses larger polygons.
+NAIVE_MAX_N = 12
+#: :func:`optri.trace` keeps every event (about 4 C(n, 3) of them for memo: 1.1 million at
+#: 120); it refuses larger polygons.
+TRACE_MAX_N = 120
+#: The explorer page (``optri explore``) embeds its traces (about 20 bytes an event, 2 MB
+#: at 40) and redraws the n x n table each step; it refuses larger polygons.
+EXPLORE_MAX_N = 40
+#: ``Trace.animate`` draws each frame with matplotlib (about 0.1 s each); it refuses more.
+ANIMATE_MAX_FRAMES = 1500
+#: Notebook HTML (``Triangulation._repr_html_``) shows the n x n table up to this n.
+HTML_TABLE_MAX_N = 24
 #: Valid-diagonal mask: up to this n the numpy O(n^3) mask is used while numba is not
 #: loaded yet: it is instant there, and starting numba is not.
 MASK_NUMPY_MAX_N = 48
 #: k-best for objectives led by "max" (not monotone) enumerates every triangulation;
 #: it refuses polygons with more triangulations than this.
 KBEST_ENUMERATION_LIMIT = 2_000_000
-#: 3-D holes: ``method="auto"`` runs the exact O(n^4) Liepa search up to this many vertices.
-HOLES_EXACT_MAX_N = 120
+#: 3-D holes: ``method="auto"`` runs the exact Liepa search up to this many vertices
+#: (O(n^4) time at worst, pruned by Liepa's patch; about 8 n^3 / 3 bytes), Liepa's O(n^3)
+#: recurrence above. Measured by benchmarks/bench_mesh.py: see docs/mesh.md.
+HOLES_EXACT_MAX_N = 400
+#: 3-D holes: work (about apex evaluations) per compiled-kernel call of the Liepa and
+#: exact searches; between calls Ctrl-C takes effect.
+HOLES_CHUNK_WORK = 2e7
+#: 3-D holes, triangle weights: a patch without zero-area triangles replaces the optimum
+#: when its value is within this relative tolerance (a tie up to rounding).
+HOLES_TIE_RTOL = 1e-9
+#: 3-D holes: a triangle whose aspect ratio (circumradius / (2 inradius)) exceeds this
+#: counts as zero-area when triangle-weight patches avoid degenerate triangles.
+HOLES_DEGENERATE_ASPECT = 1e12
+#: Mesh files: vertices closer than this fraction of the bounding-box diagonal are merged
+#: on loading (0: only exactly equal positions, at any scale).
+MESH_MERGE_RTOL = 0.0
 #: Batch: work per chunk, in units of one weight evaluation (about a microsecond in Python).
 BATCH_CHUNK_WORK = 400_000
 #: Batch: fixed per-polygon work (validation, result building) in the same units.
@@ -45,6 +74,10 @@ BATCH_IN_FLIGHT_PER_WORKER = 2
 BATCH_ROWS_PER_READ = 4096
 #: Batch: bytes read at a time by the streaming GeoJSON parser.
 BATCH_READ_BLOCK = 1 << 20
+#: Batch: deepest nesting of JSON attribute values kept (deeper values make an error record).
+BATCH_MAX_JSON_DEPTH = 64
+#: Batch: seconds between checks that the parent still lives, in workers without pidfd.
+BATCH_WATCHDOG_SECONDS = 0.5
 #: CLI: show a progress bar for ``optri solve`` from this many vertices on.
 CLI_PROGRESS_MIN_N = 1500
 #: method="auto" picks the GPU engine (when a GPU is present) from this many vertices on.
@@ -86,6 +119,16 @@ FAST_CHUNK_WORK = 3e8
 #: Compiled kernels: cache folder when NUMBA_CACHE_DIR is unset (None: beside the package,
 #: else ~/.cache/optri); read once, when the first kernel module loads.
 JIT_CACHE_DIR: str | None = None
+
+#: Polygons with holes: default ``time_limit`` of the search in seconds (None: no limit).
+DOMAIN_TIME_LIMIT: float | None = None
+#: Polygons with holes: the least time given to one solver call, even past the limit
+#: (HiGHS needs a positive limit; this bounds how far a run can overshoot it per call).
+DOMAIN_MIN_SOLVER_SECONDS = 0.05
+
+#: Polygons with holes: a heuristic answer within this relative distance of its proven
+#: lower bound counts as proven (the solver's own optimality tolerance is about 1e-9).
+DOMAIN_PROVEN_RTOL = 1e-9
 
 _DEFAULTS = {k: v for k, v in dict(globals()).items() if k.isupper()}
 

@@ -20,13 +20,18 @@ from typing import Any
 __all__ = [
     "BatchFailedError",
     "BatchInputError",
+    "BatchLockedError",
+    "BatchWarning",
+    "DuplicateIdWarning",
     "EngineUnavailableError",
+    "GeographicCRSWarning",
     "HoleSkippedWarning",
     "InvalidPolygonError",
     "MissingDependencyError",
     "NoTriangulationError",
     "OptriError",
     "TableTooLargeError",
+    "UnknownSampleError",
     "WeightError",
 ]
 
@@ -70,7 +75,14 @@ class TableTooLargeError(OptriError, MemoryError):
 
 
 class BatchInputError(OptriError, ValueError):
-    """A batch input or output file cannot be used at all; the message names file and line."""
+    """A batch input (file, layer or collection) or output cannot be used at all.
+
+    The message names the file and line, or the argument, and the way out.
+    """
+
+
+class BatchLockedError(BatchInputError):
+    """The output is being written by another batch run (its lock file names the pid)."""
 
 
 class BatchFailedError(OptriError):
@@ -81,5 +93,21 @@ class BatchFailedError(OptriError):
         self.summary = summary
 
 
+class UnknownSampleError(OptriError, LookupError):
+    """No bundled sample file has that name (:mod:`optri.data`); the message lists them."""
+
+
 class HoleSkippedWarning(UserWarning):
     """A mesh hole was left open (over ``max_hole_edges``, or it cannot be filled)."""
+
+
+class BatchWarning(UserWarning):
+    """Something about a whole batch a user should know (renamed columns, a CRS not written)."""
+
+
+class GeographicCRSWarning(BatchWarning):
+    """The layer's coordinates are longitude/latitude: costs would be in degrees."""
+
+
+class DuplicateIdWarning(BatchWarning):
+    """Several input features carry the same id."""

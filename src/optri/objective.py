@@ -11,6 +11,20 @@
 Every engine minimizes ``cost(i, j) = best_k combine(cost(i, k), cost(k, j),
 w(i, k, j))``; this module defines ``combine``, the order ``less``, and the
 neutral cost of a polygon side.
+
+Ties in lexicographic objectives
+--------------------------------
+Two float values of a leading component that differ by at most
+:data:`LEX_TIE_RTOL` times the larger magnitude are a **tie**, and the next
+component decides. Primaries that are equal in exact arithmetic (two
+triangulations of a grid polygon with the same total perimeter, summed in
+another order) differ by a few rounding errors, so without this the secondary
+would never be consulted. Every engine applies the same rule: the Python
+engines and brute force through :attr:`Objective.less`, the compiled engine
+through :func:`lex_better` (compiled from this source), and the two-phase
+"max"-led pairs through a gate loosened by the same tolerance
+(:func:`tie_ceiling`). Integer values (the product weight on integer input)
+compare exactly.
 """
 
 from __future__ import annotations
@@ -23,12 +37,80 @@ from typing import Any, Union
 
 from .errors import WeightError
 
-__all__ = ["Cost", "Objective", "ObjectiveLike", "as_objective"]
+__all__ = [
+    "LEX_TIE_RTOL",
+    "Cost",
+    "Objective",
+    "ObjectiveLike",
+    "as_objective",
+    "lex_better",
+    "lex_less",
+    "tie_ceiling",
+]
 
 Cost = Union[float, tuple[float, ...]]
 ObjectiveLike = Union[str, Sequence[str], "Objective"]
 
 _COMPONENTS = ("sum", "max")
+
+#: Leading components of a lexicographic objective within this relative distance tie
+#: (part of the objective's definition, compiled into the kernels: not a tunable).
+#: Rounding of a sum of m terms stays below about m * 1.1e-16 relatively, so ties are
+#: recognized for triangulations of up to about 10**4 vertices.
+LEX_TIE_RTOL = 1e-12
+
+
+def lex_better(a1, a2, b1, b2):  # type: ignore[no-untyped-def]
+    """Whether ``(a1, a2)`` is lexicographically below ``(b1, b2)``, ties within LEX_TIE_RTOL.
+
+    Plain Python that numba compiles into the compiled engine's ``best_split``.
+
+    >>> lex_better(3.0, 1.0, 3.0 + 1e-15, 2.0), lex_better(3.0, 1.0, 3.1, 0.0)
+    (True, True)
+    """
+    if a1 != b1:
+        if abs(a1) == math.inf or abs(b1) == math.inf:
+            return a1 < b1
+        tol = LEX_TIE_RTOL * max(abs(a1), abs(b1))
+        if a1 < b1 - tol:
+            return True
+        if a1 > b1 + tol:
+            return False
+    return a2 < b2
+
+
+def lex_less(a: Sequence[Any], b: Sequence[Any]) -> bool:
+    """Lexicographic order of cost tuples, leading components tied within LEX_TIE_RTOL.
+
+    Integers (exact costs) tie only when equal.
+
+    >>> lex_less((1.0, 5.0), (1.0 + 1e-14, 4.0)), lex_less((1, 5), (2, 4))
+    (False, True)
+    """
+    for x, y in zip(a[:-1], b[:-1]):
+        if x == y or _tied(x, y):
+            continue
+        return bool(x < y)
+    return bool(a[-1] < b[-1])
+
+
+def _tied(x: Any, y: Any) -> bool:
+    if isinstance(x, int) and isinstance(y, int):
+        return False
+    if not (math.isfinite(x) and math.isfinite(y)):
+        return False
+    return abs(x - y) <= LEX_TIE_RTOL * max(abs(x), abs(y))
+
+
+def tie_ceiling(value: float) -> float:
+    """The largest value tied with ``value`` from above: a gate loosened by LEX_TIE_RTOL.
+
+    >>> tie_ceiling(1.0) > 1.0, tie_ceiling(4) == 4
+    (True, True)
+    """
+    if isinstance(value, int) or not math.isfinite(value):
+        return value
+    return value + LEX_TIE_RTOL * abs(value)
 
 
 @dataclass(frozen=True)
@@ -76,7 +158,19 @@ class Objective:
     @property
     def neutral(self) -> Cost:
         """Cost of a polygon side (an empty triangulation)."""
-        vals = tuple(0.0 if c == "sum" else -math.inf for c in self.components)
+        return self.neutral_for(integer=False)
+
+    def neutral_for(self, integer: bool) -> Cost:
+        """:attr:`neutral`, with an integer 0 for "sum" when the weights are integers.
+
+        Integer weights (the product weight on integer values) then add up in
+        Python ints, exactly.
+
+        >>> as_objective("sum").neutral_for(True), as_objective("sum").neutral
+        (0, 0.0)
+        """
+        zero = 0 if integer else 0.0
+        vals = tuple(zero if c == "sum" else -math.inf for c in self.components)
         return vals if self.is_lex else vals[0]
 
     @property
@@ -94,8 +188,8 @@ class Objective:
 
     @property
     def less(self) -> Callable[[Any, Any], bool]:
-        """Strict order on costs (tuples compare lexicographically)."""
-        return operator.lt
+        """Strict order on costs: ``<``, or :func:`lex_less` for a lexicographic pair."""
+        return lex_less if self.is_lex else operator.lt
 
     def aggregate(self, weights: Sequence[Cost]) -> Cost:
         """Cost of a whole triangulation from its triangle weights."""
@@ -139,5 +233,9 @@ def _max3(a: float, b: float, w: float) -> float:
 
 def _fold(component: str, values: Sequence[float]) -> float:
     if component == "sum":
-        return float(sum(values))
-    return float(max(values)) if len(values) else -math.inf
+        total = sum(values)
+        return total if isinstance(total, int) else float(total)  # ints stay exact
+    if not len(values):
+        return -math.inf
+    top = max(values)
+    return top if isinstance(top, int) else float(top)

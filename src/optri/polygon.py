@@ -6,13 +6,18 @@ geometry). :func:`as_polygon` checks shape, finiteness, distinct vertices,
 planarity and orientation and returns a :class:`Polygon` whose *internal*
 vertex order is counter-clockwise; engines work on internal indices and results
 are mapped back through :attr:`Polygon.order`. :func:`require_simple` checks
-that the boundary does not touch itself. Signs of turns are decided in
-:mod:`optri.predicates`.
+that the boundary does not touch itself. Every sign of a turn is decided
+exactly in :mod:`optri.predicates` (collinear means exactly collinear,
+convex means every turn strictly left); the one tolerance left is 3-D
+planarity (``config.PLANARITY_RTOL``), as 3-D coordinates are rarely exactly
+coplanar. Areas are computed on centred coordinates with a compensated sum.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from numbers import Real
 from typing import Any
 
 import numpy as np
@@ -25,6 +30,7 @@ from .predicates import segment_pair_fault, turn_signs
 __all__ = [
     "Polygon",
     "as_polygon",
+    "drop_closing_vertices",
     "find_self_intersection",
     "newell_normal",
     "normalize_vertices",
@@ -52,6 +58,15 @@ class Polygon:
         Orientation of the input; None for values and non-planar 3D input.
     convex : bool
         Strictly convex (no three consecutive collinear vertices).
+    ints : tuple of int or None
+        The exact values of integer vertex values (1-D input of integer type):
+        weights such as ``"product"`` compute with them exactly.
+
+    Examples
+    --------
+    >>> p = as_polygon([[0, 0], [0, 1], [1, 1], [1, 0]])    # clockwise
+    >>> p.orientation, p.convex, p.order.tolist()
+    ('cw', True, [0, 3, 2, 1])
     """
 
     vertices: NDArray[np.float64]
@@ -59,6 +74,7 @@ class Polygon:
     order: NDArray[np.int64]
     orientation: str | None
     convex: bool
+    ints: tuple[int, ...] | None = None
 
     @property
     def n(self) -> int:
@@ -84,24 +100,25 @@ def normalize_vertices(data: ArrayLike, *, values: bool = True) -> NDArray[np.fl
     """Vertex input as a float64 array, checked: the normalization every entry point shares.
 
     Accepts ``(n, 2)`` or ``(n, 3)`` vertices in order or, with ``values``, a
-    1-D sequence of vertex values. A last vertex equal to the first is dropped
-    (coordinates only: values may repeat).
+    1-D sequence of vertex values. Closing vertices (last vertices equal to the
+    first, repeated any number of times) are dropped (coordinates only: values
+    may repeat). ``triangulate``, ``batch``, the file readers and the CLI all
+    come through here.
 
     Raises
     ------
     InvalidPolygonError
-        Not numbers, the wrong shape, NaN or infinite coordinates, fewer than 3
-        vertices, or a repeated vertex (the message names both indices).
+        Not real numbers (strings, complex numbers, objects), a number too large
+        for float64 (a Python int of 10**400), the wrong shape, NaN or infinite
+        coordinates, fewer than 3 vertices, or a repeated vertex (the message
+        names both indices).
 
     Examples
     --------
-    >>> normalize_vertices([[0, 0], [1, 0], [0, 1], [0, 0]]).tolist()
+    >>> normalize_vertices([[0, 0], [1, 0], [0, 1], [0, 0], [0, 0]]).tolist()
     [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
     """
-    try:
-        arr = np.asarray(data, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InvalidPolygonError(f"vertices must be numbers: {exc}") from exc
+    arr = _as_float_array(data)
     shape_ok = (arr.ndim == 2 and arr.shape[1] in (2, 3)) or (arr.ndim == 1 and values)
     if not shape_ok:
         also = " or a 1-D sequence of values" if values else ""
@@ -109,14 +126,71 @@ def normalize_vertices(data: ArrayLike, *, values: bool = True) -> NDArray[np.fl
             f"expected an (n, 2) or (n, 3) array of vertices{also}, got shape {arr.shape}"
         )
     _require_finite(arr)
-    if arr.ndim == 2 and arr.shape[0] > 3 and np.array_equal(arr[0], arr[-1]):
-        arr = arr[:-1]
+    if arr.ndim == 2:
+        arr = drop_closing_vertices(arr)
     n = arr.shape[0]
     if n < 3:
         raise InvalidPolygonError(f"a polygon needs at least 3 vertices, got {n}")
     if arr.ndim == 2:
         _require_distinct(arr)
     return arr
+
+
+def drop_closing_vertices(ring: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``ring`` without its closing vertices: trailing copies of the first, however many.
+
+    At least 3 vertices are kept (what remains is then refused as repeated).
+
+    >>> drop_closing_vertices(np.array([[0., 0.], [1., 0.], [0., 1.], [0., 0.], [0., 0.]])).shape
+    (3, 2)
+    """
+    end = len(ring)
+    while end > 3 and np.array_equal(ring[0], ring[end - 1]):
+        end -= 1
+    return ring[:end]
+
+
+def _as_float_array(data: ArrayLike) -> NDArray[np.float64]:
+    """``data`` as float64, refusing what is not a real number instead of coercing it."""
+    try:
+        raw = np.asarray(data)
+    except (TypeError, ValueError) as exc:
+        raise InvalidPolygonError(f"vertices must be numbers: {exc}") from exc
+    kind = raw.dtype.kind
+    if kind == "c":
+        raise InvalidPolygonError(
+            "vertices are complex numbers; give real coordinates (x, y) or (x, y, z)"
+        )
+    if kind == "b":
+        raise InvalidPolygonError("vertices are booleans; give real coordinates")
+    if kind == "O":
+        return _object_to_float(raw)
+    try:
+        return raw.astype(np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InvalidPolygonError(f"vertices must be numbers: {exc}") from exc
+
+
+def _object_to_float(raw: NDArray[Any]) -> NDArray[np.float64]:
+    """An object array of real numbers (big Python ints, say) as float64, checked one by one."""
+    out = np.empty(raw.shape, dtype=np.float64)
+    dest = out.reshape(-1)
+    width = raw.shape[-1] if raw.ndim > 1 else 1
+    for pos, v in enumerate(raw.reshape(-1).tolist()):
+        if isinstance(v, bool) or not isinstance(v, Real):
+            raise InvalidPolygonError(
+                f"vertex {pos // width} has a coordinate that is not a real number: "
+                f"{type(v).__name__} {str(v)[:40]}"
+            )
+        try:
+            dest[pos] = float(v)
+        except OverflowError:
+            size = f"an integer of {len(str(abs(v)))} digits" if isinstance(v, int) else "a number"
+            raise InvalidPolygonError(
+                f"vertex {pos // width} has a coordinate too large for float64 ({size}); "
+                f"scale the coordinates down"
+            ) from None
+    return out
 
 
 def as_polygon(data: ArrayLike | Polygon) -> Polygon:
@@ -126,8 +200,8 @@ def as_polygon(data: ArrayLike | Polygon) -> Polygon:
     ----------
     data : array_like or Polygon
         ``(n, 2)`` or ``(n, 3)`` vertices in order, or a 1-D sequence of values.
-        A last vertex equal to the first is dropped (coordinates only: values
-        may repeat).
+        Closing vertices equal to the first are dropped (coordinates only:
+        values may repeat).
 
     Returns
     -------
@@ -137,7 +211,14 @@ def as_polygon(data: ArrayLike | Polygon) -> Polygon:
     ------
     InvalidPolygonError
         Fewer than 3 vertices, NaN or infinite coordinates, repeated vertices,
-        all vertices collinear, or an array of the wrong shape.
+        all vertices (exactly) collinear, an array of the wrong shape, or a
+        boundary that folds back on itself at its lowest vertex.
+
+    Notes
+    -----
+    The orientation is the exact turn at the lowest (then leftmost) vertex,
+    which is strictly convex in every simple polygon; convexity is exact too:
+    every turn strictly left and the boundary winding once.
 
     Examples
     --------
@@ -149,62 +230,103 @@ def as_polygon(data: ArrayLike | Polygon) -> Polygon:
         return data
     arr = normalize_vertices(data)
     n = arr.shape[0]
+    identity = np.arange(n, dtype=np.int64)
     if arr.ndim == 1:
-        return Polygon(arr, arr, np.arange(n, dtype=np.int64), None, True)
-    planar = arr if arr.shape[1] == 2 else _planar_or_none(arr)
-    if planar is None:  # a skew 3-D polygon: every index triangulation is valid
-        return Polygon(arr, arr, np.arange(n, dtype=np.int64), None, True)
-    if arr.shape[1] == 3:  # planar 3-D: order kept, convexity read in its plane
-        convex3 = _is_strictly_convex(planar)
-        return Polygon(arr, arr, np.arange(n, dtype=np.int64), None, convex3)
-    area = signed_area(planar)
-    scale = float(np.ptp(planar, axis=0).max()) ** 2
-    if abs(area) <= config.GEOMETRY_RTOL * scale * n:
-        _refuse_flat(planar)
-    order = np.arange(n, dtype=np.int64)
-    orientation = "ccw" if area > 0 else "cw"
-    if orientation == "cw":
+        return Polygon(arr, arr, identity, None, True, _integer_values(data))
+    if arr.shape[1] == 3:
+        planar = _planar_or_none(arr)
+        if planar is None:  # a skew 3-D polygon: every index triangulation is valid
+            return Polygon(arr, arr, identity, None, True)
+        signs = turn_signs(planar)  # planar 3-D: order kept, read in its own plane
+        if not signs.any():
+            raise InvalidPolygonError("all vertices are collinear: the polygon has no area")
+        return Polygon(arr, arr, identity, None, _is_strictly_convex(planar, signs))
+    signs = turn_signs(arr)
+    if not signs.any():
+        raise InvalidPolygonError("all vertices are collinear: the polygon has no area")
+    turn = int(signs[_lowest(arr)])
+    if turn == 0:
+        _refuse_folded(arr)
+    order = identity
+    if turn < 0:
         order = np.concatenate(([0], np.arange(n - 1, 0, -1))).astype(np.int64)
     internal = arr[order]
-    convex = _is_strictly_convex(planar[order])
-    return Polygon(arr, internal, order, orientation, convex)
+    convex = _is_strictly_convex(internal, signs[order] * turn)
+    return Polygon(arr, internal, order, "ccw" if turn > 0 else "cw", convex)
+
+
+def _integer_values(data: ArrayLike) -> tuple[int, ...] | None:
+    """The values as Python ints when the 1-D input is of integer type, else None."""
+    raw = np.asarray(data)
+    if raw.dtype.kind in "iu":
+        return tuple(int(v) for v in raw.tolist())
+    if raw.dtype.kind == "O":
+        vals = raw.tolist()
+        if all(isinstance(v, int) and not isinstance(v, bool) for v in vals):
+            return tuple(vals)
+    return None
 
 
 def signed_area(points: NDArray[np.float64]) -> float:
     """Shoelace signed area of a 2-D polygon: positive when counter-clockwise.
 
+    Computed on coordinates centred on the bounding box (no cancellation at
+    offsets such as UTM's 500000, 4600000) and summed with ``math.fsum``; one
+    power-of-two scaling keeps the products in range for any finite input.
+
     >>> signed_area(np.array([[0., 0.], [1., 0.], [1., 1.], [0., 1.]]))
     1.0
     """
-    x, y = points[:, 0], points[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    p = np.asarray(points, dtype=np.float64)[:, :2]
+    if len(p) == 0:
+        return 0.0
+    lo, hi = p.min(axis=0), p.max(axis=0)
+    q = p - (lo + (hi - lo) / 2)
+    big = float(np.abs(q).max())
+    if big == 0.0 or not math.isfinite(big):
+        return 0.0 if big == 0.0 else math.nan
+    s = -math.frexp(big)[1]  # exact scaling: |q| < 1 while summing
+    q = np.ldexp(q, s)
+    x, y = q[:, 0], q[:, 1]
+    cross = x * np.roll(y, -1) - np.roll(x, -1) * y
+    return math.ldexp(0.5 * math.fsum(cross.tolist()), -2 * s)
 
 
 def newell_normal(points: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Newell's area vector of a 3-D polygon (twice its vector area)."""
-    nxt = np.roll(points, -1, axis=0)
-    return np.cross(points, nxt).sum(axis=0)
-
-
-def _is_strictly_convex(ccw_points: NDArray[np.float64]) -> bool:
-    if np.any(turn_signs(ccw_points) <= 0):
-        return False
-    # all left turns can still wind twice (a pentagram): total turning must be 2*pi
-    edges = np.roll(ccw_points, -1, axis=0) - ccw_points
-    ang = np.arctan2(edges[:, 1], edges[:, 0])
-    turning = np.mod(np.diff(np.append(ang, ang[0])) + np.pi, 2 * np.pi) - np.pi
-    return bool(abs(turning.sum() - 2 * np.pi) < 1e-6)
-
-
-def _refuse_flat(points: NDArray[np.float64]) -> None:
-    """Zero net area: name the crossing edges of a bow-tie, else report collinearity."""
+    """Newell's area vector of a 3-D polygon (twice its vector area), on centred points."""
     centred = points - points.mean(axis=0)
-    if np.linalg.matrix_rank(centred, tol=config.GEOMETRY_RTOL * float(np.abs(centred).max())) < 2:
-        raise InvalidPolygonError("all vertices are collinear: the polygon has no area")
+    nxt = np.roll(centred, -1, axis=0)
+    return np.cross(centred, nxt).sum(axis=0)
+
+
+def _lowest(points: NDArray[np.float64]) -> int:
+    """Index of the lowest vertex, the leftmost among equals (exact comparisons)."""
+    return int(np.lexsort((points[:, 0], points[:, 1]))[0])
+
+
+def _is_strictly_convex(ccw_points: NDArray[np.float64], signs: NDArray[np.int64]) -> bool:
+    """Every turn strictly left and the boundary winding once (a pentagram winds twice).
+
+    With every turn left, the edge direction turns monotonically, by less than pi
+    a step, so it passes the direction "east" once per winding: counted from the
+    exact half-plane of each edge direction (up, or horizontal eastwards).
+    """
+    if np.any(signs <= 0):
+        return False
+    x, y = ccw_points[:, 0], ccw_points[:, 1]
+    nx, ny = np.roll(x, -1), np.roll(y, -1)
+    upper = (ny > y) | ((ny == y) & (nx > x))
+    return int(np.count_nonzero(~upper & np.roll(upper, -1))) == 1
+
+
+def _refuse_folded(points: NDArray[np.float64]) -> None:
+    """The lowest vertex is straight: the boundary folds back there; name the edges."""
     hit = find_self_intersection(points)
     if hit is not None:
         raise not_simple_error(hit[0], hit[1], len(points), hit[2])  # input order kept here
-    raise InvalidPolygonError("all vertices are collinear: the polygon has no area")
+    raise InvalidPolygonError(
+        f"the boundary turns back on itself at vertex {_lowest(points)}: not a simple polygon"
+    )
 
 
 def _require_finite(arr: NDArray[np.float64]) -> None:
@@ -230,35 +352,59 @@ def _require_distinct(arr: NDArray[np.float64]) -> None:
         )
 
 
-def _plane_basis(points: NDArray[np.float64]) -> tuple[Any, Any, Any]:
-    normal = newell_normal(points)
+def _plane_basis(points: NDArray[np.float64]) -> tuple[Any, Any, Any, Any]:
+    """``(centred, normal, u, v)``: centred points scaled below 1 and an orthonormal basis.
+
+    The normal is Newell's (so a simple polygon projects counter-clockwise);
+    where the polygon has no net area (a bow-tie) the best-fit plane's. None
+    for the basis when all points coincide.
+    """
+    centred = points - points.mean(axis=0)
+    big = float(np.abs(centred).max())
+    if big == 0.0:
+        return centred, None, None, None
+    centred = np.ldexp(centred, -math.frexp(big)[1])  # exact: no overflow in products
+    normal = np.cross(centred, np.roll(centred, -1, axis=0)).sum(axis=0)
     norm = float(np.linalg.norm(normal))
-    if norm == 0.0:
-        return None, None, None
-    normal = normal / norm
+    if norm <= 1e-12:
+        normal = np.linalg.svd(centred)[2][-1]
+    else:
+        normal = normal / norm
     helper = np.eye(3)[int(np.argmin(np.abs(normal)))]
     u = np.cross(normal, helper)
     u /= np.linalg.norm(u)
-    return normal, u, np.cross(normal, u)
+    return centred, normal, u, np.cross(normal, u)
 
 
 def _planar_or_none(points: NDArray[np.float64]) -> NDArray[np.float64] | None:
-    normal, u, v = _plane_basis(points)
+    """Coordinates in the polygon's own plane, or None when it is not planar.
+
+    Planar: every vertex within ``config.PLANARITY_RTOL`` times the polygon's
+    extent of the plane.
+    """
+    centred, normal, u, v = _plane_basis(points)
     if normal is None:
         return None
-    centred = points - points.mean(axis=0)
-    scale = float(np.abs(centred).max())
-    if np.abs(centred @ normal).max() > 1e-9 * scale:
+    if np.abs(centred @ normal).max() > config.PLANARITY_RTOL * float(np.abs(centred).max()):
         return None
-    return np.column_stack((centred @ u, centred @ v))
+    return _ccw_projection(centred, u, v)
 
 
 def _project_to_plane(points: NDArray[np.float64]) -> NDArray[np.float64]:
-    normal, u, v = _plane_basis(points)
+    centred, normal, u, v = _plane_basis(points)
     if normal is None:
         return points[:, :2].copy()
-    centred = points - points.mean(axis=0)
-    return np.column_stack((centred @ u, centred @ v))
+    return _ccw_projection(centred, u, v)
+
+
+def _ccw_projection(centred: Any, u: Any, v: Any) -> NDArray[np.float64]:
+    """Projection on (u, v), mirrored if needed so the lowest vertex turns left."""
+    flat = np.column_stack((centred @ u, centred @ v))
+    low = _lowest(flat)
+    n = len(flat)
+    if turn_signs(flat[[(low - 1) % n, low, (low + 1) % n]])[1] < 0:
+        flat[:, 1] = -flat[:, 1]
+    return flat
 
 
 def require_simple(polygon: ArrayLike | Polygon) -> None:

@@ -2,29 +2,32 @@
 
 from __future__ import annotations
 
+import math
 import os
 import time
 import warnings
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .domains import Domain, triangulate_domain
 from .engines import select_engine
 from .engines.problem import Problem, ProgressFn, Solution
-from .io.files import read_polygon
-from .io.geo import geo_polygon_coords
-from .objective import Objective, ObjectiveLike, as_objective
+from .errors import InvalidPolygonError, NoTriangulationError
+from .io.files import read_rings
+from .io.geo import geo_polygon_rings
+from .objective import Objective, ObjectiveLike, as_objective, tie_ceiling
 from .polygon import Polygon, as_polygon
 from .result import Triangulation, recompute_cost
 from .simple import allowed_chords, zero_area_triangles
 from .weights import WeightLike, resolve_weights
 
-__all__ = ["build_problem", "load_polygon", "solve_problem", "triangulate"]
+__all__ = ["build_problem", "load_polygon", "solution_result", "solve_problem", "triangulate"]
 
-PolygonLike = ArrayLike | Polygon | str | os.PathLike[str]
+PolygonLike = ArrayLike | Polygon | Domain | str | os.PathLike[str]
 
 
 def triangulate(
@@ -36,6 +39,7 @@ def triangulate(
     progress: ProgressFn | None = None,
     keep_table: bool | None = None,
     dtype: Any = np.float64,
+    time_limit: float | None = None,
 ) -> Triangulation:
     """Optimal triangulation of a polygon by dynamic programming.
 
@@ -53,7 +57,13 @@ def triangulate(
     vertices : array_like, Polygon, str or path
         ``(n, 2)`` or ``(n, 3)`` vertices in order (either orientation; a closing
         vertex equal to the first is dropped), a 1-D sequence of vertex values
-        for value weights such as ``"product"``, or a path to a CSV/JSON file.
+        for value weights such as ``"product"``, a path to a CSV/JSON/GeoJSON/WKT
+        file, or a geometry object (``__geo_interface__``, e.g. shapely).
+        A polygon with holes, as a shapely Polygon with interiors, a GeoJSON or
+        WKT polygon with holes, an ``(exterior, [hole, ...])`` pair of rings or
+        a :class:`~optri.domains.Domain`, is solved by
+        :func:`optri.domains.triangulate_domain` (vertices numbered exterior
+        first, then each hole; ``n + 2h - 2`` triangles).
     weight : str, callable or pair
         A name from :data:`optri.weights.WEIGHTS` (default ``"perimeter"``, the
         paper's Eq. 1), a callable ``w(i, k, j)`` / ``w(vertices, i, k, j)``
@@ -61,16 +71,26 @@ def triangulate(
         objective.
     objective : {"sum", "max"} or pair
         How triangle weights combine: total, bottleneck, or lexicographic.
-    method : {"auto", "memo", "table", "brute", "fast", "gpu"}
+    method : {"auto", "memo", "table", "naive", "brute", "fast", "gpu", "integer"}
         ``"memo"``: the paper's top-down memoization; ``"table"``: bottom-up
-        square matrix; ``"brute"``: all triangulations (n <= 13); ``"fast"``:
-        compiled; ``"gpu"``: CUDA; ``"auto"``: the fastest that can take it.
+        square matrix; ``"naive"``: the recursion without its table (3^(n-2)
+        calls, n <= 12, for teaching); ``"brute"``: all triangulations (n <= 13);
+        ``"fast"``: compiled; ``"gpu"``: CUDA; ``"integer"``: exact integers for
+        the ``"product"`` weight on integer values; ``"auto"``: the fastest that
+        can take it. The product weight on integer values always gives an
+        exact ``int`` (float tables are refused where they could round).
+        A polygon with holes takes ``"auto"``, ``"ip"`` or ``"bridge"``
+        (:data:`optri.domains.METHODS`).
     progress : callable, optional
         ``progress(done, total)`` called as the table fills.
     keep_table : bool, optional
         Keep the n x n table (default: the Python engines keep it).
     dtype : numpy dtype
         Float type of compiled tables (float64, or float32 to halve memory).
+    time_limit : float, optional
+        Polygons with holes: seconds for the search, past which the best
+        triangulation found is returned labelled ``optimality="heuristic"``
+        with a proven bound. The DP of a simple polygon has no limit.
 
     Returns
     -------
@@ -85,6 +105,9 @@ def triangulate(
         method cannot take.
     WeightError
         Unknown weight, weight not fitting the input, a weight returning NaN.
+    NoTriangulationError
+        The optimum is not a finite float64 (weights that overflow, such as
+        lengths of a polygon with coordinates near 1e308): never returned as inf.
     EngineUnavailableError
         The method cannot run here.
     TableTooLargeError
@@ -114,16 +137,29 @@ def triangulate(
     6.828427
     >>> t.triangles.tolist(), t.diagonals.tolist()
     ([[0, 1, 3], [1, 2, 3]], [[1, 3]])
-    >>> optri.triangulate([1, 3, 1, 4, 1, 5], weight="product").weight
-    13.0
+    >>> optri.triangulate([1, 3, 1, 4, 1, 5], weight="product").weight   # integers: exact
+    13
+    >>> square, hole = [[0, 0], [3, 0], [3, 3], [0, 3]], [[1, 1], [2, 1], [2, 2], [1, 2]]
+    >>> t = optri.triangulate((square, [hole]))
+    >>> len(t.triangles), t.optimality
+    (8, 'proven')
     """
-    polygon = load_polygon(vertices)
+    source = _source(vertices)
+    if isinstance(source, _Holed):
+        return triangulate_domain(
+            source.exterior, source.holes, weight, objective, method, time_limit=time_limit
+        )
+    polygon = as_polygon(source)
     problem = build_problem(
         polygon, weight, objective, progress=progress, keep_table=keep_table, dtype=dtype
     )
     start = time.perf_counter()
-    name, solution = solve_problem(problem, method)
+    try:
+        name, solution = solve_problem(problem, method)
+    except NoTriangulationError as exc:
+        raise NoTriangulationError(f"{exc}; {_NOT_FINITE}", exc.chord) from exc
     seconds = time.perf_counter() - start
+    _require_finite(solution.cost)
     if problem.allowed is not None:
         _report_degenerate(problem, solution.triangles, solution.stats)
     return _to_result(
@@ -150,7 +186,8 @@ def solve_problem(problem: Problem, method: str = "auto") -> tuple[str, Solution
             problem,
             weights=problem.weights[1:],
             objective=Objective(objective.components[1:]),
-            gates=(*problem.gates, (problem.weights[0], first_cost)),
+            # near-ties with the bottleneck pass the gate too (objective.LEX_TIE_RTOL)
+            gates=(*problem.gates, (problem.weights[0], tie_ceiling(first_cost))),
         )
         name, second = solve_problem(rest, method)
         tail = second.cost if isinstance(second.cost, tuple) else (second.cost,)
@@ -199,15 +236,89 @@ def build_problem(
 def load_polygon(vertices: PolygonLike) -> Polygon:
     """A :class:`Polygon` from any input ``triangulate`` takes: array, path, geometry object.
 
-    A path is read by :func:`optri.io.read_polygon`; an object with
+    A path is read by :func:`optri.io.read_rings`; an object with
     ``__geo_interface__`` (a shapely Polygon, a GeoJSON-like dict wrapper) gives
-    its exterior ring.
+    its rings. A polygon with holes is refused: only :func:`triangulate`
+    takes one.
     """
+    source = _source(vertices)
+    if isinstance(source, _Holed):
+        raise InvalidPolygonError(
+            f"the polygon has {len(source.holes)} hole(s); this function takes simple "
+            f"polygons (optri.triangulate takes polygons with holes)"
+        )
+    return as_polygon(source)
+
+
+@dataclass(frozen=True)
+class _Holed:
+    exterior: Any
+    holes: Sequence[Any]
+
+
+def _source(vertices: Any) -> Any:
+    """Vertex data for :func:`as_polygon`, or the rings of a polygon with holes (``_Holed``)."""
+    if isinstance(vertices, Domain):
+        return _Holed(vertices, ())
+    rings = None
     if isinstance(vertices, (str, os.PathLike)):
-        return as_polygon(read_polygon(vertices))
-    if hasattr(vertices, "__geo_interface__"):  # shapely or any GeoJSON-like geometry
-        return as_polygon(geo_polygon_coords(vertices))
-    return as_polygon(vertices)  # type: ignore[arg-type]
+        rings = read_rings(vertices)
+    elif hasattr(vertices, "__geo_interface__"):  # shapely or any GeoJSON-like geometry
+        rings = geo_polygon_rings(vertices)
+    elif _is_ring_pair(vertices):
+        rings = [vertices[0], *vertices[1]]
+    if rings is None:
+        return vertices
+    return _Holed(rings[0], rings[1:]) if len(rings) > 1 else rings[0]
+
+
+def _is_ring_pair(obj: Any) -> bool:
+    """``(exterior, [holes])``: a pair whose first item is itself a ring of points."""
+    if not isinstance(obj, (tuple, list)) or len(obj) != 2:
+        return False
+    holes = obj[1]
+    if not isinstance(holes, (tuple, list)) and not (
+        isinstance(holes, np.ndarray) and holes.ndim == 3
+    ):
+        return False
+    try:
+        return bool(np.ndim(obj[0]) == 2)
+    except ValueError:  # ragged
+        return False
+
+
+_NOT_FINITE = (
+    "with a valid polygon this means the weights are infinite or overflow float64 "
+    "(at coordinates of magnitude near 1e308 lengths and sums exceed it); scale the "
+    "coordinates down"
+)
+
+
+def _require_finite(cost: Any) -> None:
+    """Refuse an optimum that is not a finite number (never return inf as an answer)."""
+    values = cost if isinstance(cost, tuple) else (cost,)
+    if not all(v == -math.inf or math.isfinite(v) for v in values):  # -inf: no triangle
+        raise NoTriangulationError(
+            f"the optimal cost {cost} is not a finite number: {_NOT_FINITE}", None
+        )
+
+
+def solution_result(
+    problem: Problem, method: str, solution: Solution, seconds: float = 0.0
+) -> Triangulation:
+    """The :class:`Triangulation` of an engine's answer, built as :func:`triangulate` does.
+
+    Triangles in input vertex indices; :meth:`Triangulation.check` recomputes the cost.
+    """
+    return _to_result(
+        problem,
+        solution.cost,
+        solution.triangles,
+        method,
+        seconds,
+        solution.table,
+        solution.stats,
+    )
 
 
 def _report_degenerate(problem: Problem, triangles: NDArray[np.int64], stats: Any) -> None:
@@ -241,10 +352,13 @@ def _to_result(
     polygon, objective = problem.polygon, problem.objective
     tris = polygon.order[triangles] if len(triangles) else triangles.reshape(0, 3)
     names = tuple(w.name for w in problem.weights)
+    weight = objective.finalize(cost)
+    if problem.integer_costs:  # exact: a float engine was used only below 2**53
+        weight = tuple(map(int, weight)) if isinstance(weight, tuple) else int(weight)
     return Triangulation(
         vertices=polygon.vertices,
         triangles=tris.astype(np.int64),
-        weight=objective.finalize(cost),
+        weight=weight,
         method=method,
         weight_name=names if objective.is_lex else names[0],
         objective=objective.name,
@@ -254,6 +368,9 @@ def _to_result(
         stats=dict(stats or {}),
         seconds=seconds,
         _recompute=recompute_cost(_lazy_evaluator(problem), objective, polygon.order),
+        optimality="proven",
+        bound=objective.finalize(cost),
+        gap=0.0,
     )
 
 

@@ -5,7 +5,7 @@ A weight gives each candidate triangle ``(i, k, j)`` (vertex indices,
 or maximizes those numbers over the triangles of a triangulation. Built-ins:
 
 ``"perimeter"``
-    |v_i v_k| + |v_k v_j| + |v_j v_i|, the paper's Eq. (1).
+    ``|v_i v_k| + |v_k v_j| + |v_j v_i|``, the paper's Eq. (1).
 ``"diagonal"``
     half the length of each triangle side that is a diagonal, so a
     triangulation's total is the length of its diagonals: the classic minimum
@@ -32,12 +32,17 @@ The formulas below are plain Python over ``p[v][c]`` (coordinate ``c`` of
 vertex ``v``): the Python engines call them on rows of tuples, and the
 compiled engine compiles these very functions with numba
 (:mod:`optri.engines._jit_weights`), so both compute the same numbers. The
-CUDA device functions (:mod:`optri.engines._gpu_device`) are the one twin,
-checked against these formulas by the test suite.
+CUDA device functions (:mod:`optri.engines._gpu_device`) are the one twin.
 
 To add a weight: write its formula here, give it a :class:`WeightCode`, add
-its branch to :func:`triangle_weight` and register it at the end of this
-module; then add its CUDA twin and extend ``tests/test_weights.py``.
+its branch to :func:`triangle_weight` (a sum over sides also to
+:func:`edge_weight` and :attr:`Weight.edge_decomposable`) and register it at
+the end of this module; then write its CUDA twin in the device functions
+``weight`` (and ``edge``) of :mod:`optri.engines._gpu_device`.
+``tests/test_weights.py`` needs no edit: for every ``WeightCode`` it evaluates
+the Python formula, its numba compilation and the CUDA twin (under numba's
+CUDA simulator) on the same random and degenerate triangles, and fails until
+all three agree (the first two bit for bit, CUDA within a few ulps).
 """
 
 from __future__ import annotations
@@ -84,13 +89,42 @@ class WeightCode(IntEnum):
 # --- formulas: plain Python that numba compiles too (no globals but math and WeightCode) ---
 
 
+# Lengths and areas stay finite over the whole float range: the plain formula is used
+# where its squares and products neither overflow nor underflow (every value of real
+# data, bit for bit as before), and otherwise the same formula on values scaled by a
+# power of two (exact), the result scaled back.
+_SQ_LO = 2.0**-960  # a sum of squares above this lost nothing to underflow
+_SHAPE_LO = 2.0**-250  # side lengths in [2**-250, 2**250]: cubes stay in range
+_SHAPE_HI = 2.0**250
+
+
+def _ldexp(x, e):  # type: ignore[no-untyped-def]
+    """``x * 2**e``, infinite on overflow (Python's math.ldexp would raise instead)."""
+    if x != 0.0 and math.frexp(x)[1] + e > 1024:
+        return math.copysign(math.inf, x)
+    return math.ldexp(x, e)
+
+
+def _scaled_norm(dx, dy, dz):  # type: ignore[no-untyped-def]
+    """sqrt(dx^2 + dy^2 + dz^2) without overflow or underflow in the squares."""
+    m = max(abs(dx), max(abs(dy), abs(dz)))
+    if m == 0.0 or m == math.inf:
+        return m
+    e = math.frexp(m)[1]
+    x, y, z = math.ldexp(dx, -e), math.ldexp(dy, -e), math.ldexp(dz, -e)
+    return _ldexp(math.sqrt(x * x + y * y + z * z), e)
+
+
 def side_length(p, a, b):  # type: ignore[no-untyped-def]
-    """Euclidean distance of vertices a and b (1, 2 or 3 coordinates)."""
+    """Euclidean distance of vertices a and b (1, 2 or 3 coordinates), for any finite input."""
     pa, pb = p[a], p[b]
-    dx = pa[0] - pb[0]
-    dy = pa[1] - pb[1] if len(pa) > 1 else 0.0
-    dz = pa[2] - pb[2] if len(pa) > 2 else 0.0
-    return math.sqrt(dx * dx + dy * dy + dz * dz)
+    dx = float(pa[0]) - float(pb[0])  # Python floats: overflow is inf, never a warning
+    dy = float(pa[1]) - float(pb[1]) if len(pa) > 1 else 0.0
+    dz = float(pa[2]) - float(pb[2]) if len(pa) > 2 else 0.0
+    sq = dx * dx + dy * dy + dz * dz
+    if _SQ_LO < sq < math.inf:
+        return math.sqrt(sq)
+    return _scaled_norm(dx, dy, dz)
 
 
 def edge_weight(code, p, a, b):  # type: ignore[no-untyped-def]
@@ -118,22 +152,60 @@ def _cosine(x, y, z):  # type: ignore[no-untyped-def]
 
 
 def triangle_area(p, i, k, j):  # type: ignore[no-untyped-def]
-    """Area of triangle (i, k, j) in 2-D or 3-D."""
-    if len(p[i]) == 2:
-        ux, uy = p[k][0] - p[i][0], p[k][1] - p[i][1]
-        vx, vy = p[j][0] - p[i][0], p[j][1] - p[i][1]
-        return 0.5 * abs(ux * vy - uy * vx)
-    u0, u1, u2 = p[k][0] - p[i][0], p[k][1] - p[i][1], p[k][2] - p[i][2]
-    v0, v1, v2 = p[j][0] - p[i][0], p[j][1] - p[i][1], p[j][2] - p[i][2]
+    """Area of triangle (i, k, j) in 2-D or 3-D, for any finite input."""
+    dim = len(p[i])
+    u0, u1 = p[k][0] - p[i][0], p[k][1] - p[i][1]
+    v0, v1 = p[j][0] - p[i][0], p[j][1] - p[i][1]
+    u2 = p[k][2] - p[i][2] if dim > 2 else 0.0
+    v2 = p[j][2] - p[i][2] if dim > 2 else 0.0
+    m = max(max(max(abs(u0), abs(u1)), max(abs(v0), abs(v1))), max(abs(u2), abs(v2)))
+    e = 0
+    if m > _SHAPE_HI or 0.0 < m < _SHAPE_LO:  # products would overflow or underflow
+        e = math.frexp(m)[1]
+        u0, u1, u2 = math.ldexp(u0, -e), math.ldexp(u1, -e), math.ldexp(u2, -e)
+        v0, v1, v2 = math.ldexp(v0, -e), math.ldexp(v1, -e), math.ldexp(v2, -e)
+    if dim == 2:
+        return _ldexp(0.5 * abs(u0 * v1 - u1 * v0), 2 * e)
     cx = u1 * v2 - u2 * v1
     cy = u2 * v0 - u0 * v2
     cz = u0 * v1 - u1 * v0
-    return 0.5 * math.sqrt(cx * cx + cy * cy + cz * cz)
+    return _ldexp(0.5 * math.sqrt(cx * cx + cy * cy + cz * cz), 2 * e)
+
+
+def _scaled_sides(p, i, k, j):  # type: ignore[no-untyped-def]
+    """Side lengths |kj|, |ij|, |ik|, all scaled by one power of two to near 1.
+
+    Scaling the coordinate differences (exact) before squaring keeps full precision
+    for sides too short for float64's normal range and finite for sides near 1e308.
+    """
+    three = len(p[i]) > 2
+    ax, ay = p[j][0] - p[k][0], p[j][1] - p[k][1]
+    bx, by = p[j][0] - p[i][0], p[j][1] - p[i][1]
+    cx, cy = p[k][0] - p[i][0], p[k][1] - p[i][1]
+    az = p[j][2] - p[k][2] if three else 0.0
+    bz = p[j][2] - p[i][2] if three else 0.0
+    cz = p[k][2] - p[i][2] if three else 0.0
+    m = max(max(abs(ax), abs(ay), abs(az)), max(abs(bx), abs(by), abs(bz)))
+    e = math.frexp(max(m, max(abs(cx), abs(cy), abs(cz))))[1]
+    return _norm_at(ax, ay, az, e), _norm_at(bx, by, bz, e), _norm_at(cx, cy, cz, e)
+
+
+def _norm_at(x, y, z, e):  # type: ignore[no-untyped-def]
+    """|(x, y, z)| * 2**-e, the components scaled first (exact)."""
+    x, y, z = math.ldexp(x, -e), math.ldexp(y, -e), math.ldexp(z, -e)
+    return math.sqrt(x * x + y * y + z * z)
 
 
 def _shape(code, p, i, k, j):  # type: ignore[no-untyped-def]
-    """The side-length weights: largest angle, minus smallest angle, aspect ratio."""
+    """The side-length weights: largest angle, minus smallest angle, aspect ratio.
+
+    All three are scale-invariant, so very large or very small sides are first
+    scaled by a power of two (exact) into a range where their cubes are finite.
+    """
     a, b, c = side_length(p, k, j), side_length(p, i, j), side_length(p, i, k)
+    m = max(a, max(b, c))
+    if m > _SHAPE_HI or 0.0 < m < _SHAPE_LO:
+        a, b, c = _scaled_sides(p, i, k, j)
     # acos is decreasing: the largest angle has the smallest cosine (one acos, not three)
     if code == WeightCode.MAX_ANGLE:
         return math.acos(min(_cosine(a, b, c), _cosine(b, c, a), _cosine(c, a, b)))
@@ -167,8 +239,23 @@ def triangle_weight(code, p, i, k, j):  # type: ignore[no-untyped-def]
     return math.nan
 
 
+#: The rare paths (values beyond float64's comfortable range), compiled as calls rather
+#: than inlined, so the common path stays small.
+OUT_OF_LINE = (_ldexp, _scaled_norm, _norm_at, _scaled_sides)
+
 #: The formulas, registered with numba by the compiled engine (optri.engines._jit_weights).
-FORMULAS = (side_length, edge_weight, _cosine, triangle_area, _shape, triangle_weight)
+FORMULAS = (
+    _ldexp,
+    _scaled_norm,
+    _norm_at,
+    _scaled_sides,
+    side_length,
+    edge_weight,
+    _cosine,
+    triangle_area,
+    _shape,
+    triangle_weight,
+)
 
 
 # --- the Weight type and the registry -------------------------------------------
@@ -192,6 +279,12 @@ class Weight:
     compiled : callable or None
         The user's function when it is numba-compiled (``numba.njit``), so the
         compiled engine can call it: ``w(vertices, i, k, j)`` over input indices.
+
+    Examples
+    --------
+    >>> w = WEIGHTS["perimeter"]
+    >>> w.name, w.needs
+    ('perimeter', 'points')
     """
 
     name: str
@@ -211,6 +304,9 @@ class Weight:
         self.check(polygon)
         if self.code == WeightCode.CUSTOM:
             return _bind_custom(self, polygon)
+        if self.code == WeightCode.PRODUCT and polygon.ints is not None:
+            v = polygon.ints  # integer input: exact products (Python ints), exact sums
+            return lambda i, k, j: v[i] * v[k] * v[j]
         rows = _rows(polygon)
         code = int(self.code)
         if self.edge_decomposable:
@@ -230,6 +326,7 @@ class Weight:
 
 WeightLike = Union[str, Weight, Callable[..., float]]
 
+#: The built-in weights by name, and any added with :func:`register_weight`.
 WEIGHTS: dict[str, Weight] = {}
 
 
@@ -294,6 +391,13 @@ def custom_weight(func: Callable[..., float], name: str = "custom") -> Weight:
     numba-compiled ``func`` (``@numba.njit``) taking ``(vertices, i, k, j)``
     runs inside the compiled engine (``method="fast"``); any other callable
     makes ``method="auto"`` use a Python engine.
+
+    Examples
+    --------
+    >>> import optri
+    >>> spread = custom_weight(lambda i, k, j: (j - i) ** 2)   # prefers short index spans
+    >>> optri.triangulate([[0, 0], [1, 0], [1, 1], [0, 1], [-1, 0.5]], weight=spread).weight
+    24.0
     """
     wants_vertices = _positional_arity(getattr(func, "py_func", func)) >= 4
     compiled = func if wants_vertices and _is_numba_function(func) else None

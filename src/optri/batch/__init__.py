@@ -1,28 +1,47 @@
-"""Batch triangulation: a file of polygons in, one record per polygon out, on all cores.
+"""Batch triangulation: whole GIS layers in and out, and many polygons in memory.
 
-``batch(inp, out)`` streams polygons from GeoJSON, NDJSON, GeoParquet or
-GeoPackage, solves them in chunks on a process pool or a Dask cluster, and
-writes each chunk to its own part file atomically, so an interrupted run
-resumes where it stopped. See :func:`batch` and ``docs/batch.md``.
+``batch(inp, out)`` streams the features of a GeoJSON, NDJSON, GeoParquet,
+GeoPackage, FlatGeobuf or shapefile layer, solves them in chunks on a process
+pool or a Dask cluster, and writes one row per feature (its attributes and
+CRS kept, ``status``, ``cost``, ``reason`` and the triangles added) through
+part files that resume; :func:`triangulate_many` does the same for polygons
+already in memory (a GeoSeries, a GeoDataFrame, arrays). See
+``docs/batch.md``.
 
-Modules: :mod:`.readers` and :mod:`.geo` (input), :mod:`.records` (the
-per-polygon record and the chunk function), :mod:`.writers` and
-:mod:`.layout` (parts, manifest, single-file assembly), :mod:`.runner`
-(pool / Dask backends), :mod:`.driver` (the ``batch`` function).
+Modules: :mod:`.readers`, :mod:`.jsonstream` and :mod:`.geo` (input),
+:mod:`.layer` (CRS, attribute columns), :mod:`.solver` (the per-chunk solver
+seam), :mod:`.project` (metres from longitude/latitude), :mod:`.records` (the
+per-polygon record and the chunk function), :mod:`.writers`,
+:mod:`.tables`, :mod:`.tablefiles` and :mod:`.layout` (parts, manifest, lock,
+single-file assembly), :mod:`.runner` (pool / Dask backends),
+:mod:`.summary`, :mod:`.driver` (the ``batch`` function) and :mod:`.many`
+(``triangulate_many``).
 """
 
 from __future__ import annotations
 
-from ..errors import BatchFailedError, BatchInputError
-from .driver import BatchSummary, batch, iter_records
+from ..errors import (
+    BatchFailedError,
+    BatchInputError,
+    BatchLockedError,
+    DuplicateIdWarning,
+    GeographicCRSWarning,
+)
+from .driver import batch, iter_records
+from .many import triangulate_many
 from .records import TIMING_FIELDS, strip_timing
+from .summary import BatchSummary
 
 __all__ = [
     "TIMING_FIELDS",
     "BatchFailedError",
     "BatchInputError",
+    "BatchLockedError",
     "BatchSummary",
+    "DuplicateIdWarning",
+    "GeographicCRSWarning",
     "batch",
     "iter_records",
     "strip_timing",
+    "triangulate_many",
 ]

@@ -1,4 +1,4 @@
-"""``batch``: stream polygons from a file, triangulate them in chunks, write parts, resume."""
+"""``batch``: stream a layer, triangulate it in chunks, write parts, resume, assemble."""
 
 from __future__ import annotations
 
@@ -20,46 +20,33 @@ from .. import config
 from .._version import __version__
 from ..errors import BatchFailedError, BatchInputError
 from ..io.atomic import write_json
-from .layout import Layout, plan_layout
-from .readers import count_items, detect_input_format, read_items
+from .layer import Layer, warn_geographic
+from .layout import Layout, output_lock, plan_layout
+from .project import local_projector
+from .readers import count_items, detect_input_format, open_layer
 from .records import ChunkTask, Item
 from .runner import open_backend, run_tasks
+from .solver import check_options
+from .summary import BatchSummary, Counter, report_duplicates
 from .writers import SINGLE_FILE_SUFFIXES, assemble, read_part, write_part
 
 __all__ = ["BatchSummary", "batch", "iter_records"]
 
 
-
 @dataclass(frozen=True)
-class BatchSummary:
-    """Counts of a batch run.
+class _Settings:
+    """Everything ``batch`` was asked, in one place."""
 
-    Attributes
-    ----------
-    total, ok, errors : int
-        Polygons read, triangulated, and given error records.
-    partitions, reused : int
-        Part files in the output, and how many an earlier run had already written.
-    seconds : float
-        Wall time of this run.
-    output : Path
-        The output directory or file.
-    """
-
-    total: int
-    ok: int
-    errors: int
-    partitions: int
-    reused: int
-    seconds: float
-    output: Path
-
-    def __str__(self) -> str:
-        rate = self.total / self.seconds if self.seconds > 0 else 0.0
-        return (
-            f"{self.total} polygons: {self.ok} ok, {self.errors} errors in {self.seconds:.2f} s "
-            f"({rate:.0f}/s; {self.partitions} partitions, {self.reused} reused) -> {self.output}"
-        )
+    options: dict[str, Any]
+    workers: int | None
+    chunk_size: int | None
+    scheduler: Any
+    resume: bool
+    overwrite: bool
+    progress: Callable[[int, int], None] | None
+    fmt: str | None
+    out_fmt: str | None
+    project: bool
 
 
 def batch(
@@ -78,22 +65,24 @@ def batch(
     progress: Callable[[int, int], None] | None = None,
     fmt: str | None = None,
     out_fmt: str | None = None,
+    project: bool = False,
 ) -> BatchSummary:
-    r"""Triangulate every polygon of a file, in parallel, into part files that resume.
+    r"""Triangulate every polygon of a layer, in parallel, into one record per feature.
 
     Parameters
     ----------
     inp : path
         GeoJSON FeatureCollection (``.geojson``/``.json``), NDJSON (``.ndjson``/
         ``.jsonl``: one ``{"id", "coordinates"}`` object or GeoJSON Feature per
-        line), GeoParquet (``.parquet``) or GeoPackage (``.gpkg``; the last two
-        need ``pip install 'optri[geo]'``).
+        line), GeoParquet (``.parquet``), GeoPackage (``.gpkg``), FlatGeobuf
+        (``.fgb``) or shapefile (``.shp``; the last four need
+        ``pip install 'optri[geo]'``).
     out : path
-        A directory of part files (``part-00000.ndjson``, ..., ``_manifest.json``,
-        ``_SUCCESS``), or a single ``.ndjson``/``.geojson``/``.parquet`` file
-        joined from the parts at the end.
+        One file, its format from its suffix (``.gpkg``, ``.fgb``, ``.parquet``,
+        ``.geojson``, ``.ndjson``) or from ``out_fmt``; or a directory of part
+        files (a path ending in ``/``, or without a suffix) that can be resumed.
     weight, objective, method
-        As for :func:`optri.triangulate`.
+        As for :func:`optri.triangulate`; checked before anything is read.
     workers : int, optional
         Processes (default: every core; 1 runs in this process).
     chunk_size : int, optional
@@ -111,8 +100,11 @@ def batch(
     progress : callable, optional
         ``progress(done, total)`` in polygons.
     fmt, out_fmt : str, optional
-        Input format (geojson, ndjson, parquet, gpkg) and output format
-        (ndjson, geojson, parquet) when the suffixes do not say.
+        Input format (geojson, ndjson, parquet, gpkg, fgb, shp) and output
+        format (ndjson, geojson, parquet, gpkg, fgb), overriding the suffixes.
+    project : bool
+        Measure each polygon in metres, in a local azimuthal equidistant
+        projection of the layer's CRS (see :mod:`optri.batch.project`).
 
     Returns
     -------
@@ -122,9 +114,20 @@ def batch(
     ------
     BatchInputError
         Unreadable input (the message names file and line), output written with
-        other options, unknown format or scheduler.
+        other options, unknown format, suffix or scheduler.
+    BatchLockedError
+        Another run is writing the same output.
+    WeightError, EngineUnavailableError
+        Unknown weight, objective or method (before anything is read).
     BatchFailedError
         ``strict=True`` and some polygons got error records.
+
+    Warns
+    -----
+    GeographicCRSWarning
+        The layer is in longitude/latitude and ``project`` is false.
+    DuplicateIdWarning
+        Some features share an id (also counted in the summary).
 
     Examples
     --------
@@ -132,30 +135,22 @@ def batch(
     >>> d = pathlib.Path(tempfile.mkdtemp())
     >>> _ = (d / "in.ndjson").write_text(
     ...     '{"id": "a", "coordinates": [[0, 0], [1, 0], [1, 1], [0, 1]]}\n'
-    ...     '{"id": "b", "coordinates": [[0, 0], [1, 1]]}\n')
+    ...     '{"id": "b", "coordinates": [[0, 0], [1, 1]]}\n'
+    ...     '{"id": "c", "coordinates": [[0, 0], [1, 0\n')
     >>> s = batch(d / "in.ndjson", d / "out.ndjson", workers=1)
     >>> s.ok, s.errors
-    (1, 1)
+    (1, 2)
     >>> [(r["id"], r["status"], r["diagonals"]) for r in iter_records(d / "out.ndjson")]
-    [('a', 'ok', [[1, 3]]), ('b', 'error', None)]
+    [('a', 'ok', [[1, 3]]), ('b', 'error', None), ('c', 'error', None)]
     """
-    options = dict(weight=weight, objective=objective, method=method)
+    options = check_options(weight, objective, method)
     if not (workers == 1 and scheduler in (None, "local")):
         _require_picklable(options)
-    with _sigterm_interrupts():
-        summary = _run(
-            Path(inp),
-            out,
-            options,
-            workers,
-            chunk_size,
-            scheduler,
-            resume,
-            overwrite,
-            progress,
-            fmt,
-            out_fmt,
-        )
+    settings = _Settings(
+        options, workers, chunk_size, scheduler, resume, overwrite, progress, fmt, out_fmt, project
+    )
+    with _interrupts_as_keyboard():
+        summary = _run(Path(inp), out, settings)
     if strict and summary.errors:
         raise BatchFailedError(f"{summary.errors} of {summary.total} polygons failed", summary)
     return summary
@@ -172,52 +167,73 @@ def _require_picklable(options: dict[str, Any]) -> None:
         ) from None
 
 
-def _run(
-    inp: Path,
-    out: str | os.PathLike[str],
-    options: dict[str, Any],
-    workers: int | None,
-    chunk_size: int | None,
-    scheduler: Any,
-    resume: bool,
-    overwrite: bool,
-    progress: Callable[[int, int], None] | None,
-    fmt: str | None,
-    out_fmt: str | None,
-) -> BatchSummary:
-
+def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
     start = time.perf_counter()
-    kind = detect_input_format(inp, fmt)
+    kind = detect_input_format(inp, s.fmt)
     if not inp.is_file():
-        raise BatchInputError(f"{inp}: no such file")
-    layout = plan_layout(out, out_fmt)
-    if not overwrite:
-        if layout.started() and not resume:
-            raise BatchInputError(f"{layout.target} exists; pass --overwrite or --resume")
-        if layout.single and layout.target.exists():
-            return _summary_of_existing(layout, start)
-    items = read_items(inp, kind)
-    items, size = _choose_chunk_size(items, chunk_size, None if overwrite else layout)
-    if overwrite:  # only now: a bad input file must not cost the earlier output
-        layout.clear()
-    layout.parts_dir.mkdir(parents=True, exist_ok=True)
-    layout.check_manifest(_manifest(inp, kind, layout, options, size))
-    layout.remove_stale_temporaries()
-    total = (count_items(inp, kind) or 0) if progress is not None else 0
-    counter = _Counter(progress, total)
-    tasks = _pending_tasks(items, size, layout, options, counter)
+        what = "is a directory, not a layer file" if inp.is_dir() else "no such file"
+        raise BatchInputError(f"{inp}: {what}")
+    layout = plan_layout(out, s.out_fmt)
+    with output_lock(layout.lock, layout.target):
+        if not s.overwrite:
+            if layout.started() and not s.resume:
+                raise BatchInputError(f"{layout.target} exists; pass --overwrite or --resume")
+            if layout.single and layout.target.exists():
+                return _summary_of_existing(layout, start)
+        layer, items = open_layer(inp, kind)
+        items, size = _choose_chunk_size(items, s.chunk_size, None if s.overwrite else layout)
+        crs = _projection(inp, layer, s.project)
+        warn_geographic(layer.crs, s.project)
+        if s.overwrite:  # only now: a bad input file must not cost the earlier output
+            layout.clear()
+        layout.parts_dir.mkdir(parents=True, exist_ok=True)
+        layout.check_manifest(_manifest(inp, kind, layout, s, size))
+        layout.remove_stale_temporaries()
+        total = (count_items(inp, kind) or 0) if s.progress is not None else 0
+        counter = Counter(s.progress, total)
+        _solve_all(layout, layer, items, size, s, crs, counter)
+        write_json(layout.success, {"ok": counter.ok, "errors": counter.errors, "total": counter.n})
+        if layout.single:
+            assemble(layout.parts(), layout.fmt, layout.target, layer, layout.parts_dir)
+            shutil.rmtree(layout.parts_dir, ignore_errors=True)
+        duplicates, repeated = counter.repeated_hashes()
+        report_duplicates(duplicates, repeated, iter_records(layout.target, layout.fmt))
+        return counter.summary(layout.target, time.perf_counter() - start, duplicates)
+
+
+def _solve_all(
+    layout: Layout,
+    layer: Layer,
+    items: Iterator[Item],
+    size: int,
+    s: _Settings,
+    crs: str | None,
+    counter: Counter,
+) -> None:
+    """Solve every pending chunk on the backend; the parent alone writes the parts."""
+    in_flight: dict[int, list[Item]] = {}  # chunk index -> its Items (attributes included)
+    tasks = _pending_tasks(items, size, layout, {**s.options, "project": crs}, counter, in_flight)
 
     def done(task: ChunkTask, records: list[dict]) -> None:
-        write_part(layout.part(task.index), layout.fmt, records, [it.coords for it in task.items])
+        chunk = in_flight.pop(task.index)
+        write_part(layout.part(task.index), layout.part_fmt, records, chunk, layer, layout.fmt)
         counter.add(records, reused=False)
 
-    with open_backend(scheduler, workers) as backend:
+    with open_backend(s.scheduler, s.workers) as backend:
         run_tasks(backend, tasks, done)
-    write_json(layout.success, {"ok": counter.ok, "errors": counter.errors, "total": counter.n})
-    if layout.single:
-        assemble(layout.parts(), layout.fmt, layout.target)
-        shutil.rmtree(layout.parts_dir, ignore_errors=True)
-    return counter.summary(layout.target, time.perf_counter() - start)
+
+
+def _projection(inp: Path, layer: Layer, project: bool) -> str | None:
+    """The CRS the workers project from, checked now; None without ``project``."""
+    if not project:
+        return None
+    if layer.crs is None:
+        raise BatchInputError(
+            f"{inp}: --project needs the layer's CRS and this {layer.fmt} layer names none; "
+            "write it as GeoPackage, GeoParquet or a GeoJSON FeatureCollection with its CRS"
+        )
+    local_projector(layer.crs)  # an unknown CRS is refused before any work
+    return layer.crs
 
 
 def iter_records(path: str | os.PathLike[str], fmt: str | None = None) -> Iterator[dict]:
@@ -225,7 +241,7 @@ def iter_records(path: str | os.PathLike[str], fmt: str | None = None) -> Iterat
     p = Path(path)
     if p.is_dir():
         kinds = [fmt] if fmt else [_manifest_value(Layout(p, p, "ndjson", False), "format")]
-        for kind in kinds if kinds[0] else ["ndjson", "geojson", "parquet"]:
+        for kind in kinds if kinds[0] else ["ndjson", "geojson", "parquet", "gpkg", "fgb"]:
             parts = Layout(p, p, kind, False).parts()
             if parts:
                 for part in parts:
@@ -238,35 +254,13 @@ def iter_records(path: str | os.PathLike[str], fmt: str | None = None) -> Iterat
     yield from read_part(p, kind)
 
 
-class _Counter:
-    """Running totals, reported to ``progress`` after each chunk."""
-
-    def __init__(self, progress: Callable[[int, int], None] | None, total: int) -> None:
-        self.progress, self.total = progress, total
-        self.n = self.ok = self.errors = self.parts = self.reused = 0
-        if progress is not None:
-            progress(0, total)
-
-    def add(self, records: Iterable[dict], reused: bool) -> None:
-        for rec in records:
-            self.n += 1
-            self.ok += rec["status"] == "ok"
-        self.errors = self.n - self.ok
-        self.parts += 1
-        self.reused += reused
-        if self.progress is not None:
-            self.progress(self.n, max(self.total, self.n))
-
-    def summary(self, output: Path, seconds: float) -> BatchSummary:
-        return BatchSummary(self.n, self.ok, self.errors, self.parts, self.reused, seconds, output)
-
-
 def _pending_tasks(
     items: Iterable[Item],
     size: int,
     layout: Layout,
     options: dict[str, Any],
-    counter: _Counter,
+    counter: Counter,
+    in_flight: dict[int, list[Item]],
 ) -> Iterator[ChunkTask]:
     """Chunk tasks by input position, skipping (and counting) parts already written."""
     it = iter(items)
@@ -276,9 +270,10 @@ def _pending_tasks(
             return
         part = layout.part(index)
         if part.exists():
-            counter.add(read_part(part, layout.fmt), reused=True)
+            counter.add(read_part(part, layout.part_fmt), reused=True)
             continue
-        yield ChunkTask(index, chunk, **options)
+        in_flight[index] = chunk
+        yield ChunkTask(index, [item.for_worker() for item in chunk], **options)
 
 
 def _choose_chunk_size(
@@ -306,14 +301,12 @@ def auto_chunk_size(sample: list[Item]) -> int:
     lo, hi = config.BATCH_CHUNK_MIN, config.BATCH_CHUNK_MAX
     if not sample:
         return lo
-    sizes = [len(it.coords) if isinstance(it.coords, list) else 0 for it in sample]
+    sizes = [len(it.coords) if it.reason is None and it.coords is not None else 0 for it in sample]
     work = sum(config.BATCH_POLYGON_WORK + n**3 / 6 for n in sizes) / len(sizes)
     return int(min(hi, max(lo, config.BATCH_CHUNK_WORK // work)))
 
 
-def _manifest(
-    inp: Path, kind: str, layout: Layout, options: dict[str, Any], size: int
-) -> dict[str, Any]:
+def _manifest(inp: Path, kind: str, layout: Layout, s: _Settings, size: int) -> dict[str, Any]:
     st = inp.stat()
     return {
         "input": str(inp.resolve()),
@@ -321,9 +314,10 @@ def _manifest(
         "input_mtime_ns": st.st_mtime_ns,
         "input_format": kind,
         "format": layout.fmt,
-        "weight": repr(options["weight"]),
-        "objective": repr(options["objective"]),
-        "method": options["method"],
+        "weight": repr(s.options["weight"]),
+        "objective": repr(s.options["objective"]),
+        "method": s.options["method"],
+        "project": s.project,
         "chunk_size": size,
         "optri": __version__,
     }
@@ -337,14 +331,14 @@ def _manifest_value(layout: Layout, key: str) -> Any:
 
 
 def _summary_of_existing(layout: Layout, start: float) -> BatchSummary:
-    counter = _Counter(None, 0)
+    counter = Counter(None, 0)
     counter.add(read_part(layout.target, layout.fmt), reused=True)
     return counter.summary(layout.target, time.perf_counter() - start)
 
 
 @contextmanager
-def _sigterm_interrupts() -> Iterator[None]:
-    """Make SIGTERM behave like Ctrl-C, so ``kill`` also removes half-written parts."""
+def _interrupts_as_keyboard() -> Iterator[None]:
+    """Make SIGTERM and SIGHUP behave like Ctrl-C, so ``kill`` also removes half-written parts."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -352,8 +346,10 @@ def _sigterm_interrupts() -> Iterator[None]:
     def interrupt(signum: int, frame: Any) -> None:
         raise KeyboardInterrupt(f"signal {signum}")
 
-    old = signal.signal(signal.SIGTERM, interrupt)
+    names = [getattr(signal, n) for n in ("SIGTERM", "SIGHUP") if hasattr(signal, n)]
+    old = {sig: signal.signal(sig, interrupt) for sig in names}
     try:
         yield
     finally:
-        signal.signal(signal.SIGTERM, old)
+        for sig, handler in old.items():
+            signal.signal(sig, handler)

@@ -1,194 +1,190 @@
-"""GeoParquet and GeoPackage input and Parquet output (the optional ``geo`` extra).
+"""Arrow layers in: GeoParquet (pyarrow) and GeoPackage, FlatGeobuf, shapefiles (pyogrio).
 
-pyarrow, shapely and pyogrio are imported lazily through
-:func:`optri._optional.import_optional`, so ``import optri.batch`` never needs them.
-Parquet is read one record batch at a time (``ParquetFile.iter_batches``) and
-GeoPackage one page at a time (pyogrio ``skip_features``/``max_features``).
+Both are read one Arrow record batch at a time (``ParquetFile.iter_batches``,
+``pyogrio.open_arrow``), with every attribute column: the batch keeps the
+attribute schema in its :class:`~optri.batch.layer.Layer`, so writers give each
+column back its exact type. The CRS comes from the GeoParquet metadata (no
+``crs`` key means OGC:CRS84, as the GeoParquet spec says; ``null`` means
+unknown) or from GDAL. pyarrow, pyogrio and shapely are imported lazily
+(``pip install 'optri[geo]'``).
 """
 
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator
 from pathlib import Path
-from typing import IO, Any
+from typing import Any
 
 from .. import config
 from .._optional import import_optional
-from ..errors import BatchInputError
-from .records import Item
+from ..errors import BatchInputError, OptriError
+from .layer import Layer, renamed_columns, warn_renamed
+from .records import RESULT_FIELDS, Item, json_id
+from .solver import polygon_vertices
 
-__all__ = ["count_rows", "item_from_shapely", "read_gpkg", "read_parquet", "write_parquet"]
+__all__ = ["count_rows", "first_line", "open_arrow_layer"]
 
-
-
-def item_from_shapely(geom: Any, item_id: Any) -> Item:
-    """An :class:`Item` from a shapely geometry: a Polygon's exterior ring, or a reason."""
-    if geom is None or geom.is_empty:
-        return Item(item_id, reason="empty or missing geometry")
-    gtype = geom.geom_type
-    if gtype == "MultiPolygon":
-        if len(geom.geoms) != 1:
-            return Item(item_id, reason=f"MultiPolygon with {len(geom.geoms)} parts; split it")
-        geom, gtype = geom.geoms[0], "Polygon"
-    if gtype != "Polygon":
-        return Item(item_id, reason=f"geometry type {gtype!r} is not a Polygon")
-    if len(geom.interiors):
-        return Item(
-            item_id,
-            reason=f"polygon has {len(geom.interiors)} hole(s); exact optimal "
-            "triangulation with holes is not supported",
-        )
-    return Item(item_id, [list(c) for c in geom.exterior.coords])
+_OGR_DRIVERS = {"gpkg": "GeoPackage", "fgb": "FlatGeobuf", "shp": "shapefile"}
 
 
-def read_parquet(path: Path) -> Iterator[Item]:
-    """Stream a GeoParquet file's polygons, one record batch at a time."""
+def open_arrow_layer(path: Path, kind: str) -> tuple[Layer, Iterator[Item]]:
+    """The header and the Items of a GeoParquet file or an OGR layer (its first layer)."""
+    if kind == "parquet":
+        return _open_parquet(path)
+    return _open_ogr(path, kind)
+
+
+def _open_parquet(path: Path) -> tuple[Layer, Iterator[Item]]:
     pq = import_optional("pyarrow.parquet")
-    shapely = import_optional("shapely")
     try:
         pf = pq.ParquetFile(path)
     except Exception as exc:  # pyarrow raises its own ArrowInvalid/OSError zoo
-        raise BatchInputError(f"{path}: not a Parquet file ({_first_line(exc)})") from None
-    names = pf.schema_arrow.names
-    geom_col = _geometry_column(pf.schema_arrow.metadata or {}, names, path)
-    columns = [geom_col] + (["id"] if "id" in names else [])
-    index = 0
-    for batch in pf.iter_batches(batch_size=config.BATCH_ROWS_PER_READ, columns=columns):
-        try:
-            geoms = shapely.from_wkb(batch.column(geom_col).to_numpy(zero_copy_only=False))
-        except Exception as exc:
-            raise BatchInputError(f"{path}: row {index}: bad WKB ({_first_line(exc)})") from None
-        ids = batch.column("id").to_pylist() if "id" in names else [None] * len(geoms)
-        for geom, item_id in zip(geoms, ids):
-            yield item_from_shapely(geom, index if item_id is None else item_id)
-            index += 1
+        raise BatchInputError(f"{path}: not a Parquet file ({first_line(exc)})") from None
+    schema = pf.schema_arrow
+    geom_col, crs = _geoparquet_column(schema.metadata or {}, schema.names, path)
+    attrs = schema.remove(schema.get_field_index(geom_col))
+    layer = _layer("parquet", crs, attrs)
+
+    def items() -> Iterator[Item]:
+        index = 0
+        for batch in pf.iter_batches(batch_size=config.BATCH_ROWS_PER_READ):
+            yield from _batch_items(batch, geom_col, None, index, layer, path)
+            index += batch.num_rows
+
+    return layer, items()
 
 
-def read_gpkg(path: Path) -> Iterator[Item]:
-    """Stream a GeoPackage (its first layer) page by page through pyogrio."""
+def _open_ogr(path: Path, kind: str) -> tuple[Layer, Iterator[Item]]:
     pyogrio = import_optional("pyogrio")
-    total = count_rows(path, "gpkg")
-    index = 0
-    while index < total:
+    info = _ogr_info(path, kind)
+    query = _query(pyogrio, path, kind)
+    with pyogrio.open_arrow(path, use_pyarrow=True, batch_size=1, return_fids=True, **query) as (
+        meta,
+        r,
+    ):
+        schema = r.schema
+    fid_col = schema.names[0]  # return_fids puts the FID first
+    geom_col = _wkb_column(schema, path)
+    attrs = schema.remove(schema.get_field_index(geom_col)).remove(0)
+    layer = _layer(kind, info.get("crs"), attrs)
+
+    def items() -> Iterator[Item]:
+        index = 0
+        with pyogrio.open_arrow(
+            path,
+            use_pyarrow=True,
+            batch_size=config.BATCH_ROWS_PER_READ,
+            return_fids=True,
+            **query,
+        ) as (_, reader):
+            for batch in reader:
+                yield from _batch_items(batch, geom_col, fid_col, index, layer, path)
+                index += batch.num_rows
+
+    return layer, items()
+
+
+def _query(pyogrio: Any, path: Path, kind: str) -> dict:
+    """Extra ``open_arrow`` arguments: FlatGeobuf goes through GDAL's SQLite dialect.
+
+    GDAL's own FlatGeobuf Arrow reader returns corrupt offsets for null
+    geometries (GDAL 3.12; see OSGeo/gdal#7401 for the family of bugs); the
+    SQLite dialect reads the same features through the generic path, with the
+    same column types, and streams just as well.
+    """
+    if kind != "fgb":
+        return {}
+    name = str(pyogrio.list_layers(path)[0][0]).replace('"', '""')
+    return {"sql": f'SELECT * FROM "{name}"', "sql_dialect": "SQLITE"}
+
+
+def _layer(kind: str, crs: str | None, attrs: Any) -> Layer:
+    renames = renamed_columns(attrs.names, RESULT_FIELDS)
+    warn_renamed(renames)
+    return Layer(kind, crs=crs, schema=attrs, renames=renames)
+
+
+def _batch_items(
+    batch: Any, geom_col: str, fid_col: str | None, start: int, layer: Layer, path: Path
+) -> Iterator[Item]:
+    shapely = import_optional("shapely")
+    wkb = batch.column(geom_col).to_numpy(zero_copy_only=False)
+    geoms = shapely.from_wkb(wkb, on_invalid="ignore")
+    names = layer.schema.names
+    rows = batch.select(names).to_pylist() if names else [{}] * batch.num_rows
+    fids = batch.column(fid_col).to_pylist() if fid_col else None
+    for k, (raw, geom, row) in enumerate(zip(wkb, geoms, rows)):
+        fallback = fids[k] if fids is not None else start + k
+        item_id = json_id(row.get("id"), fallback)
+        props = {layer.renames.get(n, n): v for n, v in row.items()} if names else None
+        if raw is not None and geom is None:
+            yield Item(item_id, reason="invalid WKB geometry", props=props)
+            continue
         try:
-            df = pyogrio.read_dataframe(
-                path,
-                skip_features=index,
-                max_features=config.BATCH_ROWS_PER_READ,
-                fid_as_index=True,
-            )
-        except Exception as exc:
-            raise BatchInputError(f"{path}: feature {index}: {_first_line(exc)}") from None
-        if len(df) == 0:
-            break
-        ids = df["id"].tolist() if "id" in df.columns else df.index.tolist()
-        for geom, item_id in zip(df.geometry.values, ids):
-            yield item_from_shapely(geom, _plain(item_id))
-            index += 1
+            yield Item(item_id, polygon_vertices(geom), props=props)
+        except OptriError as exc:
+            yield Item(item_id, reason=str(exc), props=props)
 
 
-def count_rows(path: Path, kind: str) -> int:
-    """Number of rows (Parquet metadata) or features (GeoPackage layer info)."""
+def count_rows(path: Path, kind: str) -> int | None:
+    """Number of rows (Parquet metadata) or features (OGR layer info; None if unknown)."""
     if kind == "parquet":
         pq = import_optional("pyarrow.parquet")
         try:
             return int(pq.ParquetFile(path).metadata.num_rows)
         except Exception as exc:
-            raise BatchInputError(f"{path}: not a Parquet file ({_first_line(exc)})") from None
+            raise BatchInputError(f"{path}: not a Parquet file ({first_line(exc)})") from None
+    count = int(_ogr_info(path, kind)["features"])
+    return count if count >= 0 else None
+
+
+def _ogr_info(path: Path, kind: str) -> dict:
     pyogrio = import_optional("pyogrio")
     try:
         info = pyogrio.read_info(path)
     except Exception as exc:
-        raise BatchInputError(f"{path}: not a GeoPackage layer ({_first_line(exc)})") from None
+        name = _OGR_DRIVERS.get(kind, kind)
+        raise BatchInputError(f"{path}: not a {name} layer ({first_line(exc)})") from None
     if not info.get("geometry_type"):
         raise BatchInputError(f"{path}: not a polygon layer (no geometry column)")
-    return int(info["features"])
+    return dict(info)
 
 
-def write_parquet(fh: IO[bytes], records: Sequence[dict], coords: Sequence[Any]) -> None:
-    """Write records as GeoParquet: triangle MultiPolygons in ``geometry`` (WKB).
-
-    ``id`` is stored as text (ids of one file may mix numbers and strings);
-    ``cost`` is a float, or a list of floats for a lexicographic objective.
-    """
-    pa = import_optional("pyarrow")
-    pq = import_optional("pyarrow.parquet")
-    index_lists = pa.list_(pa.list_(pa.int64()))
-    table = pa.table(
-        {
-            "id": pa.array([str(r["id"]) for r in records], pa.string()),
-            "status": pa.array([r["status"] for r in records], pa.string()),
-            "n": pa.array([r["n"] for r in records], pa.int64()),
-            "cost": _cost_array(pa, records),
-            "triangles": pa.array([r["triangles"] for r in records], index_lists),
-            "diagonals": pa.array([r["diagonals"] for r in records], index_lists),
-            "reason": pa.array([r["reason"] for r in records], pa.string()),
-            "seconds": pa.array([r["seconds"] for r in records], pa.float64()),
-            "geometry": pa.array(_wkb(records, coords), pa.binary()),
-        }
-    )
-    meta = {
-        "version": "1.0.0",
-        "primary_column": "geometry",
-        # crs null = "unknown": the input's CRS is not tracked through the batch
-        "columns": {
-            "geometry": {"encoding": "WKB", "geometry_types": ["MultiPolygon"], "crs": None}
-        },
-    }
-    table = table.replace_schema_metadata({"geo": json.dumps(meta)})
-    pq.write_table(table, fh)
+def _wkb_column(schema: Any, path: Path) -> str:
+    for fld in schema:
+        meta = fld.metadata or {}
+        if meta.get(b"ARROW:extension:name") == b"geoarrow.wkb":
+            return str(fld.name)
+    raise BatchInputError(f"{path}: not a polygon layer (no geometry column)")
 
 
-def read_parquet_records(path: Path) -> Iterator[dict]:
-    """Read back records written by :func:`write_parquet` (geometry left out)."""
-    pq = import_optional("pyarrow.parquet")
-    pf = pq.ParquetFile(path)
-    names = [c for c in pf.schema_arrow.names if c != "geometry"]
-    for batch in pf.iter_batches(batch_size=config.BATCH_ROWS_PER_READ, columns=names):
-        yield from batch.to_pylist()
-
-
-def _cost_array(pa: Any, records: Sequence[dict]) -> Any:
-    costs = [r["cost"] for r in records]
-    if any(isinstance(c, list) for c in costs):
-        return pa.array([_floats(c) for c in costs], pa.list_(pa.float64()))
-    return pa.array([None if c is None else float(c) for c in costs], pa.float64())
-
-
-def _floats(cost: Any) -> Any:
-    return None if cost is None else [float(c) for c in cost]
-
-
-def _wkb(records: Sequence[dict], coords: Sequence[Any]) -> list[bytes | None]:
-    shapely = import_optional("shapely")
-    out: list[bytes | None] = []
-    for rec, pts in zip(records, coords):
-        if rec["status"] != "ok":
-            out.append(None)
-            continue
-        tris = [shapely.Polygon([pts[a], pts[b], pts[c]]) for a, b, c in rec["triangles"]]
-        out.append(shapely.to_wkb(shapely.MultiPolygon(tris)))
-    return out
-
-
-def _geometry_column(meta: dict, names: list[str], path: Path) -> str:
+def _geoparquet_column(meta: dict, names: list[str], path: Path) -> tuple[str, str | None]:
+    """The geometry column and CRS text of a GeoParquet file's ``geo`` metadata."""
     raw = meta.get(b"geo")
-    if raw:
-        try:
-            return str(json.loads(raw)["primary_column"])
-        except (ValueError, KeyError):
-            pass
-    if "geometry" in names:
-        return "geometry"
-    raise BatchInputError(f"{path}: not a polygon layer (no GeoParquet geometry column)")
+    if not raw:
+        if "geometry" in names:
+            return "geometry", None  # plain Parquet with a WKB column: CRS unknown
+        raise BatchInputError(f"{path}: not a polygon layer (no GeoParquet geometry column)")
+    try:
+        geo = json.loads(raw)
+        col = str(geo["primary_column"])
+        spec = geo["columns"][col]
+    except (ValueError, KeyError, TypeError):
+        raise BatchInputError(f"{path}: unreadable GeoParquet metadata") from None
+    if col not in names:
+        raise BatchInputError(f"{path}: GeoParquet primary column {col!r} is missing")
+    if spec.get("encoding", "WKB") != "WKB":
+        raise BatchInputError(
+            f"{path}: geometry encoding {spec.get('encoding')!r} is not read; write WKB"
+        )
+    if "crs" not in spec:
+        return col, "OGC:CRS84"  # the GeoParquet default
+    crs = spec["crs"]
+    return col, None if crs is None else (crs if isinstance(crs, str) else json.dumps(crs))
 
 
-def _plain(value: Any) -> Any:
-    # numpy scalars -> Python, so ids serialize as JSON
-    return value.item() if hasattr(value, "item") else value
-
-
-def _first_line(exc: BaseException) -> str:
+def first_line(exc: BaseException) -> str:
+    """The first line of an exception's message (or its type name)."""
     text = str(exc).strip().splitlines()
     return text[0] if text else type(exc).__name__

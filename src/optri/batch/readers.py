@@ -1,28 +1,39 @@
-"""Streaming readers: every input format becomes an iterator of :class:`Item`.
+"""Streaming readers: every input format becomes a :class:`Layer` and an iterator of Items.
 
-JSON formats are read here; GeoParquet and GeoPackage (the ``geo`` extra) in
-:mod:`optri.batch.geo`. No reader holds more than one feature (NDJSON, GeoJSON)
-or one row group / page (Parquet, GeoPackage) in memory at a time.
+JSON formats are read here (NDJSON line by line, a FeatureCollection feature
+by feature through :mod:`.jsonstream`); GeoParquet, GeoPackage, FlatGeobuf and
+shapefiles (the ``geo`` extra) in :mod:`.geo`. No reader holds more than one
+feature (JSON) or one record batch (Arrow) in memory at a time.
+
+Reading goes record by record: a line that is not UTF-8, not JSON, nested too
+deeply, or not a polygon becomes an Item with a ``reason`` (and the line number)
+and the run goes on. Only a file that cannot be read at all (missing, not a
+layer, a FeatureCollection cut short) raises :class:`BatchInputError`.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import re
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 from .. import config
-from ..errors import BatchInputError
+from ..errors import BatchInputError, OptriError
 from . import geo
-from .records import Item
+from .jsonstream import BadValue, read_feature_collection
+from .layer import GEOJSON_DEFAULT_CRS, Layer, crs_from_geojson_member
+from .records import Item, json_id, json_safe
+from .solver import holes_reason, polygon_vertices
 
 __all__ = [
     "INPUT_FORMATS",
     "count_items",
     "detect_input_format",
     "item_from_geojson",
+    "open_layer",
     "read_items",
 ]
 
@@ -32,8 +43,13 @@ INPUT_FORMATS = {
     "ndjson": (".ndjson", ".jsonl", ".geojsonl", ".geojsons"),
     "parquet": (".parquet", ".geoparquet", ".pq"),
     "gpkg": (".gpkg",),
+    "fgb": (".fgb",),
+    "shp": (".shp",),
 }
-
+# keys of the bare {"id", "coordinates"} form that are not attributes
+_BARE_KEYS = {"id", "type", "coordinates", "geometry", "properties"}
+# an id worth recovering from a line that is not JSON
+_ID = re.compile(rb'"id"\s*:\s*("(?:[^"\\\n]|\\.){0,200}"|-?\d{1,30}(?:\.\d{1,30})?)')
 
 
 def detect_input_format(path: str | os.PathLike[str], fmt: str | None = None) -> str:
@@ -54,17 +70,29 @@ def detect_input_format(path: str | os.PathLike[str], fmt: str | None = None) ->
     raise BatchInputError(f"{path}: cannot tell the input format from {suffix!r}; pass --format")
 
 
-def read_items(path: str | os.PathLike[str], fmt: str | None = None) -> Iterator[Item]:
-    """Stream the polygons of ``path`` as :class:`Item` in file order."""
+def open_layer(
+    path: str | os.PathLike[str], fmt: str | None = None
+) -> tuple[Layer, Iterator[Item]]:
+    """The layer header of ``path`` and a stream of its polygons as Items, in file order.
+
+    For a FeatureCollection the header's CRS is filled in when its ``"crs"``
+    member is read (before the features, as GDAL writes it).
+    """
     p = Path(path)
+    kind = detect_input_format(p, fmt)
     if not p.is_file():
         raise BatchInputError(f"{p}: no such file")
-    kind = detect_input_format(p, fmt)
     if kind == "ndjson":
-        return _read_ndjson(p)
+        return Layer(kind), _read_ndjson(p)
     if kind == "geojson":
-        return _read_feature_collection(p)
-    return geo.read_parquet(p) if kind == "parquet" else geo.read_gpkg(p)
+        layer = Layer(kind, crs=GEOJSON_DEFAULT_CRS)
+        return layer, _read_feature_collection(p, layer)
+    return geo.open_arrow_layer(p, kind)
+
+
+def read_items(path: str | os.PathLike[str], fmt: str | None = None) -> Iterator[Item]:
+    """Stream the polygons of ``path`` as :class:`Item` in file order."""
+    return open_layer(path, fmt)[1]
 
 
 def count_items(path: str | os.PathLike[str], fmt: str | None = None) -> int | None:
@@ -82,173 +110,135 @@ def item_from_geojson(obj: Any, index: int) -> Item:
     """An :class:`Item` from a GeoJSON Feature, a bare geometry or ``{"id", "coordinates"}``.
 
     The id is the feature's ``id``, else ``properties.id``, else ``index``.
-    A Polygon contributes its exterior ring; a polygon with holes, a multi-part
-    MultiPolygon or anything else becomes an item with a ``reason``.
+    A Feature's ``properties`` (or the bare form's other keys) are its
+    attributes. A Polygon contributes its exterior ring; a polygon with holes,
+    a multi-part MultiPolygon or anything else becomes an item with a ``reason``.
 
-    >>> item_from_geojson({"id": "a", "coordinates": [[0, 0], [1, 0], [0, 1]]}, 0).coords
-    [[0, 0], [1, 0], [0, 1]]
+    >>> item_from_geojson({"id": "a", "coordinates": [[0, 0], [1, 0], [0, 1]]}, 0).coords.shape
+    (3, 2)
     >>> item_from_geojson({"type": "Polygon", "coordinates": [[[0, 0]], [[1, 1]]]}, 4).reason
     'polygon has 1 hole(s); exact optimal triangulation with holes is not supported'
     """
     if not isinstance(obj, dict):
-        return Item(index, reason=f"expected a JSON object, got {type(obj).__name__}")
+        return Item(index, reason=f"expected a JSON object, got {_json_type(obj)}")
     props = obj.get("properties")
     item_id = obj.get("id")
     if item_id is None and isinstance(props, dict):
         item_id = props.get("id")
-    if item_id is None:
-        item_id = index
-    geom = obj.get("geometry", obj) if obj.get("type") == "Feature" else obj
+    item_id = json_id(item_id, index)
+    if obj.get("type") == "Feature":
+        attrs = props if isinstance(props, dict) else None
+        geom = obj.get("geometry")
+    else:
+        extra = {k: v for k, v in obj.items() if k not in _BARE_KEYS}
+        attrs = {**(props if isinstance(props, dict) else {}), **extra} or None
+        geom = obj
+    try:
+        attrs = json_safe(attrs)
+    except ValueError as exc:
+        return Item(item_id, reason=str(exc))
     if geom is None:
-        return Item(item_id, reason="feature has no geometry")
+        return Item(item_id, reason="feature has no geometry", props=attrs)
     if not isinstance(geom, dict) or "coordinates" not in geom:
-        return Item(item_id, reason="no 'coordinates' (or Feature 'geometry') in the object")
-    return _from_coordinates(item_id, geom.get("type"), geom["coordinates"])
+        missing = "no 'coordinates' (or Feature 'geometry') in the object"
+        return Item(item_id, reason=missing, props=attrs)
+    ring, reason = _exterior(geom.get("type"), geom["coordinates"])
+    if reason is None:
+        try:
+            ring = polygon_vertices(ring)
+        except OptriError as exc:
+            reason = str(exc)
+    return Item(item_id, ring, reason, attrs)
 
 
-def _from_coordinates(item_id: Any, gtype: Any, coords: Any) -> Item:
+def _exterior(gtype: Any, coords: Any) -> tuple[Any, str | None]:
+    """The exterior ring of GeoJSON coordinates, or why there is none."""
     if not isinstance(coords, list):
-        return Item(item_id, reason=f"coordinates must be a list, got {type(coords).__name__}")
+        return coords, f"coordinates must be a list, got {_json_type(coords)}"
     if gtype is None:  # the bare {"id", "coordinates": [[x, y], ...]} form
-        return Item(item_id, coords)
+        return coords, None
     if gtype == "MultiPolygon":
-        if not isinstance(coords, list) or len(coords) != 1:
-            parts = len(coords) if isinstance(coords, list) else "?"
-            return Item(item_id, reason=f"MultiPolygon with {parts} parts; split it into Polygons")
+        if len(coords) != 1:
+            return None, f"MultiPolygon with {len(coords)} parts; split it into Polygons"
         gtype, coords = "Polygon", coords[0]
+        if not isinstance(coords, list):
+            return None, "MultiPolygon part must be a list of rings"
     if gtype != "Polygon":
-        return Item(item_id, reason=f"geometry type {gtype!r} is not a Polygon")
+        return None, f"geometry type {gtype!r} is not a Polygon"
     if not coords:
-        return Item(item_id, reason="Polygon without rings")
+        return None, "Polygon without rings"
     if len(coords) > 1:
-        return Item(item_id, reason=_holes_reason(len(coords) - 1))
-    return Item(item_id, coords[0])
+        return coords[0], holes_reason(len(coords) - 1)
+    return coords[0], None
 
 
-def _holes_reason(holes: int) -> str:
-    # exact minimum-weight triangulation with holes is NP-hard: refuse, never drop a hole
-    return f"polygon has {holes} hole(s); exact optimal triangulation with holes is not supported"
+def _json_type(obj: Any) -> str:
+    return {dict: "object", list: "list", str: "string", bool: "boolean"}.get(
+        type(obj), "null" if obj is None else type(obj).__name__
+    )
 
 
 def _read_ndjson(path: Path) -> Iterator[Item]:
     index = 0
     with path.open("rb") as fh:
         for lineno, raw in enumerate(fh, start=1):
+            if lineno == 1 and raw.startswith(b"\xef\xbb\xbf"):
+                raw = raw[3:]  # a byte-order mark
             if not raw.strip():
                 continue
-            try:
-                obj = json.loads(raw)
-            except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-                msg = getattr(exc, "msg", str(exc))
-                raise BatchInputError(f"{path}:{lineno}: invalid JSON ({msg})") from None
-            yield item_from_geojson(obj, index)
+            yield _item_from_line(raw, lineno, index)
             index += 1
 
 
-def _read_feature_collection(path: Path) -> Iterator[Item]:
-    """Stream ``features`` of a FeatureCollection one at a time (bounded memory)."""
-    stream = _JsonStream(path)
-    stream.expect("{")
-    seen_features = False
-    while True:
-        if stream.peek() == "}":
-            break
-        key = stream.value()
-        stream.expect(":")
-        if key == "features":
-            stream.expect("[")
-            index = 0
-            while stream.peek() != "]":
-                if index:
-                    stream.expect(",")
-                yield item_from_geojson(stream.value(), index)
-                index += 1
-            stream.expect("]")
-            seen_features = True
-        else:
-            value = stream.value()
-            if key == "type" and value != "FeatureCollection":
-                stream.fail(f"not a polygon layer: type is {value!r}, expected FeatureCollection")
-        if stream.peek() == ",":
-            stream.expect(",")
-    if not seen_features:
-        stream.fail("not a polygon layer: no 'features' array")
+def _item_from_line(raw: bytes, lineno: int, index: int) -> Item:
+    """One NDJSON line as an Item; a line that cannot be read is an error item."""
+    raw = raw.rstrip(b"\r\n")
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        return Item(
+            _recover_id(raw, index), reason=f"line {lineno}: not UTF-8 text (byte {exc.start})"
+        )
+    try:
+        obj = json.loads(text)
+    except RecursionError:
+        return Item(_recover_id(raw, index), reason=f"line {lineno}: nested too deeply to read")
+    except json.JSONDecodeError as exc:
+        where = f"{exc.msg.removesuffix(' at')} at column {exc.colno}"
+        return Item(_recover_id(raw, index), reason=f"line {lineno}: invalid JSON ({where})")
+    except ValueError as exc:  # an integer too long to convert
+        reason = f"line {lineno}: invalid JSON ({str(exc).split(':')[0]})"
+        return Item(_recover_id(raw, index), reason=reason)
+    item = item_from_geojson(obj, index)
+    if item.reason is not None:
+        return Item(item.id, item.coords, f"line {lineno}: {item.reason}", item.props)
+    return item
 
 
-class _JsonStream:
-    """Just enough of an incremental JSON reader to walk one top-level object.
+def _recover_id(raw: bytes, index: int) -> Any:
+    m = _ID.search(raw, 0, 4096)
+    if m is None:
+        return index
+    try:
+        return json_id(json.loads(m.group(1)), index)
+    except ValueError:
+        return index
 
-    Values are decoded with :meth:`json.JSONDecoder.raw_decode` from a buffer that
-    grows from the file only while a value is incomplete; consumed text is
-    dropped, so memory is bounded by the largest single feature.
-    """
 
-    def __init__(self, path: Path) -> None:
-        self.path = path
-        self.fh = path.open(encoding="utf-8-sig")  # tolerate a byte-order mark
-        self.buf = ""
-        self.pos = 0
-        self.lines_before = 0  # newlines in text already dropped from buf
-        self.eof = False
-        self.decoder = json.JSONDecoder()
+def _read_feature_collection(path: Path, layer: Layer) -> Iterator[Item]:
+    def on_member(key: str, value: Any) -> None:
+        if key == "crs":
+            layer.geojson_crs = value if isinstance(value, dict) else None
+            layer.crs = crs_from_geojson_member(value)
 
-    def _more(self) -> bool:
-        if self.eof:
-            return False
-        try:
-            block = self.fh.read(config.BATCH_READ_BLOCK)
-        except UnicodeDecodeError as exc:
-            self.fail(f"not UTF-8 text ({exc.reason})")
-        if not block:  # keep buf as is: error positions still point into it
-            self.eof = True
-            self.fh.close()
-            return False
-        self.lines_before += self.buf.count("\n", 0, self.pos)
-        self.buf = self.buf[self.pos :] + block
-        self.pos = 0
-        return True
-
-    def _skip_space(self) -> None:
-        while True:
-            while self.pos < len(self.buf) and self.buf[self.pos] in " \t\r\n":
-                self.pos += 1
-            if self.pos < len(self.buf) or not self._more():
-                return
-
-    def peek(self) -> str:
-        self._skip_space()
-        if self.pos >= len(self.buf):
-            self.fail("unexpected end of file (truncated JSON?)")
-        return self.buf[self.pos]
-
-    def expect(self, char: str) -> None:
-        got = self.peek()
-        if got != char:
-            self.fail(f"invalid JSON: expected {char!r}, found {got!r}")
-        self.pos += 1
-
-    def value(self) -> Any:
-        self.peek()
-        while True:
-            try:
-                obj, end = self.decoder.raw_decode(self.buf, self.pos)
-            except json.JSONDecodeError as exc:
-                if self._more():
-                    continue
-                if not self.buf[exc.pos :].strip():
-                    self.fail("unexpected end of file (truncated JSON?)", exc.pos)
-                self.fail(f"invalid JSON ({exc.msg})", exc.pos)
-            # a number could continue in the next block: only trust a value that ends early
-            if end < len(self.buf) or not self._more():
-                self.pos = end
-                return obj
-
-    def fail(self, message: str, at: int | None = None) -> None:
-        at = self.pos if at is None else at
-        line = self.lines_before + self.buf.count("\n", 0, at) + 1
-        if not self.eof:
-            self.fh.close()
-        raise BatchInputError(f"{self.path}:{line}: {message}")
+    for index, (obj, line) in enumerate(read_feature_collection(path, on_member)):
+        if isinstance(obj, BadValue):
+            yield Item(index, reason=f"line {obj.line}: {obj.reason}")
+            continue
+        item = item_from_geojson(obj, index)
+        if item.reason is not None:
+            item = Item(item.id, item.coords, f"line {line}: {item.reason}", item.props)
+        yield item
 
 
 def _binary_lines(path: Path) -> Iterator[bytes]:

@@ -9,10 +9,14 @@ grow with the input.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
 import logging
 import multiprocessing
 import os
+import select
 import signal
+import threading
+import time
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from typing import Any
@@ -97,11 +101,56 @@ class _Dask(Backend):
         return set(done)
 
 
-def _worker_init() -> None:
+def _worker_init(parent: int) -> None:
     # Ctrl-C reaches the whole process group: only the parent handles it, and it
     # stops the workers itself once the chunks in progress are written or dropped.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    _die_with(parent)
+
+
+def _die_with(parent: int) -> None:
+    """End this worker (and the forkserver it came from) as soon as ``parent`` ends.
+
+    A parent killed by SIGKILL cannot stop its pool, and forkserver workers are
+    children of the forkserver, not of the parent, so the kernel's parent-death
+    signal alone would not reach them: a daemon thread waits on a pidfd of the
+    parent (Linux), or polls it, and exits the process when it is gone.
+    """
+    try:
+        fd = os.pidfd_open(parent)  # type: ignore[attr-defined]  # Linux >= 5.3
+    except (AttributeError, OSError):
+        fd = None
+        if not _alive(parent):
+            os._exit(1)
+
+    def watch() -> None:
+        if fd is not None:
+            select.select([fd], [], [])
+        else:
+            while _alive(parent):
+                time.sleep(config.BATCH_WATCHDOG_SECONDS)
+        server = os.getppid()
+        if server not in (1, parent):  # the forkserver: orphaned and useless now
+            with contextlib.suppress(OSError):
+                os.kill(server, signal.SIGKILL)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="optri-parent-watch", daemon=True).start()
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    try:  # a zombie is dead, only not yet reaped
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except (OSError, IndexError):
+        return True
 
 
 @contextmanager
@@ -115,7 +164,9 @@ def open_backend(scheduler: Any, workers: int | None) -> Iterator[Backend]:
         # forkserver: workers never inherit the progress bar's thread or locks
         methods = multiprocessing.get_all_start_methods()
         ctx = multiprocessing.get_context("forkserver" if "forkserver" in methods else None)
-        executor = cf.ProcessPoolExecutor(n, mp_context=ctx, initializer=_worker_init)
+        executor = cf.ProcessPoolExecutor(
+            n, mp_context=ctx, initializer=_worker_init, initargs=(os.getpid(),)
+        )
         try:
             yield _Pool(executor, n)
         finally:

@@ -1,9 +1,15 @@
-"""Writers for part files (NDJSON, GeoJSON, Parquet), reading them back, and assembly.
+"""Part files in every output format, reading them back, and joining them into one file.
 
-Every part is written through :func:`optri.io.atomic_write`: a temporary name
-renamed over the final one only once complete, so a part file that exists is
-whole. JSON is written compactly with a fixed key order, one record (feature)
-per line, so identical input gives identical bytes apart from ``seconds``.
+JSON parts (NDJSON, GeoJSON) are written here, compactly and with a fixed key
+order, one record (feature) per line, so identical input gives identical bytes
+apart from ``seconds``; table parts (GeoParquet, GeoPackage, FlatGeobuf) through
+:mod:`.tablefiles`. Every part is written under a temporary name and renamed
+once complete, so a part file that exists is whole.
+
+NDJSON records keep the feature's attributes under ``"properties"``; GeoJSON
+features hold the attributes and the batch's fields side by side in their
+``properties`` (an attribute named like a batch field gets ``_input`` appended)
+and the triangles as a MultiPolygon geometry.
 """
 
 from __future__ import annotations
@@ -15,13 +21,17 @@ from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import IO, Any
 
-from .._optional import import_optional
 from ..errors import BatchInputError
 from ..io.atomic import atomic_write
-from .geo import read_parquet_records, write_parquet
+from .layer import Layer, geojson_crs_member, renamed_columns
+from .records import Item, json_safe
+from .tablefiles import assemble_tables, flavor_of, read_table_records, write_table
+from .tables import records_table
 
 __all__ = [
     "OUTPUT_FORMATS",
+    "PART_FORMATS",
+    "SINGLE_FILE_SUFFIXES",
     "assemble",
     "feature_of",
     "read_part",
@@ -29,7 +39,13 @@ __all__ = [
 ]
 
 #: Output format -> suffix of its part files (and of a single output file).
-OUTPUT_FORMATS = {"ndjson": ".ndjson", "geojson": ".geojson", "parquet": ".parquet"}
+OUTPUT_FORMATS = {
+    "ndjson": ".ndjson",
+    "geojson": ".geojson",
+    "parquet": ".parquet",
+    "gpkg": ".gpkg",
+    "fgb": ".fgb",
+}
 #: Suffixes that select a single output file of that format.
 SINGLE_FILE_SUFFIXES = {
     ".ndjson": "ndjson",
@@ -38,9 +54,18 @@ SINGLE_FILE_SUFFIXES = {
     ".json": "geojson",
     ".parquet": "parquet",
     ".geoparquet": "parquet",
+    ".gpkg": "gpkg",
+    ".fgb": "fgb",
+}
+#: Format of the hidden parts a single file of each format is assembled from.
+PART_FORMATS = {
+    "ndjson": "ndjson",
+    "geojson": "geojson",
+    "parquet": "parquet",
+    "gpkg": "parquet",
+    "fgb": "parquet",
 }
 
-_FC_HEAD = '{"type":"FeatureCollection","features":[\n'
 _FC_TAIL = "]}\n"
 # how each feature line starts (the FeatureCollection head line does not match it)
 _FEATURE = '{"type":"Feature",'
@@ -51,39 +76,64 @@ def dumps(obj: Any) -> str:
     return json.dumps(obj, separators=(",", ":"), allow_nan=False)
 
 
-def feature_of(record: dict, coords: Any) -> dict:
-    """A GeoJSON Feature: the triangles as a MultiPolygon, the record as properties.
+def feature_of(record: dict, coords: Any, props: dict | None = None) -> dict:
+    """A GeoJSON Feature: the triangles as a MultiPolygon, attributes and record as properties.
 
     >>> rec = {"id": 1, "status": "ok", "triangles": [[0, 1, 2]]}
     >>> feature_of(rec, [[0, 0], [1, 0], [0, 1]])["geometry"]["coordinates"]
     [[[[0, 0], [1, 0], [0, 1], [0, 0]]]]
+    >>> feature_of(rec, [[0, 0], [1, 0], [0, 1]], {"status": "built"})["properties"]
+    {'status_input': 'built', 'status': 'ok', 'triangles': [[0, 1, 2]]}
     """
     geometry = None
     if record["status"] == "ok":
-        polys = [[[coords[a], coords[b], coords[c], coords[a]]] for a, b, c in record["triangles"]]
+        pts = coords.tolist() if hasattr(coords, "tolist") else coords
+        polys = [[[pts[a], pts[b], pts[c], pts[a]]] for a, b, c in record["triangles"]]
         geometry = {"type": "MultiPolygon", "coordinates": polys}
-    props = {k: v for k, v in record.items() if k != "id"}
-    return {"type": "Feature", "id": record["id"], "geometry": geometry, "properties": props}
+    attrs = json_safe(props) or {}
+    renames = renamed_columns(list(attrs))
+    out = {renames.get(k, k): v for k, v in attrs.items()}
+    out.update((k, v) for k, v in record.items() if k != "id")
+    return {"type": "Feature", "id": record["id"], "geometry": geometry, "properties": out}
 
 
 def write_part(
-    path: str | os.PathLike[str], fmt: str, records: Sequence[dict], coords: Sequence[Any]
+    path: Path,
+    fmt: str,
+    records: Sequence[dict],
+    items: Sequence[Item],
+    layer: Layer,
+    target_fmt: str | None = None,
 ) -> None:
-    """Write one partition's records atomically; ``coords`` are the input rings."""
-    if fmt == "parquet":
-        with atomic_write(path, "wb") as fh:
-            write_parquet(fh, records, coords)
+    """Write one partition's records as a ``fmt`` file, atomically.
+
+    ``items`` are the chunk's input Items (coordinates and attributes);
+    ``target_fmt`` is the format the part will be assembled into (it picks the
+    table flavour of a Parquet part), by default ``fmt`` itself.
+    """
+    if fmt in ("parquet", "gpkg", "fgb"):
+        table = records_table(records, items, layer, flavor_of(target_fmt or fmt))
+        write_table(path, table, fmt, layer, path.parent)
         return
     with atomic_write(path, "w") as fh:
         if fmt == "ndjson":
-            for rec in records:
+            for rec, it in zip(records, items):
+                if it.props is not None:
+                    rec = {**rec, "properties": json_safe(it.props)}
                 fh.write(dumps(rec) + "\n")
         else:
-            _write_features(fh, (feature_of(r, c) for r, c in zip(records, coords)))
+            feats = (feature_of(r, it.coords, it.props) for r, it in zip(records, items))
+            _write_features(fh, feats, layer)
 
 
-def _write_features(fh: IO[str], features: Iterable[dict]) -> None:
-    fh.write(_FC_HEAD)
+def _collection_head(layer: Layer) -> str:
+    crs = geojson_crs_member(layer)
+    member = f'"crs":{dumps(crs)},' if crs is not None else ""
+    return '{"type":"FeatureCollection",' + member + '"features":[\n'
+
+
+def _write_features(fh: IO[str], features: Iterable[dict], layer: Layer) -> None:
+    fh.write(_collection_head(layer))
     for i, feat in enumerate(features):
         fh.write(("," if i else "") + dumps(feat) + "\n")
     fh.write(_FC_TAIL)
@@ -92,8 +142,8 @@ def _write_features(fh: IO[str], features: Iterable[dict]) -> None:
 def read_part(path: str | os.PathLike[str], fmt: str) -> Iterator[dict]:
     """Records of a part (or assembled) file written by this module, in order."""
     p = Path(path)
-    if fmt == "parquet":
-        yield from read_parquet_records(p)
+    if fmt in ("parquet", "gpkg", "fgb"):
+        yield from read_table_records(p, fmt)
         return
     with p.open(encoding="utf-8") as fh:
         for lineno, line in enumerate(fh, start=1):
@@ -109,21 +159,10 @@ def read_part(path: str | os.PathLike[str], fmt: str) -> Iterator[dict]:
             yield {"id": obj["id"], **obj["properties"]} if fmt == "geojson" else obj
 
 
-def assemble(parts: Sequence[Path], fmt: str, target: Path) -> None:
-    """Join part files, in order, into one file of the same format, atomically."""
-    if fmt == "parquet":
-        pq = import_optional("pyarrow.parquet")
-        with atomic_write(target, "wb") as fh:
-            writer = None
-            for part in parts:
-                table = pq.read_table(part)
-                if writer is None:
-                    writer = pq.ParquetWriter(fh, table.schema)
-                writer.write_table(table)
-            if writer is None:  # no input at all: still a valid, empty file
-                        write_parquet(fh, [], [])
-            else:
-                writer.close()
+def assemble(parts: Sequence[Path], fmt: str, target: Path, layer: Layer, temp_dir: Path) -> None:
+    """Join part files, in order, into one ``fmt`` file at ``target``, atomically."""
+    if fmt in ("parquet", "gpkg", "fgb"):
+        assemble_tables(parts, fmt, target, layer, temp_dir)
         return
     with atomic_write(target, "w") as out:
         if fmt == "ndjson":
@@ -131,7 +170,7 @@ def assemble(parts: Sequence[Path], fmt: str, target: Path) -> None:
                 with open(part, encoding="utf-8") as src:
                     shutil.copyfileobj(src, out)
             return
-        out.write(_FC_HEAD)
+        out.write(_collection_head(layer))
         first = True
         for part in parts:
             with open(part, encoding="utf-8") as src:

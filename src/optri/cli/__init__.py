@@ -7,10 +7,19 @@ prints. Each command lives in its own module and registers itself on
 
 from __future__ import annotations
 
-from . import batch_cmd, bench_cmd, enumerate_cmd, fill_cmd, paper_cmd, solve_cmd
+from . import (
+    batch_cmd,
+    bench_cmd,
+    data_cmd,
+    enumerate_cmd,
+    explore_cmd,
+    fill_cmd,
+    paper_cmd,
+    solve_cmd,
+)
 from .app import main
 
 __all__ = ["main"]
 
 # importing a command module registers its commands on main
-del batch_cmd, bench_cmd, enumerate_cmd, fill_cmd, paper_cmd, solve_cmd
+del batch_cmd, bench_cmd, data_cmd, enumerate_cmd, explore_cmd, fill_cmd, paper_cmd, solve_cmd

@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 import json
+import sys
 import warnings
+from typing import Any
 
 import click
 
-from ..errors import HoleSkippedWarning
+from ..errors import HoleSkippedWarning, InvalidPolygonError
 from ..holes import METHODS, HoleRecord, fill_holes
+from ..holes.boundary import edge_summary
+from ..holes.search import kernels_cached
 from ..io.meshes import mesh_format, read_mesh, write_mesh
 from .app import main
 from .progress import progress_bar
@@ -20,12 +24,26 @@ def _summary(rec: HoleRecord) -> str:
         value = f"max dihedral {w[0]:.6g} rad, area {w[1]:.6g}"
     else:
         value = "" if w is None else f"weight {w:.6g}"
+    extra = rec.detail()
+    extra = f"; {extra}" if extra else ""
     if rec.status == "filled":
         return (
             f"hole {rec.index}: {rec.edges} edges, filled with {rec.faces_added} faces "
-            f"({rec.method}; {value}; {rec.seconds:.3f} s)"
+            f"({rec.method}; {value}; {rec.seconds:.3f} s{extra})"
         )
     return f"hole {rec.index}: {rec.edges} edges, {rec.status.upper()}: {rec.reason}"
+
+
+def _check_has_holes(mesh: Any) -> dict[str, int]:
+    """Refuse a mesh that is not closed although no hole boundary can be traced."""
+    counts = edge_summary(mesh.faces)
+    if counts["boundary"] == 0 and counts["nonmanifold"] > 0:
+        raise InvalidPolygonError(
+            f"the mesh is not closed but has no hole to fill: {counts['nonmanifold']} edges "
+            f"are shared by three or more faces (non-manifold), none by a single face; "
+            f"nothing was written"
+        )
+    return counts
 
 
 @main.command()
@@ -47,6 +65,14 @@ def _summary(rec: HoleRecord) -> str:
     help="exact (all triangulations), liepa (O(n^3) recurrence), delaunay, auto.",
 )
 @click.option("--max-hole-edges", type=click.IntRange(min=3), help="Leave larger holes open.")
+@click.option(
+    "--merge-tolerance",
+    type=click.FloatRange(min=0.0, max=1.0),
+    default=None,
+    help="Merge vertices closer than this fraction of the mesh's size "
+    "[default: 0, exactly equal positions only].",
+)
+@click.option("--strict", is_flag=True, help="Exit 1 if a hole is left open.")
 @click.option("--json", "as_json", is_flag=True, help="Print the report as one JSON object.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
 def fill(
@@ -55,12 +81,20 @@ def fill(
     weight: str,
     method: str,
     max_hole_edges: int | None,
+    merge_tolerance: float | None,
+    strict: bool,
     as_json: bool,
     quiet: bool,
 ) -> None:
     """Fill the holes of the mesh in INFILE (.obj/.ply/.stl/.off) and write OUTPUT."""
     mesh_format(output, "output")  # refuse an unknown output suffix before any work
-    mesh = read_mesh(infile)
+    mesh = read_mesh(infile, merge_tolerance)
+    counts = _check_has_holes(mesh)
+    if counts["boundary"] and not quiet and not as_json and not kernels_cached():
+        click.echo(
+            "optri: compiling the hole-filling kernels (first run only; this takes a minute)",
+            err=True,
+        )
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", HoleSkippedWarning)
         with progress_bar("filling holes", not quiet and not as_json) as progress:
@@ -76,25 +110,46 @@ def fill(
             click.echo(f"optri: warning: {w.message}", err=True)
         else:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    write_mesh(filled, output)
-    if as_json:
-        click.echo(
-            json.dumps(
-                {
-                    "input": infile,
-                    "output": output,
-                    "faces_before": int(len(mesh.faces)),
-                    "faces_after": int(len(filled.faces)),
-                    "watertight": bool(filled.is_watertight),
-                    "holes": [r.to_dict() for r in records],
-                }
+    if records and not any(r.status == "filled" for r in records):
+        skipped = [r for r in records if r.status == "skipped"]
+        if not skipped:
+            raise InvalidPolygonError(
+                f"none of the {len(records)} holes could be filled ({records[0].reason}); "
+                f"nothing was written"
             )
-        )
+    write_mesh(filled, output)
+    _report(infile, output, mesh, filled, records, as_json)
+    if strict and any(r.status != "filled" for r in records):
+        sys.exit(1)
+
+
+def _report(
+    infile: str, output: str, mesh: Any, filled: Any, records: list[HoleRecord], as_json: bool
+) -> None:
+    loaded = mesh.metadata.get("optri", {})
+    if as_json:
+        report = {
+            "input": infile,
+            "output": output,
+            "faces_before": int(len(mesh.faces)),
+            "faces_after": int(len(filled.faces)),
+            "watertight": bool(filled.is_watertight),
+            "merged_vertices": int(loaded.get("merged_vertices", 0)),
+            "dropped_faces": int(loaded.get("dropped_faces", 0)),
+            "holes": [r.to_dict() for r in records],
+        }
+        click.echo(json.dumps(report))
         return
     for rec in records:
         click.echo(_summary(rec))
     done = sum(r.status == "filled" for r in records)
+    merged = ""
+    if loaded.get("merged_vertices") or loaded.get("dropped_faces"):
+        merged = (
+            f" (loading merged {loaded.get('merged_vertices', 0)} duplicate vertices, dropped "
+            f"{loaded.get('dropped_faces', 0)} zero-area faces)"
+        )
     click.echo(
-        f"{done} of {len(records)} holes filled; {len(mesh.faces)} -> {len(filled.faces)} faces; "
-        f"watertight: {filled.is_watertight}; written to {output}"
+        f"{done} of {len(records)} holes filled; {len(mesh.faces)} -> {len(filled.faces)} faces"
+        f"{merged}; watertight: {filled.is_watertight}; written to {output}"
     )

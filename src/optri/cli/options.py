@@ -7,6 +7,7 @@ from typing import Any
 
 import click
 
+from ..domains import METHODS as DOMAIN_METHODS
 from ..engines import ENGINES
 from ..weights import WEIGHTS
 
@@ -40,8 +41,8 @@ def engine_options(func: Callable[..., Any]) -> Callable[..., Any]:
             "-m",
             default="auto",
             show_default=True,
-            type=click.Choice(["auto", *ENGINES]),
-            help="Engine.",
+            type=click.Choice(["auto", *ENGINES, *(m for m in DOMAIN_METHODS if m != "auto")]),
+            help="Engine (a polygon with holes: auto, ip or bridge).",
         ),
     ]
     for decorate in reversed(decorators):

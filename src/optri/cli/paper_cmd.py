@@ -23,7 +23,7 @@ from .progress import progress_bar
 @click.option("--no-figures", is_flag=True, help="Skip the PNGs.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
 def paper(out: str, quick: bool, no_figures: bool, quiet: bool) -> None:
-    """Reproduce Selimi et al. (2019): Tables 2-4, Figures 1, 4-7, notes on the paper."""
+    """Reproduce Selimi et al. (2019): Tables 2-4, Figures 1-7, notes on the paper."""
     cfg = PaperConfig.quick() if quick else PaperConfig()
     cfg.figures = not no_figures
     start = time.perf_counter()

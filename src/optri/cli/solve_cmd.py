@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import json
 import time
+from typing import Any
 
 import click
 
 from .. import config
 from ..chain import matrix_chain
 from ..drawing import format_table, save_figure
-from ..io.files import read_polygon
+from ..io.files import read_rings
 from ..solve import triangulate
 from .app import main
 from .options import engine_options, parse_pair
@@ -31,6 +32,12 @@ from .progress import progress_bar
     "--table", "show_table", is_flag=True, help="Print the n x n table like the paper's Table 1."
 )
 @click.option("--float32", is_flag=True, help="Compiled engines: float32 table.")
+@click.option(
+    "--time-limit",
+    type=click.FloatRange(min=0, min_open=True),
+    default=None,
+    help="Polygon with holes: seconds for the search; then the best found, labelled heuristic.",
+)
 @click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
 def solve(
     file: str,
@@ -41,21 +48,30 @@ def solve(
     plot_path: str | None,
     show_table: bool,
     float32: bool,
+    time_limit: float | None,
     quiet: bool,
 ) -> None:
-    """Optimal triangulation of the polygon in FILE (CSV x,y per line, or JSON)."""
-    vertices = read_polygon(file)
-    show_bar = not quiet and not as_json and len(vertices) >= config.CLI_PROGRESS_MIN_N
+    """Optimal triangulation of the polygon in FILE (CSV x,y per line, JSON, GeoJSON, WKT).
+
+    A GeoJSON or WKT polygon with holes is triangulated with its holes.
+    """
+    rings = read_rings(file)
+    if show_table and len(rings) > 1:
+        raise click.UsageError("--table needs a simple polygon: a polygon with holes has no table")
+    source = (rings[0], rings[1:]) if len(rings) > 1 else rings[0]
+    n = sum(len(r) for r in rings)
+    show_bar = not quiet and not as_json and len(rings) == 1 and n >= config.CLI_PROGRESS_MIN_N
     start = time.perf_counter()
-    with progress_bar(f"solving n={len(vertices)}", show_bar) as progress:
+    with progress_bar(f"solving n={n}", show_bar) as progress:
         tri = triangulate(
-            vertices,
+            source,
             weight=parse_pair(weight),
             objective=parse_pair(objective),
             method=method,
             progress=progress,
             keep_table=True if show_table else None,
             dtype="float32" if float32 else "float64",
+            time_limit=time_limit,
         )
     seconds = time.perf_counter() - start
     if plot_path:
@@ -72,6 +88,9 @@ def solve(
     )
     click.echo(f"optimal weight: {w!r}" if isinstance(w, tuple) else f"optimal weight: {w:.12g}")
     click.echo(f"orientation: {tri.orientation}   seconds: {seconds:.4f}")
+    if tri.holes:
+        click.echo(f"holes: {tri.holes}   rings: {' '.join(map(str, tri.rings))}")
+        click.echo(f"optimality: {tri.optimality}   bound: {tri.bound!r}   gap: {tri.gap:.3g}")
     click.echo("diagonals: " + " ".join(f"{a}-{b}" for a, b in tri.diagonals.tolist()))
     click.echo("triangles: " + " ".join(f"({a},{b},{c})" for a, b, c in tri.triangles.tolist()))
     if show_table:
@@ -83,14 +102,36 @@ def solve(
 @main.command()
 @click.argument("dims", nargs=-1, type=int, required=True)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
-def chain(dims: tuple[int, ...], as_json: bool) -> None:
+@click.option("--tables", is_flag=True, help="Also print CLRS's cost table m and split table s.")
+def chain(dims: tuple[int, ...], as_json: bool, tables: bool) -> None:
     """Cheapest matrix-chain order for dimensions D0 D1 ... Dn."""
     order = matrix_chain(list(dims))
     if as_json:
-        click.echo(json.dumps({"cost": order.cost, "parenthesization": order.parenthesization}))
-    else:
-        click.echo(f"cost: {order.cost}")
-        click.echo(f"order: {order.parenthesization}")
+        out: dict[str, object] = {"cost": order.cost, "parenthesization": order.parenthesization}
+        if tables:
+            out["m"] = [[int(v) for v in row[1:]] for row in order.m[1:]]
+            out["s"] = [[int(v) for v in row[1:]] for row in order.s[1:]]
+        click.echo(json.dumps(out))
+        return
+    click.echo(f"cost: {order.cost}")
+    click.echo(f"order: {order.parenthesization}")
+    if tables:
+        size = order.m.shape[0] - 1
+        click.echo("m[i, j]: fewest scalar multiplications for A_i ... A_j (CLRS 15.2)")
+        click.echo(_clrs_table(order.m, range(1, size + 1), range(1, size + 1), 0))
+        click.echo("s[i, j]: the optimal product splits after A_k")
+        click.echo(_clrs_table(order.s, range(1, size), range(2, size + 1), 1))
+
+
+def _clrs_table(table: Any, rows: range, cols: range, gap: int) -> str:
+    """CLRS's upper-triangular layout: 1-based labels, cells with j >= i + gap shown."""
+    texts = [[str(int(table[i, j])) if j >= i + gap else "" for j in cols] for i in rows]
+    width = max(len(str(cols[-1])), *(len(t) for row in texts for t in row))
+    label = len(str(rows[-1]))
+    lines = [" " * label + " " + " ".join(str(j).rjust(width) for j in cols)]
+    for i, row in zip(rows, texts):
+        lines.append((str(i).rjust(label) + " " + " ".join(t.rjust(width) for t in row)).rstrip())
+    return "\n".join(lines)
 
 
 __all__ = ["chain", "solve"]

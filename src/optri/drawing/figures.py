@@ -11,6 +11,7 @@ import numpy as np
 
 from .._optional import import_optional
 from ..io.atomic import atomic_write
+from .svg import drawing_points
 from .table import table_cells
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -42,7 +43,7 @@ def plot_triangulation(
     3-D input is drawn from its first two coordinates; value input on a circle.
     """
     ax = new_axes(ax)
-    pts = _plot_points(tri)
+    pts = drawing_points(tri.vertices)
     n = tri.n
     tris = tri.triangles
     ax.tripcolor(
@@ -117,11 +118,3 @@ def save_figure(ax: Any, path: str) -> None:
     import matplotlib.pyplot as plt
 
     plt.close(fig)
-
-
-def _plot_points(tri: Triangulation) -> np.ndarray:
-    v = tri.vertices
-    if v.ndim == 1:
-        ang = np.pi / 2 + 2 * np.pi * np.arange(tri.n) / tri.n
-        return np.column_stack((np.cos(ang), np.sin(ang)))
-    return v[:, :2]

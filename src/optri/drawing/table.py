@@ -43,10 +43,7 @@ def table_cells(
     chords = {(int(a), int(b)) for a, b in _internal_diagonals(tri)} | {(0, n - 1)}
     if style == "vertex":
         cells = [
-            [
-                _num(t[r, c]) if r <= c else (str(int(t[r, c])) if c < r - 1 else "-")
-                for c in range(n)
-            ]
+            [_num(t[r, c]) if r <= c else (_split(t[r, c]) if c < r - 1 else "-") for c in range(n)]
             for r in range(n)
         ]
         marks: list[tuple[int, int]] = [(i, j) for i, j in chords] + [(j, i) for i, j in chords]
@@ -102,6 +99,11 @@ def format_table(tri: Triangulation, style: str = "paper") -> str:
             (lab.ljust(len(labels[-1])) + " " + " ".join(s.center(width) for s in row)).rstrip()
         )
     return "\n".join(lines)
+
+
+def _split(v: float) -> str:
+    # a chord without a usable split (unreachable in a simple polygon) has none to show
+    return str(int(v)) if v >= 0 else "–"
 
 
 def _num(v: float) -> str:

@@ -3,8 +3,10 @@
 An engine is a module with ``solve(problem) -> Solution`` and, optionally,
 ``unavailable() -> str | None`` (why it cannot run here),
 ``unsupported(problem) -> str | None`` (why it cannot take this problem),
-``auto_accepts(problem) -> bool`` (whether ``"auto"`` should use it) and
-``SUPPORTS_GATES = True`` when it honours :attr:`Problem.gates`.
+``auto_accepts(problem) -> bool`` (whether ``"auto"`` should use it),
+``SUPPORTS_GATES = True`` when it honours :attr:`Problem.gates` and
+``EXACT_INTS = True`` when it computes integer costs exactly at any size
+(:attr:`Problem.needs_big_ints`).
 Modules load on first use, so importing optri never imports numba or CUDA.
 """
 
@@ -38,7 +40,7 @@ class EngineSpec:
 ENGINES: dict[str, EngineSpec] = {}
 
 #: Engines tried in turn by ``method="auto"``; the first that can take the problem wins.
-AUTO_ORDER = ("gpu", "fast", "table")
+AUTO_ORDER = ("integer", "gpu", "fast", "table")
 
 
 def register_engine(spec: EngineSpec) -> None:
@@ -52,8 +54,12 @@ for _spec in (
     EngineSpec(
         "brute", "optri.engines.brute", "exhaustive search over all triangulations (oracle)"
     ),
+    EngineSpec("naive", "optri.engines.naive", "un-memoized recursion, 3^(n-2) calls (teaching)"),
     EngineSpec("fast", "optri.engines.jit", "numba-compiled, parallel, one n x n table"),
     EngineSpec("gpu", "optri.engines.gpu", "numba-cuda tiled wavefront on one GPU"),
+    EngineSpec(
+        "integer", "optri.engines.integer", "exact integer DP for 'product' on integer values"
+    ),
 ):
     register_engine(_spec)
 
@@ -73,6 +79,11 @@ def _reason_unsupported(module: ModuleType, problem: Problem) -> str | None:
     # reach an engine that would silently ignore the gate
     if problem.gates and not getattr(module, "SUPPORTS_GATES", False):
         return "it does not support lexicographic objectives led by 'max' (triangle gates)"
+    if problem.needs_big_ints and not getattr(module, "EXACT_INTS", False):
+        return (
+            "its float tables cannot hold this problem's integer costs exactly (above "
+            "2**53); use method='integer', 'memo' or 'table' (exact integers)"
+        )
     check = getattr(module, "unsupported", None)
     return check(problem) if check is not None else None
 
@@ -102,7 +113,7 @@ def select_engine(method: str, problem: Problem) -> tuple[str, Callable[[Problem
                 continue
             reason = _reason_unsupported(module, problem)
             if reason is not None:
-                if name == "fast":
+                if name == "fast" and not problem.needs_big_ints:
                     warnings.warn(
                         f"{reason}; falling back to the pure-Python engine",
                         RuntimeWarning,

@@ -3,7 +3,8 @@
 Every built-in weight of :mod:`optri.weights` is computed here from vertex
 coordinates, selected by its integer code, so one kernel serves them all. The
 arithmetic follows the Python weights term by term (same sides, same order of
-additions) so both agree to a few ulps. Built lazily: importing this module does
+additions) so both agree to a few ulps (``tests/test_weights.py`` checks every
+weight code, under the CUDA simulator). Built lazily: importing this module does
 not import numba.
 """
 

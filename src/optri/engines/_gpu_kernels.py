@@ -5,29 +5,33 @@ chord (i, j) at ``tab[i, j]`` *and* ``tab[j, i]`` (i < j), so a row segment
 ``tab[i, k0:k1]`` is the costs (i, k) and ``tab[j, k0:k1]`` the costs (k, j):
 both inner streams are contiguous (cf. the CPU yardstick ``ref_mwt.c``).
 
-Tile (I, J) (I <= J) is finished once every tile on an earlier tile diagonal is:
+Tile (I, J) (I <= J) is finished once every tile on an earlier tile diagonal is.
+One factory per kernel, each compiled with only the constants it reads:
 
-* ``product`` (J - I >= 2): min over the middle k-tiles I < K < J of
+* :func:`init_kernel`: polygon sides get their base cost, every other cell +inf.
+* :func:`product_kernel` (J - I >= 2): min over the middle k-tiles I < K < J of
   ``A(I, K) (x) B(K, J)``, a min-plus tile product. ``T x KC`` slices of both
   operands are staged in shared memory and each serves all ``T * T`` cells of
   the tile; each thread keeps an ``RH x CW`` block of cells in registers. Long
   k-ranges are split over several blocks that meet through ``atomic.min``.
-* ``finish``: the k inside tiles I and J depend on cells of the tile itself,
-  so the tile is completed by a wavefront over its own local diagonals,
+* :func:`finish_kernel`: the k inside tiles I and J depend on cells of the tile
+  itself, so the tile is completed by a wavefront over its own local diagonals,
   in shared memory, one ``syncthreads`` per local diagonal.
+* :func:`rebuild_kernel` walks the optimal splits back to triangles (one block);
+  :func:`export_kernel` writes the paper's n x n table (``keep_table=True``).
 
+:func:`build_kernels` assembles the set for one tile / slice / threads / dtype.
 Kernels take the weight code and objective as arguments (one design for all
-weights, computed in-kernel from coordinates); tile, slice depth, threads and
-dtype are compile-time constants of :func:`build_kernels`. Every kernel is
+weights, computed in-kernel from coordinates, :mod:`optri.engines._gpu_device`);
+tile, slice depth, threads and dtype are compile-time constants. Every kernel is
 declared with launch bounds (its block size), so ptxas caps its registers at
 what a block of that size can get on one SM: without them the generic
 ``product`` (138 registers a thread on sm_90) could not launch 512 threads.
 
 ``eform`` selects the min-plus form of edge-decomposable weights under "sum":
 ``E = C + e`` and ``E(i, j) = min_k E(i, k) + E(k, j) + 2 e(i, j)`` (no weight in
-the inner loop).
-The product kernel is built twice from one source: ``product_minplus`` (E form,
-accumulators in registers) and ``product`` (weight computed per candidate).
+the inner loop): one source gives ``product_minplus`` (E form, accumulators in
+registers) and ``product`` (weight computed per candidate).
 """
 
 from __future__ import annotations
@@ -39,9 +43,17 @@ from typing import Any
 
 from ._gpu_device import OBJ_SUM, device_functions
 
-__all__ = ["build_kernels", "thread_layout"]
+__all__ = [
+    "build_kernels",
+    "export_kernel",
+    "finish_kernel",
+    "init_kernel",
+    "product_kernel",
+    "rebuild_kernel",
+    "thread_layout",
+]
 
-#: numba.cuda, bound by the first :func:`build_kernels`. A module global, not a
+#: numba.cuda, bound by the first kernel factory called. A module global, not a
 #: closure variable, because the CUDA simulator swaps the module's globals.
 cuda: Any = None
 
@@ -67,33 +79,51 @@ def thread_layout(tile: int, threads: int) -> tuple[int, int, int, int]:
 
 @functools.cache
 def build_kernels(tile: int, kchunk: int, threads: int, dtype: str) -> SimpleNamespace:
-    """Compile-on-first-launch kernels for one tile / slice / threads / dtype setting."""
+    """Compile-on-first-launch kernels for one tile / slice / threads / dtype setting.
+
+    ``finish`` runs ``finish_threads`` threads a block (one per cell of a local
+    diagonal, at most the tile side), the others ``threads``. A kernel is shared
+    by every setting that gives it the same constants.
+    """
+    finish_threads = min(threads, tile)
+    return SimpleNamespace(
+        init=init_kernel(threads),
+        product_minplus=product_kernel(tile, kchunk, threads, dtype, eform=True),
+        product=product_kernel(tile, kchunk, threads, dtype, eform=False),
+        finish=finish_kernel(tile, finish_threads, dtype),
+        finish_threads=finish_threads,
+        rebuild=rebuild_kernel(threads),
+        export=export_kernel(threads),
+    )
+
+
+def _jit(max_threads: int) -> Any:
+    """``cuda.jit`` with launch bounds (none in the simulator); binds the global ``cuda``."""
     global cuda
     import numba
-    import numpy as np
     from numba import cuda as numba_cuda
 
     cuda = numba_cuda
+    if numba.config.ENABLE_CUDASIM:  # type: ignore[attr-defined]  # set at import, from env
+        return cuda.jit
+    return cuda.jit(launch_bounds=max_threads)
 
-    dev = device_functions()
-    weight, combine, edge, scan = dev.weight, dev.combine, dev.edge, dev.scan
-    T, KC = tile, kchunk
-    TX, TY, RH, CW = thread_layout(T, threads)
-    NACT = TX * TY
-    FT = min(threads, T)  # finish: one thread per cell of a local diagonal, at most T
-    KCP, TP = KC + 1, T + 1  # padded row lengths: shapes must be plain constants
-    RC = RH * CW
-    ft = numba.from_dtype(np.dtype(dtype))
-    f64, i64 = numba.float64, numba.int64
+
+def _numba_type(dtype: str) -> Any:
+    """The numba scalar type of a table dtype name (``"float32"``, ``"float64"``)."""
+    import numba
+    import numpy as np
+
+    return numba.from_dtype(np.dtype(dtype))
+
+
+@functools.cache
+def init_kernel(threads: int) -> Any:
+    """``init(tab, pts, n, code, obj, eform)``: the table before any split is tried."""
+    edge = device_functions().edge
     inf = math.inf
 
-    def bounded(max_threads):
-        # cuda.jit with launch bounds; the simulator's jit takes none
-        if numba.config.ENABLE_CUDASIM:
-            return cuda.jit
-        return cuda.jit(launch_bounds=max_threads)
-
-    @bounded(threads)
+    @_jit(threads)
     def init(tab, pts, n, code, obj, eform):
         # sides get their base cost; every other cell starts at +inf (the
         # identity of atomic.min). Each thread writes only its own cells, in
@@ -108,72 +138,102 @@ def build_kernels(tile: int, kchunk: int, threads: int, dtype: str) -> SimpleNam
             else:
                 tab[i, j] = inf
 
-    def make_product(EFORM):
-        # EFORM is a compile-time constant, so each specialization keeps one inner
-        # loop: the min-plus one has no calls and its accumulators stay in registers
-        @bounded(threads)
-        def product(tab, pts, dim, n, code, obj, D, splits, total):
-            As = cuda.shared.array((T, KCP), ft)  # +1: no bank conflicts across rows
-            Bs = cuda.shared.array((T, KCP), ft)
-            best = cuda.local.array(RC, ft)
-            tid = cuda.threadIdx.x
-            nth = cuda.blockDim.x
-            tx = tid % TX
-            ty = tid // TX
-            for blk in range(cuda.blockIdx.x, total, cuda.gridDim.x):
-                ti = blk // splits
-                s = blk - ti * splits
-                i0 = ti * T
-                j0 = (ti + D) * T
-                k_lo = (ti + 1 + (s * (D - 1)) // splits) * T
-                k_hi = (ti + 1 + ((s + 1) * (D - 1)) // splits) * T
-                for c in range(RH * CW):
-                    best[c] = inf
-                for k0 in range(k_lo, k_hi, KC):
-                    for e in range(tid, T * KC, nth):
-                        r = e // KC
-                        c = e - r * KC
-                        As[r, c] = tab[i0 + r, k0 + c]  # (i, k), row-contiguous
-                        Bs[r, c] = tab[j0 + r, k0 + c]  # (k, j) from the transposed half
-                    cuda.syncthreads()
-                    # min(), not compare-and-branch, and constant-trip loops: the
-                    # RH x CW accumulators then live in registers (checked in the PTX)
-                    if tid >= NACT:
-                        pass
-                    elif EFORM:
-                        for c in range(KC):
-                            for r in range(RH):
-                                a = As[ty + r * TY, c]
-                                for q in range(CW):
-                                    x = r * CW + q
-                                    best[x] = min(best[x], a + Bs[tx + q * TX, c])
-                    else:
-                        for c in range(KC):
-                            for r in range(RH):
-                                a = As[ty + r * TY, c]
-                                for q in range(CW):
-                                    x = r * CW + q
-                                    w = weight(
-                                        code,
-                                        dim,
-                                        n,
-                                        pts,
-                                        i0 + ty + r * TY,
-                                        k0 + c,
-                                        j0 + tx + q * TX,
-                                    )
-                                    best[x] = min(best[x], combine(obj, a, Bs[tx + q * TX, c], w))
-                    cuda.syncthreads()
-                if tid < NACT:
-                    for r in range(RH):
-                        for q in range(CW):
-                            cuda.atomic.min(
-                                tab, (i0 + ty + r * TY, j0 + tx + q * TX), best[r * CW + q]
-                            )
+    return init
 
-        return product
 
-    @bounded(FT)
+@functools.cache
+def product_kernel(tile: int, kchunk: int, threads: int, dtype: str, eform: bool) -> Any:
+    """``product(tab, pts, dim, n, code, obj, D, splits, total)``: tiles (I, I + D).
+
+    Block ``blk`` takes tile ``blk // splits`` and share ``blk % splits`` of its
+    middle k-tiles. ``eform`` is a compile-time constant, so each specialization
+    keeps one inner loop: the min-plus one has no calls, its sums stay in registers.
+    """
+    dev = device_functions()
+    weight, combine = dev.weight, dev.combine
+    T, KC, EFORM = tile, kchunk, eform
+    TX, TY, RH, CW = thread_layout(T, threads)
+    NACT = TX * TY
+    KCP = KC + 1  # padded row length: shapes must be plain constants
+    RC = RH * CW
+    ft = _numba_type(dtype)
+    inf = math.inf
+
+    @_jit(threads)
+    def product(tab, pts, dim, n, code, obj, D, splits, total):
+        As = cuda.shared.array((T, KCP), ft)  # +1: no bank conflicts across rows
+        Bs = cuda.shared.array((T, KCP), ft)
+        best = cuda.local.array(RC, ft)
+        tid = cuda.threadIdx.x
+        nth = cuda.blockDim.x
+        tx = tid % TX
+        ty = tid // TX
+        for blk in range(cuda.blockIdx.x, total, cuda.gridDim.x):
+            ti = blk // splits
+            s = blk - ti * splits
+            i0 = ti * T
+            j0 = (ti + D) * T
+            k_lo = (ti + 1 + (s * (D - 1)) // splits) * T
+            k_hi = (ti + 1 + ((s + 1) * (D - 1)) // splits) * T
+            for c in range(RH * CW):
+                best[c] = inf
+            for k0 in range(k_lo, k_hi, KC):
+                for e in range(tid, T * KC, nth):
+                    r = e // KC
+                    c = e - r * KC
+                    As[r, c] = tab[i0 + r, k0 + c]  # (i, k), row-contiguous
+                    Bs[r, c] = tab[j0 + r, k0 + c]  # (k, j) from the transposed half
+                cuda.syncthreads()
+                # min(), not compare-and-branch, and constant-trip loops: the
+                # RH x CW accumulators then live in registers (checked in the PTX)
+                if tid >= NACT:
+                    pass
+                elif EFORM:
+                    for c in range(KC):
+                        for r in range(RH):
+                            a = As[ty + r * TY, c]
+                            for q in range(CW):
+                                x = r * CW + q
+                                best[x] = min(best[x], a + Bs[tx + q * TX, c])
+                else:
+                    for c in range(KC):
+                        for r in range(RH):
+                            a = As[ty + r * TY, c]
+                            for q in range(CW):
+                                x = r * CW + q
+                                w = weight(
+                                    code,
+                                    dim,
+                                    n,
+                                    pts,
+                                    i0 + ty + r * TY,
+                                    k0 + c,
+                                    j0 + tx + q * TX,
+                                )
+                                best[x] = min(best[x], combine(obj, a, Bs[tx + q * TX, c], w))
+                cuda.syncthreads()
+            if tid < NACT:
+                for r in range(RH):
+                    for q in range(CW):
+                        cuda.atomic.min(tab, (i0 + ty + r * TY, j0 + tx + q * TX), best[r * CW + q])
+
+    return product
+
+
+@functools.cache
+def finish_kernel(tile: int, threads: int, dtype: str) -> Any:
+    """``finish(tab, pts, mask, has_mask, dim, n, code, obj, eform, D, count)``: tiles (I, I + D).
+
+    One block a tile, ``threads`` (at most ``tile``) threads a block.
+    """
+    dev = device_functions()
+    weight, combine, edge = dev.weight, dev.combine, dev.edge
+    T = tile
+    TP = T + 1  # padded row length: shapes must be plain constants
+    ft = _numba_type(dtype)
+    inf = math.inf
+
+    @_jit(threads)
     def finish(tab, pts, mask, has_mask, dim, n, code, obj, eform, D, count):
         Cs = cuda.shared.array((T, TP), ft)
         tid = cuda.threadIdx.x
@@ -233,7 +293,19 @@ def build_kernels(tile: int, kchunk: int, threads: int, dtype: str) -> SimpleNam
                     tab[j0 + c, i0 + r] = Cs[r, c]
             cuda.syncthreads()
 
-    @bounded(threads)
+    return finish
+
+
+@functools.cache
+def rebuild_kernel(threads: int) -> Any:
+    """``rebuild(tab, pts, dim, n, code, obj, eform, stack, tris, out)``: one block."""
+    import numba
+
+    dev = device_functions()
+    edge, scan = dev.edge, dev.scan
+    f64, i64 = numba.float64, numba.int64
+
+    @_jit(threads)
     def rebuild(tab, pts, dim, n, code, obj, eform, stack, tris, out):
         # one block walks the optimal splits from (0, n-1) down; the O(n)
         # re-scan of each chord is shared by the threads and reduced in shared memory
@@ -295,7 +367,17 @@ def build_kernels(tile: int, kchunk: int, threads: int, dtype: str) -> SimpleNam
                     st[0] = top
             cuda.syncthreads()
 
-    @bounded(threads)
+    return rebuild
+
+
+@functools.cache
+def export_kernel(threads: int) -> Any:
+    """``export(tab, pts, mask, has_mask, dim, n, code, obj, eform, out)``: the n x n table."""
+    dev = device_functions()
+    edge, scan = dev.edge, dev.scan
+    inf = math.inf
+
+    @_jit(threads)
     def export(tab, pts, mask, has_mask, dim, n, code, obj, eform, out):
         # the paper's table: cost above the diagonal, optimal split below
         for e in range(cuda.grid(1), n * n, cuda.gridsize(1)):
@@ -315,12 +397,4 @@ def build_kernels(tile: int, kchunk: int, threads: int, dtype: str) -> SimpleNam
             out[i, j] = 0.0 if v == -inf else v
             out[j, i] = arg
 
-    return SimpleNamespace(
-        init=init,
-        product_minplus=make_product(True),
-        product=make_product(False),
-        finish=finish,
-        finish_threads=FT,
-        rebuild=rebuild,
-        export=export,
-    )
+    return export

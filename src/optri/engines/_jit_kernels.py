@@ -28,6 +28,7 @@ from numba import njit, prange, types
 from numba.core import cgutils
 from numba.extending import intrinsic, overload
 
+from ..objective import lex_better
 from ..weights import WeightCode
 from ._jit_weights import edge_weight, triangle_weight
 from .compiled import kernel
@@ -453,12 +454,17 @@ def _gated_first(weigh, i, k, j):
     return w1
 
 
+# ties of a lexicographic objective: optri.objective's rule, compiled from its source
+_lex_better = kernel(inline="always")(lex_better)
+
+
 @kernel(inline="always")
 def best_split(tables, weigh, rule, i, j):
     """The recurrence for one cell: ``(cost1, cost2, k)``, ties to the smallest k.
 
     ``cost(i, j) = best_k combine(cost(i, k), cost(k, j), w(i, k, j))``, compared
-    on component 1, then (``lex``) component 2. A NaN weight sets ``nan[0]``.
+    on component 1, then (``lex``) component 2, component-1 values within
+    ``optri.objective.LEX_TIE_RTOL`` counting as equal. A NaN weight sets ``nan[0]``.
     With ``codes[2] != NO_GATE``, a triangle whose weight ``codes[2]`` exceeds
     ``gate[0]`` gets weight +inf (second phase of a max-led lexicographic objective).
     """
@@ -489,7 +495,7 @@ def best_split(tables, weigh, rule, i, j):
             nan[0] = 1
             continue
         v2 = _combine(is_max[1], r2i[kk], r2j[kk], w2)
-        if v1 < b1 or (v1 == b1 and v2 < b2):
+        if _lex_better(v1, v2, b1, b2):
             b1, b2, arg = v1, v2, k
     return b1, b2, arg
 

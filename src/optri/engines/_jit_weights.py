@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from numba.extending import register_jitable
 
-from ..weights import FORMULAS, edge_weight, side_length, triangle_weight
+from ..weights import FORMULAS, OUT_OF_LINE, edge_weight, side_length, triangle_weight
 
 __all__ = ["edge_weight", "triangle_weight"]
 
@@ -18,5 +18,6 @@ __all__ = ["edge_weight", "triangle_weight"]
 # kernels were: 1.5-2x faster on the generic path than calls. side_length is left to
 # LLVM's inliner: its branches would trip numba's IR-inlining checks.
 for _formula in FORMULAS:
-    inline = "never" if _formula in (side_length, triangle_weight) else "always"
+    out_of_line = _formula in (side_length, triangle_weight) or _formula in OUT_OF_LINE
+    inline = "never" if out_of_line else "always"
     register_jitable(inline=inline)(_formula)

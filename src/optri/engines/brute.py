@@ -19,6 +19,8 @@ __all__ = ["all_index_triangulations", "solve"]
 
 #: Honours Problem.gates (through Problem.evaluator).
 SUPPORTS_GATES = True
+#: Integer weights stay Python ints: exact costs at any size.
+EXACT_INTS = True
 
 Tri = tuple[int, int, int]
 

@@ -13,11 +13,14 @@ from numpy.typing import NDArray
 from ..errors import WeightError
 from ..objective import Cost, Objective
 from ..polygon import Polygon
-from ..weights import Weight
+from ..weights import Weight, WeightCode
 
-__all__ = ["Problem", "ProgressFn", "Solution", "chord_rows", "with_sides"]
+__all__ = ["Observer", "Problem", "ProgressFn", "Solution", "chord_rows", "with_sides"]
 
 ProgressFn = Callable[[int, int], None]
+#: ``observer(kind, i, j, k, value)``: told each step of a Python engine (see
+#: :attr:`Problem.observer`); ``k`` and ``value`` are None where meaningless.
+Observer = Callable[[str, int, int, "int | None", Any], None]
 
 
 @dataclass
@@ -48,6 +51,13 @@ class Problem:
         first's optimum (see :attr:`optri.objective.Objective.two_phase`).
     options : dict
         Engine-specific extras.
+    observer : callable or None
+        ``observer(kind, i, j, k, value)``, told every step of the Python
+        engines (memo, table, naive): ``"call"`` (a sub-polygon requested),
+        ``"hit"`` (a request answered from the table), ``"candidate"`` (split k
+        of chord (i, j) evaluated, its value) and ``"store"`` (chord (i, j)
+        filled: its optimal k and value). :func:`optri.trace` records them;
+        compiled engines ignore it.
     """
 
     polygon: Polygon
@@ -59,6 +69,7 @@ class Problem:
     dtype: Any = np.float64
     gates: tuple[tuple[Weight, float], ...] = ()
     options: dict[str, Any] = field(default_factory=dict)
+    observer: Observer | None = None
 
     @property
     def n(self) -> int:
@@ -106,6 +117,28 @@ class Problem:
             return vals
 
         return wn
+
+    @property
+    def integer_costs(self) -> bool:
+        """Costs are exact integers: the product weight on integer vertex values."""
+        return self.polygon.ints is not None and all(
+            w.code == WeightCode.PRODUCT for w in self.weights
+        )
+
+    @property
+    def needs_big_ints(self) -> bool:
+        """Integer costs a float table of ``dtype`` cannot hold exactly.
+
+        Every partial cost is at most ``(n - 2) * max|v|^3``; below ``2**(p + 1)``
+        (p the float type's mantissa bits: 2**53 for float64) float arithmetic is
+        exact, above it only integer arithmetic is.
+        """
+        if not self.integer_costs or self.polygon.ints is None:
+            return False
+        top = max(abs(v) for v in self.polygon.ints)
+        kind = np.dtype(self.dtype)
+        mantissa = np.finfo(kind).nmant if kind.kind == "f" else 52
+        return (self.n - 2) * top**3 >= 2 ** (mantissa + 1)
 
     def allowed_rows(self) -> list[list[bool]] | None:
         """``allowed`` as nested lists (fast to index from Python), sides set True."""

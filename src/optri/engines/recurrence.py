@@ -100,6 +100,9 @@ class Recurrence:
         The chord mask (sides set), None for every chord.
     evaluations : int
         Triangle weights evaluated so far by :meth:`cell`.
+    watch : callable or None
+        The problem's observer (:attr:`Problem.observer`), told of each
+        candidate split :meth:`cell` evaluates.
     """
 
     def __init__(self, problem: Problem) -> None:
@@ -108,6 +111,7 @@ class Recurrence:
         self.ok = problem.allowed_rows()
         self.weight = problem.evaluator()
         self.evaluations = 0
+        self.watch = problem.observer
 
     def splits(self, i: int, j: int) -> Iterable[int]:
         """:func:`split_points` of chord (i, j) under this problem's mask."""
@@ -121,9 +125,11 @@ class Recurrence:
         """Evaluate cost(i, j): yield each needed sub-chord, receive its cost, return (best, k).
 
         Splits are tried in increasing k and a later one wins only when strictly
-        better, so ties go to the smallest k in every engine.
+        better, so ties go to the smallest k in every engine. The observer, if
+        any, is told of each candidate: ``watch("candidate", i, j, k, value)``.
         """
         combine, less, w = self.objective.combine, self.objective.less, self.weight
+        watch = self.watch
         best: Any = self.objective.worst
         arg = -1
         for k in self.splits(i, j):
@@ -131,13 +137,16 @@ class Recurrence:
             b = yield k, j
             self.evaluations += 1
             c = combine(a, b, w(i, k, j))
+            if watch is not None:
+                watch("candidate", i, j, k, c)
             if less(c, best):
                 best, arg = c, k
         return best, arg
 
 
-def walk(root: State, expand: Callable[[State], tuple[tuple[int, int, int], Sequence[State]]],
-         limit: int) -> list[tuple[int, int, int]]:
+def walk(
+    root: State, expand: Callable[[State], tuple[tuple[int, int, int], Sequence[State]]], limit: int
+) -> list[tuple[int, int, int]]:
     """Triangles of an optimal solution, from the ``root`` state down.
 
     ``expand(state)`` gives the state's triangle ``(i, k, j)`` and its child
@@ -203,7 +212,7 @@ def new_tables(problem: Problem, unset: Any) -> tuple[list[list[Any]], list[list
     )
     cost: list[list[Any]] = [[unset] * n for _ in range(n)]
     split = [[-1] * n for _ in range(n)]
-    neutral = problem.objective.neutral
+    neutral = problem.objective.neutral_for(problem.integer_costs)  # ints stay exact
     for i in range(n - 1):
         cost[i][i + 1] = neutral
     return cost, split

@@ -68,7 +68,7 @@ def enumerate_triangulations(
     --------
     >>> ts = list(enumerate_triangulations([5, 1, 5, 1, 5], weight="product"))
     >>> len(ts), sorted(t.weight for t in ts)
-    (5, [35.0, 35.0, 75.0, 75.0, 175.0])
+    (5, [35, 35, 75, 75, 175])
     """
     polygon = as_enumerable(vertices_or_n)
     build = TriangulationBuilder(polygon, weight, objective, "enumerate")

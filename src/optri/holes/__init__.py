@@ -8,8 +8,9 @@ boundary loop of a triangle mesh and fills it.
 
 from __future__ import annotations
 
+from .boundary import boundary_loops
 from .liepa import liepa_objective
-from .mesh import HoleRecord, boundary_loops, fill_holes
+from .mesh import HoleRecord, fill_holes
 from .polyline import METHODS, fill_polyline
 
 __all__ = [

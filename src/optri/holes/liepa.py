@@ -5,6 +5,12 @@ between adjacent triangles, incl. the mesh triangles across boundary edges
 when third points are given; total area). :func:`liepa_objective` computes
 it for any index triangulation with the same compiled numbers the searches
 use, so comparisons with brute force and with other tools are exact.
+
+Coordinates of any magnitude: the searches and the evaluator work on the
+points scaled by a power of two (:func:`power_of_two_scale`), which changes
+no rounding (unit normals and degeneracy tests come out bit-identical) but
+keeps squares and cross products of 1e300-sized or 1e-300-sized coordinates
+from overflowing or underflowing.
 """
 
 from __future__ import annotations
@@ -17,7 +23,14 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InvalidPolygonError
 from ..polygon import normalize_vertices
 
-__all__ = ["angle_of_key", "as_points3d", "liepa_keys", "liepa_objective", "with_third_points"]
+__all__ = [
+    "angle_of_key",
+    "as_points3d",
+    "liepa_keys",
+    "liepa_objective",
+    "power_of_two_scale",
+    "with_third_points",
+]
 
 
 def liepa_objective(
@@ -36,8 +49,20 @@ def liepa_objective(
     """
     P = as_points3d(points3d)
     Q, has_third = with_third_points(P, third_points)
-    key, area = liepa_keys(Q, P.shape[0], has_third, np.asarray(triangles, dtype=np.int64))
-    return angle_of_key(key), area
+    Qs, e = power_of_two_scale(Q)
+    key, area = liepa_keys(Qs, P.shape[0], has_third, np.asarray(triangles, dtype=np.int64))
+    return angle_of_key(key), math.ldexp(area, 2 * e)
+
+
+def power_of_two_scale(Q: NDArray[np.float64]) -> tuple[NDArray[np.float64], int]:
+    """``(Q / 2**e, e)`` with the largest coordinate in [0.5, 1): exact, no rounding.
+
+    >>> power_of_two_scale(np.array([[3.0, -1e300, 0.0]]))[1]
+    997
+    """
+    top = float(np.abs(Q).max())
+    e = math.frexp(top)[1] if top > 0 else 0
+    return np.ascontiguousarray(np.ldexp(Q, -e)), e
 
 
 def as_points3d(points3d: ArrayLike) -> NDArray[np.float64]:
@@ -49,7 +74,8 @@ def as_points3d(points3d: ArrayLike) -> NDArray[np.float64]:
     P = normalize_vertices(points3d, values=False)
     if P.shape[1] == 2:
         P = np.column_stack((P, np.zeros(len(P))))
-    centred = P - P.mean(axis=0)
+    scaled = power_of_two_scale(P)[0]  # no overflow in the centring and the SVD
+    centred = scaled - scaled.mean(axis=0)
     sv = np.linalg.svd(centred, compute_uv=False)
     if sv[1] <= 1e-12 * sv[0]:
         raise InvalidPolygonError(
@@ -87,7 +113,10 @@ def angle_of_key(key: float) -> float:
 def liepa_keys(
     Q: NDArray[np.float64], n: int, has_third: bool, triangles: NDArray[np.int64]
 ) -> tuple[float, float]:
-    """(max dihedral key, total area) of index triangles; the kernels' own numbers."""
+    """(max dihedral key, total area) of index triangles; the kernels' own numbers.
+
+    ``Q`` as the searches see it (scaled by :func:`power_of_two_scale`).
+    """
     from . import _kernels as hk  # numba: loaded on first use only
 
     tris = np.sort(triangles.reshape(-1, 3), axis=1)
@@ -104,6 +133,7 @@ def liepa_keys(
         pos = np.minimum(np.searchsorted(keys, sides), len(keys) - 1)
         found = keys[pos] == sides
         mesh = hk.mesh_normals(Q, n)
-        side_keys = hk.pair_keys(normals[owner[pos[found]]], mesh[np.flatnonzero(found)])
+        side = np.flatnonzero(found).astype(np.int64)
+        side_keys = hk.mesh_pair_keys(normals[owner[pos[found]]], mesh, side)
         worst = max(worst, side_keys.max(initial=0.0))
     return float(worst), float(normals[:, 4].sum())

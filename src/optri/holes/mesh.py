@@ -1,10 +1,12 @@
-"""Fill the holes of a triangle mesh: ``fill_holes`` and ``boundary_loops``.
+"""Fill the holes of a triangle mesh: ``fill_holes``.
 
-Each hole's boundary loop is filled by :func:`optri.fill_polyline`, with the
-mesh triangles along the loop as Liepa's third points, and the new faces are
-wound so that every boundary edge ``(a, b)`` of an existing face appears as
-``(b, a)`` in its new neighbour. trimesh is imported only when a
-``trimesh.Trimesh`` is passed in.
+Each boundary loop (:mod:`optri.holes.boundary`: pinched vertices split into
+simple loops) is filled by :func:`optri.fill_polyline`, with the mesh
+triangles along the loop as Liepa's third points. The patch never joins two
+vertices the mesh already joins (that edge would get four faces), including
+edges added by the holes filled before it; new faces are wound so that every
+boundary edge ``(a, b)`` of an existing face appears as ``(b, a)`` in its new
+neighbour. trimesh is imported only when a ``trimesh.Trimesh`` is passed in.
 """
 
 from __future__ import annotations
@@ -12,19 +14,27 @@ from __future__ import annotations
 import time
 import warnings
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .._optional import import_optional
-from ..errors import HoleSkippedWarning, InvalidPolygonError, TableTooLargeError
+from ..errors import (
+    HoleSkippedWarning,
+    InvalidPolygonError,
+    NoTriangulationError,
+    TableTooLargeError,
+)
 from ..objective import Cost
 from ..weights import get_weight
+from .boundary import Loop, edge_keys, trace_loops
 from .polyline import METHODS, fill_polyline
 
-__all__ = ["HoleRecord", "boundary_loops", "fill_holes"]
+__all__ = ["HoleRecord", "fill_holes"]
+
+Ints = NDArray[np.int64]
 
 
 @dataclass
@@ -49,6 +59,17 @@ class HoleRecord:
         ``edges - 2`` when filled, else 0.
     vertices : list of int
         The loop's mesh vertex ids in patch order.
+    pinched : list of int
+        Pinched (non-manifold) boundary vertices on this loop: it was split
+        off a border cycle there.
+    forbidden_chords : int
+        Chords the patch could not use: pairs of loop vertices the mesh (or a
+        patch filled before) already joins.
+    degenerate : int
+        Zero-area triangles in the patch: 0 unless every allowed patch has one.
+    candidates : str
+        ``method="delaunay"``: the candidate set that held the patch
+        (``"delaunay"``, ``"delaunay-edges"``, ``"knn-8"``... or ``"all"``).
     """
 
     index: int
@@ -60,6 +81,10 @@ class HoleRecord:
     seconds: float = 0.0
     faces_added: int = 0
     vertices: list[int] | None = None
+    pinched: list[int] = field(default_factory=list)
+    forbidden_chords: int = 0
+    degenerate: int = 0
+    candidates: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready fields (a tuple weight becomes a list)."""
@@ -68,60 +93,18 @@ class HoleRecord:
             out["weight"] = list(self.weight)
         return out
 
-
-def boundary_loops(faces: NDArray[np.int64]) -> list[tuple[NDArray[np.int64], NDArray[np.int64]]]:
-    """Closed boundary loops of a triangle mesh, each as ``(loop, third)``.
-
-    ``loop`` lists vertex ids in *patch* order: each consecutive pair
-    ``(loop[i], loop[i+1])`` is a boundary edge that an existing face runs the
-    other way. ``third[i]`` is that face's third vertex.
-
-    Raises
-    ------
-    InvalidPolygonError
-        A vertex with more than two boundary edges (non-manifold boundary) or
-        boundary edges whose faces are inconsistently wound.
-
-    Examples
-    --------
-    >>> loop, third = boundary_loops(np.array([[0, 1, 2], [0, 2, 3]]))[0]
-    >>> loop.tolist(), third.tolist()
-    ([0, 3, 2, 1], [2, 0, 0, 2])
-    """
-    f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
-    directed = np.concatenate([f[:, [0, 1, 2]], f[:, [1, 2, 0]], f[:, [2, 0, 1]]])
-    key = np.sort(directed[:, :2], axis=1)
-    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    bnd = directed[counts[inverse.ravel()] == 1]  # rows (a, b, c): face edge a->b
-    nxt: dict[int, tuple[int, int]] = {}
-    for a, b, c in bnd.tolist():
-        if a in nxt:
-            raise InvalidPolygonError(
-                f"non-manifold boundary at vertex {a}: it has more than two boundary edges "
-                f"(or its faces are inconsistently wound); fix the mesh before filling"
-            )
-        nxt[a] = (b, c)
-    loops = []
-    for start in sorted(nxt):
-        if start not in nxt:
-            continue
-        verts, thirds, v = [], [], start
-        while v in nxt:
-            b, c = nxt.pop(v)
-            verts.append(v)
-            thirds.append(c)
-            v = b
-        if v != start:
-            raise InvalidPolygonError(
-                f"boundary at vertex {v} does not close into a loop (non-manifold or "
-                f"inconsistently wound faces)"
-            )
-        # faces run a->b; the patch must run b->a: reverse, third of (b, a) stays c
-        loop = np.array(verts[::-1], dtype=np.int64)
-        third = np.roll(np.array(thirds[::-1], dtype=np.int64), -1)
-        first = int(np.argmin(loop))  # start at the smallest id: deterministic output
-        loops.append((np.roll(loop, -first), np.roll(third, -first)))
-    return loops
+    def detail(self) -> str:
+        """One line saying what was done beyond a plain fill ("" if nothing)."""
+        notes = []
+        if self.pinched:
+            notes.append(f"split at pinched vertex {', '.join(map(str, self.pinched))}")
+        if self.forbidden_chords:
+            notes.append(f"{self.forbidden_chords} chords avoided (existing edges)")
+        if self.degenerate:
+            notes.append(f"{self.degenerate} zero-area faces (no patch avoids them)")
+        if self.candidates:
+            notes.append(f"candidates: {self.candidates}")
+        return "; ".join(notes)
 
 
 def fill_holes(
@@ -157,8 +140,16 @@ def fill_holes(
     Raises
     ------
     InvalidPolygonError
-        Faces that are not triangles or index missing vertices, or a
-        non-manifold boundary; nothing is filled then.
+        Faces that are not triangles or index missing vertices, or boundary
+        edges that do not close into loops; nothing is filled then.
+
+    Notes
+    -----
+    The filled mesh has no edge used by more than two faces that was not so
+    before: a patch never uses a chord joining two vertices the mesh (or an
+    earlier patch) already joins; a hole every patch of which would is left
+    open (``status="failed"``). Pinched boundary vertices (two loops touching)
+    are split as CGAL's border cycles are, so each loop is filled on its own.
 
     Examples
     --------
@@ -174,13 +165,15 @@ def fill_holes(
     if not (isinstance(weight, str) and weight == "liepa"):
         get_weight(weight)  # an unknown weight fails here, not once per hole
     vertices, faces, is_trimesh = _mesh_arrays(mesh)
-    loops = boundary_loops(faces)
+    loops = trace_loops(faces)
+    joined = _Edges(faces, loops, len(vertices))
     records: list[HoleRecord] = []
     new_faces = [faces]
-    for h, (loop, third) in enumerate(loops):
-        rec, patch = _fill_one(h, vertices, loop, third, max_hole_edges, weight, method)
+    for h, loop in enumerate(loops):
+        rec, patch = _fill_one(h, vertices, loop, joined, max_hole_edges, weight, method)
         if patch is not None:
             new_faces.append(patch)
+            joined.add(patch)
         records.append(rec)
         if progress is not None:
             progress(h + 1, len(loops))
@@ -191,38 +184,80 @@ def fill_holes(
     return (vertices.copy(), out_faces), records
 
 
+class _Edges:
+    """Edges between boundary vertices that the mesh (or a patch so far) has."""
+
+    def __init__(self, faces: Ints, loops: list[Loop], nv: int) -> None:
+        self.nv = nv
+        on_loop = np.zeros(nv, dtype=np.bool_)
+        for lp in loops:
+            on_loop[lp.vertices] = True
+        keys = edge_keys(faces, nv)
+        a, b = np.divmod(keys, nv)
+        self.keys = np.unique(keys[on_loop[a] & on_loop[b]])  # a few, not every edge
+
+    def add(self, patch: Ints) -> None:
+        self.keys = np.union1d(self.keys, edge_keys(patch, self.nv))
+
+    def chords_of(self, loop: Ints) -> Ints:
+        """Pairs of loop positions the mesh already joins, sides excluded."""
+        n = len(loop)
+        pos = {int(v): i for i, v in enumerate(loop.tolist())}
+        a, b = np.divmod(self.keys, self.nv)
+        pairs = [(pos[x], pos[y]) for x, y in zip(a.tolist(), b.tolist()) if x in pos and y in pos]
+        out = np.array(pairs, dtype=np.int64).reshape(-1, 2)
+        gap = np.abs(out[:, 0] - out[:, 1])
+        return out[(gap != 1) & (gap != n - 1)]
+
+
 def _fill_one(
     h: int,
     vertices: NDArray[np.float64],
-    loop: NDArray[np.int64],
-    third: NDArray[np.int64],
+    loop: Loop,
+    joined: _Edges,
     max_hole_edges: int | None,
     weight: Any,
     method: str,
-) -> tuple[HoleRecord, NDArray[np.int64] | None]:
-    n = len(loop)
-    rec = HoleRecord(h, n, "filled", vertices=loop.tolist())
+) -> tuple[HoleRecord, Ints | None]:
+    n = len(loop.vertices)
+    rec = HoleRecord(h, n, "filled", vertices=loop.vertices.tolist(), pinched=list(loop.pinched))
     if max_hole_edges is not None and n > max_hole_edges:
-        rec.status = "skipped"
-        rec.reason = f"{n} edges > max_hole_edges={max_hole_edges}"
-        warnings.warn(f"hole {h} left open: {rec.reason}", HoleSkippedWarning, stacklevel=3)
-        return rec, None
+        return _left_open(rec, "skipped", f"{n} edges > max_hole_edges={max_hole_edges}"), None
+    if n < 3:
+        return _left_open(rec, "failed", f"a loop of {n} edges bounds no surface"), None
+    forbidden = joined.chords_of(loop.vertices)
+    rec.forbidden_chords = len(forbidden)
     start = time.perf_counter()
+    points, third = vertices[loop.vertices], vertices[loop.third]
     try:
-        tri = fill_polyline(vertices[loop], weight, method, vertices[third])
+        tri = fill_polyline(points, weight, method, third, forbidden=forbidden)
+    except NoTriangulationError as exc:
+        if rec.forbidden_chords == 0:
+            return _left_open(rec, "failed", str(exc)), None
+        reason = (
+            f"every patch would reuse one of the {rec.forbidden_chords} edges the mesh "
+            f"already has between its vertices (the mesh would not stay edge-manifold)"
+        )
+        return _left_open(rec, "failed", reason), None
     except (InvalidPolygonError, TableTooLargeError) as exc:
         # this hole's geometry (e.g. collinear) or size: report it, fill the others
-        rec.status, rec.reason = "failed", str(exc)
-        warnings.warn(f"hole {h} left open: {exc}", HoleSkippedWarning, stacklevel=3)
-        return rec, None
+        return _left_open(rec, "failed", str(exc)), None
     rec.seconds = time.perf_counter() - start
     rec.weight, rec.method = tri.weight, tri.method
     rec.faces_added = len(tri.triangles)
+    rec.degenerate = int(tri.stats.get("degenerate", 0))
+    rec.candidates = str(tri.stats.get("candidates", ""))
     # fill_polyline winds (i, k, j), i < k < j, in the loop's (patch) order
-    return rec, loop[tri.triangles]
+    return rec, loop.vertices[tri.triangles]
 
 
-def _mesh_arrays(mesh: Any) -> tuple[NDArray[np.float64], NDArray[np.int64], bool]:
+def _left_open(rec: HoleRecord, status: str, reason: str) -> HoleRecord:
+    rec.status, rec.reason = status, reason
+    warnings.warn(f"hole {rec.index} left open: {reason}", HoleSkippedWarning, stacklevel=4)
+    return rec
+
+
+def _mesh_arrays(mesh: Any) -> tuple[NDArray[np.float64], Ints, bool]:
     is_trimesh = hasattr(mesh, "vertices") and hasattr(mesh, "faces")
     if is_trimesh:
         vertices, faces = mesh.vertices, mesh.faces

@@ -11,9 +11,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InvalidPolygonError
-from .geo import polygon_from_geojson, polygon_from_wkt
+from .geo import rings_from_geojson, rings_from_wkt
 
-__all__ = ["read_polygon"]
+__all__ = ["read_polygon", "read_rings"]
 
 
 def read_polygon(path: str | os.PathLike[str]) -> NDArray[np.float64]:
@@ -23,7 +23,29 @@ def read_polygon(path: str | os.PathLike[str]) -> NDArray[np.float64]:
     single column is read as vertex values. JSON: a list of pairs or numbers,
     or an object with a ``vertices``/``coordinates``/``points``/``values`` key.
     GeoJSON (an object with a ``type``) and ``.wkt`` files: the exterior ring of
-    one polygon; a polygon with holes is refused (:mod:`optri.io.geo`).
+    one polygon. A polygon with holes is refused here, never cut down to its
+    exterior: :func:`read_rings` reads its every ring.
+
+    Raises
+    ------
+    InvalidPolygonError
+        Missing file, unparsable content, holes; the message names the file and line.
+    """
+    rings = read_rings(path)
+    if len(rings) > 1:
+        raise InvalidPolygonError(
+            f"{path}: the polygon has {len(rings) - 1} hole(s) and read_polygon returns one "
+            f"ring; read every ring with read_rings, or give the file to optri.triangulate"
+        )
+    return rings[0]
+
+
+def read_rings(path: str | os.PathLike[str]) -> list[NDArray[np.float64]]:
+    """Read a polygon's rings from a file: the exterior first, then its holes.
+
+    The formats of :func:`read_polygon`; a GeoJSON or WKT polygon gives every
+    ring, a JSON object ``{"exterior": [...], "holes": [[...], ...]}`` too.
+    Other files hold one ring.
 
     Raises
     ------
@@ -37,29 +59,37 @@ def read_polygon(path: str | os.PathLike[str]) -> NDArray[np.float64]:
         raise InvalidPolygonError(f"cannot read {p}: {exc.strerror or exc}") from exc
     suffix = p.suffix.lower()
     if suffix == ".wkt":
-        return polygon_from_wkt(text)
+        return rings_from_wkt(text)
     if suffix in (".json", ".geojson"):
         return _parse_json(text, p)
-    return _parse_csv(text, p)
+    return [_parse_csv(text, p)]
 
 
-def _parse_json(text: str, path: Path) -> NDArray[np.float64]:
+def _parse_json(text: str, path: Path) -> list[NDArray[np.float64]]:
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise InvalidPolygonError(f"{path}:{exc.lineno}: invalid JSON ({exc.msg})") from exc
-    if isinstance(data, dict) and "type" in data:  # GeoJSON: exterior ring, holes refused
-        return polygon_from_geojson(data)
+    if isinstance(data, dict) and "type" in data:  # GeoJSON: every ring
+        return rings_from_geojson(data)
+    if isinstance(data, dict) and "exterior" in data:
+        holes = data.get("holes") or []
+        if not isinstance(holes, list):
+            raise InvalidPolygonError(f"{path}: 'holes' must be a list of rings")
+        return [_as_array(r, path) for r in [data["exterior"], *holes]]
     if isinstance(data, dict):
         for key in ("vertices", "coordinates", "points", "values"):
             if key in data:
                 data = data[key]
                 break
+    return [_as_array(data, path)]
+
+
+def _as_array(data: object, path: Path) -> NDArray[np.float64]:
     try:
-        arr = np.asarray(data, dtype=np.float64)
+        return np.asarray(data, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise InvalidPolygonError(f"{path}: expected a list of [x, y] pairs or numbers") from exc
-    return arr
 
 
 def _parse_csv(text: str, path: Path) -> NDArray[np.float64]:

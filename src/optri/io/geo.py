@@ -1,10 +1,11 @@
 """Geometry interop: shapely polygons in, shapely triangles out, GeoJSON and WKT text.
 
-Only exterior rings are triangulated. A polygon with holes is refused: the
-minimum weight triangulation of a polygon with holes is NP-hard (Mulzer and
-Rote 2008), so optri has no exact method for it and never drops a hole
-silently. shapely is imported lazily (extra ``optri[shapely]``); GeoJSON and
-WKT polygons are parsed without it.
+The ``*_rings`` readers return every ring of a polygon, exterior first, then
+its holes (closing vertices dropped), as :func:`optri.triangulate` takes them.
+The one-ring readers (``polygon_from_*``, :func:`geo_polygon_coords`) return
+the exterior of a polygon without holes and refuse one with holes, naming the
+ring reader: a hole is never dropped silently. shapely is imported lazily
+(extra ``optri[shapely]``); GeoJSON and WKT polygons are parsed without it.
 """
 
 from __future__ import annotations
@@ -23,16 +24,27 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "geo_polygon_coords",
+    "geo_polygon_rings",
     "polygon_from_geojson",
     "polygon_from_wkt",
+    "rings_from_geojson",
+    "rings_from_wkt",
     "to_shapely",
 ]
 
+Rings = list[NDArray[np.float64]]
+
 _HOLES = (
-    "the polygon has {k} hole(s); optri triangulates simple polygons only: the minimum "
-    "weight triangulation of a polygon with holes is NP-hard (Mulzer and Rote 2008). "
-    "Pass the exterior ring alone, or split the polygon into simple pieces"
+    "the polygon has {k} hole(s) and this reader returns one ring; read every ring with "
+    "{reader}, or give the polygon to optri.triangulate, which triangulates polygons with "
+    "holes"
 )
+
+
+def _one_ring(rings: Rings, reader: str) -> NDArray[np.float64]:
+    if len(rings) > 1:
+        raise InvalidPolygonError(_HOLES.format(k=len(rings) - 1, reader=reader))
+    return rings[0]
 
 
 def geo_polygon_coords(obj: Any) -> NDArray[np.float64]:
@@ -43,7 +55,7 @@ def geo_polygon_coords(obj: Any) -> NDArray[np.float64]:
     Raises
     ------
     InvalidPolygonError
-        Not a single polygon, or a polygon with holes.
+        Not a single polygon, or a polygon with holes (see :func:`geo_polygon_rings`).
 
     Examples
     --------
@@ -53,32 +65,50 @@ def geo_polygon_coords(obj: Any) -> NDArray[np.float64]:
     >>> geo_polygon_coords(P()).tolist()
     [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
     """
-    return polygon_from_geojson(obj.__geo_interface__)
+    return _one_ring(geo_polygon_rings(obj), "geo_polygon_rings")
+
+
+def geo_polygon_rings(obj: Any) -> Rings:
+    """Every ring of an object with ``__geo_interface__``: exterior first, then the holes.
+
+    >>> class P:
+    ...     __geo_interface__ = {"type": "Polygon", "coordinates": [
+    ...         [(0, 0), (4, 0), (0, 4), (0, 0)], [(1, 1), (2, 1), (1, 2), (1, 1)]]}
+    >>> [r.shape for r in geo_polygon_rings(P())]
+    [(3, 2), (3, 2)]
+    """
+    return rings_from_geojson(obj.__geo_interface__)
 
 
 def polygon_from_geojson(data: Any) -> NDArray[np.float64]:
     """Exterior ring of a GeoJSON Polygon, Feature or FeatureCollection of one polygon.
 
-    A MultiPolygon or collection must hold exactly one polygon.
+    A MultiPolygon or collection must hold exactly one polygon; a polygon with
+    holes is refused (see :func:`rings_from_geojson`).
     """
+    return _one_ring(rings_from_geojson(data), "rings_from_geojson")
+
+
+def rings_from_geojson(data: Any) -> Rings:
+    """Every ring of a GeoJSON Polygon (Feature, collection of one): exterior, then holes."""
     if not isinstance(data, dict):
         raise InvalidPolygonError("expected a GeoJSON object")
     kind = data.get("type")
     if kind == "Feature":
-        return polygon_from_geojson(data.get("geometry"))
+        return rings_from_geojson(data.get("geometry"))
     if kind in ("FeatureCollection", "GeometryCollection"):
         items = data.get("features") if kind == "FeatureCollection" else data.get("geometries")
         if not isinstance(items, list) or len(items) != 1:
             count = len(items) if isinstance(items, list) else 0
             raise InvalidPolygonError(f"expected a {kind} of one polygon, got {count} items")
-        return polygon_from_geojson(items[0])
+        return rings_from_geojson(items[0])
     if kind == "MultiPolygon":
         polys = data.get("coordinates") or []
         if len(polys) != 1:
             raise InvalidPolygonError(f"expected one polygon, got a MultiPolygon of {len(polys)}")
-        return _rings_to_exterior(polys[0])
+        return _rings(polys[0])
     if kind == "Polygon":
-        return _rings_to_exterior(data.get("coordinates") or [])
+        return _rings(data.get("coordinates") or [])
     raise InvalidPolygonError(f"expected a GeoJSON Polygon, got type {kind!r}")
 
 
@@ -88,8 +118,19 @@ _WKT_HEAD = re.compile(r"^\s*(MULTI)?POLYGON\s*(Z|M|ZM)?\s*\(", re.IGNORECASE)
 def polygon_from_wkt(text: str) -> NDArray[np.float64]:
     """Exterior ring of a WKT ``POLYGON`` (or a ``MULTIPOLYGON`` of one polygon).
 
+    A polygon with holes is refused (see :func:`rings_from_wkt`).
+
     >>> polygon_from_wkt("POLYGON ((0 0, 2 0, 1 1, 0 0))").tolist()
     [[0.0, 0.0], [2.0, 0.0], [1.0, 1.0]]
+    """
+    return _one_ring(rings_from_wkt(text), "rings_from_wkt")
+
+
+def rings_from_wkt(text: str) -> Rings:
+    """Every ring of a WKT ``POLYGON`` (or ``MULTIPOLYGON`` of one): exterior, then holes.
+
+    >>> [r.tolist() for r in rings_from_wkt("POLYGON ((0 0, 9 0, 0 9, 0 0), (1 1, 2 1, 1 2))")]
+    [[[0.0, 0.0], [9.0, 0.0], [0.0, 9.0]], [[1.0, 1.0], [2.0, 1.0], [1.0, 2.0]]]
     """
     head = _WKT_HEAD.match(text)
     if head is None:
@@ -107,7 +148,7 @@ def polygon_from_wkt(text: str) -> NDArray[np.float64]:
         ]
     except ValueError as exc:
         raise InvalidPolygonError(f"WKT coordinates are not numbers: {exc}") from exc
-    return _rings_to_exterior(rings)
+    return _rings(rings)
 
 
 def to_shapely(tri: Triangulation) -> Any:
@@ -123,13 +164,15 @@ def to_shapely(tri: Triangulation) -> Any:
     return shapely.GeometryCollection(list(shapely.polygons(rings)))
 
 
-def _rings_to_exterior(rings: Any) -> NDArray[np.float64]:
+def _rings(rings: Any) -> Rings:
     if len(rings) == 0:
         raise InvalidPolygonError("the polygon has no exterior ring")
-    if len(rings) > 1:
-        raise InvalidPolygonError(_HOLES.format(k=len(rings) - 1))
+    return [_ring(r) for r in rings]
+
+
+def _ring(coords: Any) -> NDArray[np.float64]:
     try:
-        ring = np.asarray(rings[0], dtype=np.float64)
+        ring = np.asarray(coords, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise InvalidPolygonError(f"polygon ring is not a list of positions: {exc}") from exc
     if ring.ndim != 2 or ring.shape[1] not in (2, 3):

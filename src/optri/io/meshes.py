@@ -1,4 +1,13 @@
-"""Reading and writing mesh files (OBJ, PLY, STL, OFF) through trimesh."""
+"""Reading and writing mesh files (OBJ, PLY, STL, OFF) through trimesh.
+
+Loading never depends on the mesh's size: trimesh's own processing (which
+merges vertices closer than an absolute 1e-8 and so collapses a mesh drawn
+in nanometres, or splits one whose OBJ seams carry texture coordinates) is
+off, and vertices are merged here by position only: exactly equal positions
+by default, or positions closer than a fraction of the bounding-box diagonal
+(``config.MESH_MERGE_RTOL``, ``merge_rtol``). Faces that merging leaves with
+a repeated vertex are dropped. ``mesh.metadata["optri"]`` says what was done.
+"""
 
 from __future__ import annotations
 
@@ -6,11 +15,15 @@ import os
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+from numpy.typing import NDArray
+
+from .. import config
 from .._optional import import_optional
 from ..errors import InvalidPolygonError
 from .atomic import atomic_write
 
-__all__ = ["MESH_FORMATS", "mesh_format", "read_mesh", "write_mesh"]
+__all__ = ["MESH_FORMATS", "mesh_format", "merge_vertices", "read_mesh", "write_mesh"]
 
 #: Mesh formats read and written (trimesh's names).
 MESH_FORMATS = ("obj", "ply", "stl", "off")
@@ -36,25 +49,77 @@ def mesh_format(path: str | os.PathLike[str], role: str = "mesh") -> str:
     return ext
 
 
-def read_mesh(path: str | os.PathLike[str]) -> Any:
+def read_mesh(path: str | os.PathLike[str], merge_rtol: float | None = None) -> Any:
     """Load a triangle mesh file as a ``trimesh.Trimesh`` (extra ``optri[mesh]``).
+
+    Parameters
+    ----------
+    path : path
+        An ``.obj``, ``.ply``, ``.stl`` or ``.off`` file.
+    merge_rtol : float, optional
+        Merge vertices closer than this fraction of the bounding-box diagonal;
+        default ``config.MESH_MERGE_RTOL`` (0: exactly equal positions only).
 
     Raises
     ------
     InvalidPolygonError
-        Unsupported suffix, missing file, unreadable content or no triangles.
+        Unsupported suffix, missing file, unreadable content, non-finite
+        coordinates or no triangles.
     """
     fmt = mesh_format(path, "input")
     trimesh = import_optional("trimesh")
     if not Path(path).is_file():
         raise InvalidPolygonError(f"cannot read {path}: no such file")
     try:
-        mesh = trimesh.load(path, file_type=fmt, force="mesh")
+        loaded = trimesh.load(path, file_type=fmt, force="mesh", process=False)
     except Exception as exc:  # noqa: BLE001  (parsers raise anything on bad bytes)
         raise InvalidPolygonError(f"cannot read mesh {path}: {exc}") from exc
-    if not hasattr(mesh, "faces") or len(mesh.faces) == 0:
+    faces = np.asarray(getattr(loaded, "faces", np.zeros((0, 3))), dtype=np.int64)
+    if faces.ndim != 2 or faces.shape[1] != 3 or len(faces) == 0:
         raise InvalidPolygonError(f"{path}: no triangle faces found")
+    vertices = np.asarray(loaded.vertices, dtype=np.float64)
+    if not np.isfinite(vertices).all():
+        raise InvalidPolygonError(f"{path}: a vertex has a non-finite coordinate")
+    rtol = config.MESH_MERGE_RTOL if merge_rtol is None else float(merge_rtol)
+    v, f, merged = merge_vertices(vertices, faces, rtol)
+    keep = (f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 0] != f[:, 2])
+    if not keep.any():
+        raise InvalidPolygonError(f"{path}: every face has a repeated vertex (zero area)")
+    mesh = trimesh.Trimesh(vertices=v, faces=f[keep], process=False)
+    mesh.metadata["optri"] = {"merged_vertices": merged, "dropped_faces": int((~keep).sum())}
     return mesh
+
+
+def merge_vertices(
+    vertices: NDArray[np.float64], faces: NDArray[np.int64], rtol: float = 0.0
+) -> tuple[NDArray[np.float64], NDArray[np.int64], int]:
+    """Merge vertices by position; ``(vertices, faces, merged count)``.
+
+    ``rtol == 0``: exactly equal positions (any scale); else positions that
+    round to the same cell of side ``rtol`` times the bounding-box diagonal.
+    Unreferenced vertices are kept; the first of each group gives the position,
+    and the survivors keep their order.
+
+    >>> v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1e-9, 0, 0], [1, 0, 0]]) * 1e-9
+    >>> nv, nf, merged = merge_vertices(v, np.array([[0, 1, 2], [3, 4, 2]]))
+    >>> len(nv), nf.tolist(), merged
+    (4, [[0, 1, 2], [3, 1, 2]], 1)
+    """
+    if len(vertices) == 0:
+        return vertices, faces, 0
+    if rtol < 0 or not np.isfinite(rtol):
+        raise InvalidPolygonError(f"merge tolerance must be a finite number >= 0, got {rtol}")
+    keys = vertices
+    if rtol > 0:
+        lo, hi = vertices.min(axis=0), vertices.max(axis=0)
+        cell = rtol * float(np.linalg.norm((hi - lo) / 2.0)) * 2.0  # no overflow at 1e308
+        if cell > 0:
+            keys = np.floor((vertices - lo) / cell)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    kept = np.sort(first)  # survivors in file order: no duplicates, no renumbering
+    rank = np.empty(len(first), dtype=np.int64)
+    rank[np.argsort(first)] = np.arange(len(first))
+    return vertices[kept], rank[inverse.reshape(-1)][faces], int(len(vertices) - len(first))
 
 
 def write_mesh(mesh: Any, path: str | os.PathLike[str]) -> None:

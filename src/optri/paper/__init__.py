@@ -1,4 +1,4 @@
-"""Reproduction of Selimi et al. (2019): Tables 2–4, Figures 1 and 4–7, on this machine.
+"""Reproduction of Selimi et al. (2019): Tables 2–4, Figures 1–7, on this machine.
 
 :func:`optri.paper.report.write_report` regenerates the whole comparison (also
 ``optri paper --out DIR``); the modules compute one piece each:

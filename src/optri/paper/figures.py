@@ -1,4 +1,4 @@
-"""The paper's figures as PNGs: Figures 1/4, 5, 6, 7 and Table 1 as a picture."""
+"""The paper's figures as PNGs: Figures 1/4, 2, 3, 5, 6, 7 and Table 1 as a picture."""
 
 from __future__ import annotations
 
@@ -7,6 +7,7 @@ from pathlib import Path
 
 from ..drawing.figures import new_axes, plot_table, plot_triangulation, save_figure
 from ..solve import triangulate
+from ..teaching import plot_cell_scheme, plot_recursion_tree, trace
 from . import published
 from .timing import TimingRow
 
@@ -15,6 +16,11 @@ __all__ = ["FIGURES", "draw_all"]
 #: File name -> what it shows.
 FIGURES = {
     "fig1_octagon.png": "Figures 1/4: optimal (perimeter) triangulation of a convex octagon",
+    "fig2_cell_scheme.png": "Figure 2: the general scheme of labelling the n x n table's cells",
+    "fig3_recursion_tree.png": (
+        "Figure 3: recursion tree of the memoized pentagon (memo hits are grey pruned leaves)"
+    ),
+    "fig3_naive_tree.png": "Figure 3 without memoization: every sub-polygon computed again",
     "fig4_pentagon.png": "Figure 4: optimal triangulation of the Table 1 pentagon (product weight)",
     "table1_pentagon.png": "Table 1: the pentagon's n x n table (weights above, splits below)",
     "fig5_completion_time.png": "Figure 5: matrix completion time (A)",
@@ -35,6 +41,16 @@ def draw_all(out: Path, rows: Sequence[TimingRow]) -> list[str]:
         str(out / "fig4_pentagon.png"),
     )
     save_figure(plot_table(pentagon), str(out / "table1_pentagon.png"))
+    save_figure(plot_cell_scheme(), str(out / "fig2_cell_scheme.png"))
+    values = list(published.PENTAGON_VALUES)
+    save_figure(
+        plot_recursion_tree(trace(values, "product", method="memo")),
+        str(out / "fig3_recursion_tree.png"),
+    )
+    save_figure(
+        plot_recursion_tree(trace(values, "product", method="naive")),
+        str(out / "fig3_naive_tree.png"),
+    )
     _lines(out / "fig5_completion_time.png", rows, "a", "(A) table filling")
     _lines(out / "fig6_total_time.png", rows, "b", "(B) total incl. drawing")
     _ratio(out / "fig7_ratio.png", rows)

@@ -158,8 +158,8 @@ def _markdown(
         ]
     if figures:
         parts += ["## Figures", ""]
-        parts += [f"- [{name}]({name}): {FIGURES[name]}" for name in figures]
-        parts += [""]
+        for name in figures:
+            parts += [f"![{FIGURES[name]}]({name})", "", f"*{FIGURES[name]}*", ""]
     parts += ["## Notes on the paper", ""]
     parts += [f"{i}. {note}" for i, note in enumerate(paper_notes(product, counts, timings), 1)]
     return "\n".join(parts) + "\n"

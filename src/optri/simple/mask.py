@@ -16,9 +16,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import config
-from ..errors import InvalidPolygonError
+from ..errors import InvalidPolygonError, OptriError
 from ..polygon import Polygon, as_polygon, require_simple
-from ..predicates import ORIENT_RTOL, chord_clear, in_cone, orient
+from ..predicates import chord_clear, in_cone, orient
 
 __all__ = [
     "allowed_chords",
@@ -70,10 +70,12 @@ def valid_diagonals(polygon: ArrayLike | Polygon) -> NDArray[np.bool_]:
 
     Notes
     -----
+    Every test is exact (:mod:`optri.predicates`): a chord is a diagonal exactly
+    when it is one for the float64 coordinates taken as exact numbers.
     Compiled with numba: the polygon is ear-clipped (O(n^2)) and each vertex
     sees through that triangulation, narrowing an angular window from triangle to
-    triangle (O(n) per vertex, O(n^2) in all). Should ear clipping fail on
-    inconsistent rounding, a direct check is used instead: each chord against
+    triangle (O(n) per vertex, O(n^2) in all). Should ear clipping fail (input
+    that is not simple), a direct check is used instead: each chord against
     the edges outward from its first endpoint, stopping at the first blocker
     (O(n^3) in the worst case).
     Up to ``config.MASK_NUMPY_MAX_N`` vertices while numba is not loaded yet, and without
@@ -106,8 +108,16 @@ def valid_diagonals_compiled(points: NDArray[np.float64]) -> NDArray[np.bool_]:
 
     x = np.ascontiguousarray(points[:, 0], dtype=np.float64)
     y = np.ascontiguousarray(points[:, 1], dtype=np.float64)
-    tris, ok = ear_clip(x, y, ORIENT_RTOL)
-    mask = visibility_mask(x, y, tris, ORIENT_RTOL) if ok else valid_mask(x, y, ORIENT_RTOL)
+    tris, ok = ear_clip(x, y)
+    if not ok:  # only for input that is not simple: the scan needs no triangulation
+        mask = valid_mask(x, y)
+    else:
+        mask, ok = visibility_mask(x, y, tris)
+        if not ok:
+            raise OptriError(
+                "internal error: the ear-clipping triangulation is inconsistent "
+                "(a bounded walk stopped); please report this input"
+            )
     _set_sides(mask)
     return mask
 

@@ -1,0 +1,123 @@
+"""Many small polygons in memory: optri.triangulate_many against shapely CDT and earcut.
+
+For each size band, N seeded random star polygons (simple, non-convex) are
+triangulated by ``optri.triangulate_many`` (``method="auto"``, which keeps
+these sizes on the pure-Python engine, and ``method="fast"``, the compiled
+engine, warmed up first), by ``shapely.constrained_delaunay_triangles`` on the
+whole array at once, and by ``mapbox_earcut`` polygon by polygon, all in the
+same run. Reported: polygons per second of each, and how far above optri's
+optimum (minimum perimeter sum, the default weight) the two heuristics land on
+the same polygons (mean and worst, in percent).
+
+    python benchmarks/bench_many.py                        # 1000 polygons per band
+    python benchmarks/bench_many.py --per-band 4000 --bands 8-64
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+import optri
+
+
+def star_polygon(rng: np.random.Generator, n: int) -> np.ndarray:
+    """Sorted jittered angles, random radii: star-shaped about the origin, so simple."""
+    angles = np.linspace(0, 2 * math.pi, n, endpoint=False) + rng.uniform(0, 1.5 * math.pi / n, n)
+    radii = rng.uniform(0.3, 1.0, n)
+    return np.column_stack((radii * np.cos(angles), radii * np.sin(angles))).round(9)
+
+
+def perimeter_sum(pts: np.ndarray, tris: np.ndarray) -> float:
+    a, b, c = pts[tris[:, 0]], pts[tris[:, 1]], pts[tris[:, 2]]
+    return float((np.hypot(*(a - b).T) + np.hypot(*(b - c).T) + np.hypot(*(c - a).T)).sum())
+
+
+def timed(fn, *args, repeat: int = 1):
+    """Result and best wall time of ``repeat`` calls (the machine may be shared)."""
+    best = float("inf")
+    for _ in range(repeat):
+        start = time.perf_counter()
+        out = fn(*args)
+        best = min(best, time.perf_counter() - start)
+    return out, best
+
+
+def run_earcut(polys: list[np.ndarray]) -> list[np.ndarray]:
+    import mapbox_earcut as earcut  # imported (and cached) before the clock starts
+
+    out = []
+    for pts in polys:
+        idx = earcut.triangulate_float64(pts, np.array([len(pts)], dtype=np.uint32))
+        out.append(np.asarray(idx, dtype=np.int64).reshape(-1, 3))
+    return out
+
+
+def band(lo: int, hi: int, count: int, seed: int, repeat: int) -> dict:
+    import mapbox_earcut  # noqa: F401  # import cost stays out of the timings
+    import shapely
+
+    rng = np.random.default_rng(seed)
+    polys = [star_polygon(rng, int(rng.integers(lo, hi + 1))) for _ in range(count)]
+    geoms = np.array([shapely.Polygon(p) for p in polys], dtype=object)
+    auto, t_auto = timed(optri.triangulate_many, polys, repeat=repeat)
+    optri.triangulate_many(polys[:4], method="fast")  # load the compiled kernels first
+    fast, t_fast = timed(optri.triangulate_many, polys, "perimeter", "sum", "fast", repeat=repeat)
+    cdt, t_cdt = timed(shapely.constrained_delaunay_triangles, geoms, repeat=repeat)
+    ear, t_ear = timed(run_earcut, polys, repeat=repeat)
+    best = np.array([r.weight for r in auto])
+    assert all(isinstance(r, optri.Triangulation) for r in auto)
+    assert np.allclose(best, [r.weight for r in fast], rtol=1e-12)
+    cdt_cost = shapely.length(cdt)  # a collection's length: the sum of its triangles' perimeters
+    ear_cost = np.array([perimeter_sum(p, t) for p, t in zip(polys, ear)])
+    above = {
+        "cdt": (cdt_cost / best - 1) * 100,
+        "earcut": (ear_cost / best - 1) * 100,
+    }
+    return {
+        "band": f"{lo}-{hi}",
+        "count": count,
+        "rate": {
+            "optri auto": count / t_auto,
+            "optri fast": count / t_fast,
+            "shapely CDT": count / t_cdt,
+            "earcut": count / t_ear,
+        },
+        "above_mean": {k: float(v.mean()) for k, v in above.items()},
+        "above_max": {k: float(v.max()) for k, v in above.items()},
+        "below_zero": {k: int((v < -1e-9).sum()) for k, v in above.items()},
+    }
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--per-band", type=int, default=1000)
+    ap.add_argument("--bands", default="4-8,8-16,16-32,32-64")
+    ap.add_argument("--seed", type=int, default=2024)
+    ap.add_argument("--repeat", type=int, default=3, help="rounds per timing; the best is kept")
+    ap.add_argument("--json", type=Path, help="write the results here too")
+    args = ap.parse_args()
+    bands = [tuple(int(x) for x in b.split("-")) for b in args.bands.split(",")]
+    print(f"{args.per_band} random star polygons per band, perimeter sum; polygons/s")
+    head = ["vertices", "optri auto", "optri fast", "shapely CDT", "earcut"]
+    print("".join(f"{h:>13}" for h in head) + "   CDT % above opt   earcut % above opt")
+    results = []
+    for lo, hi in bands:
+        r = band(lo, hi, args.per_band, args.seed + lo, args.repeat)
+        results.append(r)
+        rates = "".join(f"{v:>13.0f}" for v in r["rate"].values())
+        mean, worst = r["above_mean"], r["above_max"]
+        gaps = "".join(f"   {mean[k]:6.2f} (max {worst[k]:5.1f})" for k in ("cdt", "earcut"))
+        print(f"{r['band']:>13}{rates}{gaps}", flush=True)
+        assert r["below_zero"] == {"cdt": 0, "earcut": 0}, "a heuristic beat the optimum"
+    if args.json:
+        args.json.write_text(json.dumps(results, indent=2))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,109 @@
+"""Regenerate the pictures of the README and docs/learn.md into docs/images/.
+
+    python docs/make_images.py        (from the repository root)
+
+Figures 2 and 3 and the GIF need matplotlib and pillow; the explorer screenshots need
+Playwright and Chromium from the system packages (skipped with a message without them);
+the README's two pictures are the gallery scripts' figures (examples/plot_*.py, the same
+that ``make docs`` runs), which need the compare and mesh extras.
+Every PNG is reduced to a small palette so the repository stays light.
+"""
+
+from __future__ import annotations
+
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+
+OUT = Path(__file__).resolve().parent / "images"
+PENTAGON = [5, 1, 5, 1, 5]
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+#: README picture <- the gallery script that draws it
+README_PICTURES = {
+    "italy_earcut_vs_optimal.png": "plot_ear_clipping_vs_optimal.py",
+    "mesh_hole_filled.png": "plot_mesh_hole.py",
+}
+
+
+def _shrink(path: Path, colours: int = 96) -> None:
+    from PIL import Image
+
+    with Image.open(path) as im:
+        small = im.convert("RGB").quantize(colours, method=Image.Quantize.FASTOCTREE)
+    small.save(path, optimize=True)
+
+
+def figures() -> None:
+    """Figures 2 and 3 (memo and naive) and the pentagon's GIF."""
+    from optri.drawing import save_figure
+    from optri.teaching import plot_cell_scheme, plot_recursion_tree, trace
+
+    save_figure(plot_cell_scheme(), str(OUT / "fig2_cell_scheme.png"))
+    save_figure(plot_recursion_tree(trace(PENTAGON, "product")), str(OUT / "fig3_memo_tree.png"))
+    naive = trace(PENTAGON, "product", method="naive")
+    save_figure(plot_recursion_tree(naive), str(OUT / "fig3_naive_tree.png"))
+    for name in ("fig2_cell_scheme.png", "fig3_memo_tree.png", "fig3_naive_tree.png"):
+        _shrink(OUT / name)
+    trace(PENTAGON, "product").animate(OUT / "pentagon_memo.gif", fps=1.5, dpi=72)
+
+
+def screenshots() -> None:
+    """The explorer page mid-way and at the end, in Chromium."""
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        print("playwright missing: explorer screenshots skipped", file=sys.stderr)
+        return
+    exe = shutil.which("chromium")
+    if exe is None:
+        print("chromium missing: explorer screenshots skipped", file=sys.stderr)
+        return
+    from optri.teaching import explore
+
+    page_path = Path(tempfile.mkdtemp()) / "pentagon.html"
+    explore(PENTAGON, "product", path=page_path)
+    args = ["--no-sandbox", "--disable-gpu", "--disable-background-networking"]
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=exe, args=args)
+        page = browser.new_page(viewport={"width": 1180, "height": 560})
+        page.goto(page_path.as_uri())
+        for _ in range(42):  # the candidate w[1,3] via v2: a sub-polygon and its triangle
+            page.evaluate("window.optri.step()")
+        page.screenshot(path=str(OUT / "explorer_step.png"))
+        page.evaluate("window.optri.last()")
+        page.screenshot(path=str(OUT / "explorer_end.png"))
+        browser.close()
+    for name in ("explorer_step.png", "explorer_end.png"):
+        _shrink(OUT / name)
+
+
+def readme_pictures() -> None:
+    """Run each gallery script behind a README picture and save its last figure."""
+    import runpy
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    for name, script in README_PICTURES.items():
+        plt.close("all")
+        runpy.run_path(str(EXAMPLES / script), run_name="__main__")
+        plt.gcf().savefig(OUT / name, dpi=80, bbox_inches="tight")
+        _shrink(OUT / name, colours=64)
+    plt.close("all")
+
+
+def main() -> None:
+    """Write every picture and list the sizes."""
+    OUT.mkdir(exist_ok=True)
+    figures()
+    screenshots()
+    readme_pictures()
+    for f in sorted(OUT.iterdir()):
+        print(f"{f.name}: {f.stat().st_size // 1024} KiB")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,207 @@
+"""The per-chunk solver: many vertex arrays in, one result per array out.
+
+Every polygon of a batch chunk and of :func:`optri.triangulate_many` goes
+through :func:`solve_polygons`: inputs become vertex arrays (or error results),
+are projected to metres when asked, and are handed, all at once, to the
+function :func:`chunk_solver` picks. Today that is :func:`solve_each`, which
+calls :func:`optri.triangulate` polygon by polygon; a compiled solver for many
+small polygons (ragged coordinates + offsets, one kernel call per chunk) plugs
+in there with the same signature, ``solver(arrays, options) -> results``, and
+everything around it (records, GeoDataFrames, error rows) stays as it is.
+
+A result is a :class:`~optri.result.Triangulation` or the
+:class:`~optri.errors.OptriError` that explains why there is none: bad rows
+become error results, never exceptions. Warnings a polygon raises while it is
+solved (zero-area triangles, numpy overflow) are kept in the result's
+``stats["warnings"]`` instead of reaching stderr.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..engines import ENGINES
+from ..errors import EngineUnavailableError, InvalidPolygonError, OptriError
+from ..objective import as_objective
+from ..polygon import normalize_vertices
+from ..result import Triangulation
+from ..solve import triangulate
+from ..weights import resolve_weights
+from .project import local_projector
+
+__all__ = [
+    "ChunkSolver",
+    "Result",
+    "SolveOptions",
+    "check_options",
+    "chunk_solver",
+    "polygon_vertices",
+    "solve_each",
+    "solve_polygons",
+]
+
+Result = Triangulation | OptriError
+
+
+@dataclass(frozen=True)
+class SolveOptions:
+    """What every polygon of a chunk is solved with (picklable when the weight is).
+
+    ``project`` is the layer's CRS (any text pyproj reads) when polygons are to
+    be measured in metres in a local azimuthal equidistant projection, else None.
+    """
+
+    weight: Any = "perimeter"
+    objective: Any = "sum"
+    method: str = "auto"
+    project: str | None = None
+
+
+def check_options(weight: Any, objective: Any, method: str) -> dict[str, Any]:
+    """Check weight, objective and method before any work (raise the library's errors)."""
+    resolve_weights(weight, len(as_objective(objective).components))
+    if not isinstance(method, str):
+        raise EngineUnavailableError(f"method must be a name such as 'auto', got {method!r}")
+    if method != "auto":
+        spec = ENGINES.get(method)
+        if spec is None:
+            known = ", ".join(["auto", *ENGINES])
+            raise EngineUnavailableError(f"unknown method {method!r}; choose one of: {known}")
+        check = getattr(spec.load(), "unavailable", None)
+        reason = check() if check is not None else None
+        if reason is not None:
+            raise EngineUnavailableError(reason)
+    return dict(weight=weight, objective=objective, method=method)
+
+
+ChunkSolver = Callable[[Sequence[NDArray[np.float64]], SolveOptions], list[Result]]
+
+
+def polygon_vertices(obj: Any) -> NDArray[np.float64]:
+    """The vertex array of one polygon: an ``(n, 2)``/``(n, 3)`` array-like or a shapely Polygon.
+
+    A MultiPolygon of one part is that part. Raises InvalidPolygonError otherwise
+    (never a numpy or shapely error).
+
+    >>> polygon_vertices([[0, 0], [1, 0], [0, 1]]).shape
+    (3, 2)
+    """
+    if obj is None:
+        raise InvalidPolygonError("empty or missing geometry")
+    if hasattr(obj, "geom_type"):  # shapely, without importing it
+        return _shapely_vertices(obj)
+    # the shared validator: numbers, shape, closing vertices, repeats
+    return normalize_vertices(obj, values=False)
+
+
+def _shapely_vertices(geom: Any) -> NDArray[np.float64]:
+    if geom.is_empty:
+        raise InvalidPolygonError("empty or missing geometry")
+    if geom.geom_type == "MultiPolygon":
+        if len(geom.geoms) != 1:
+            raise InvalidPolygonError(f"MultiPolygon with {len(geom.geoms)} parts; split it")
+        geom = geom.geoms[0]
+    if geom.geom_type != "Polygon":
+        raise InvalidPolygonError(f"geometry type {geom.geom_type!r} is not a Polygon")
+    if len(geom.interiors):
+        # seam for polygons with holes (issue 19): refused until their solver is wired in
+        raise InvalidPolygonError(holes_reason(len(geom.interiors)))
+    return np.asarray(geom.exterior.coords, dtype=np.float64)
+
+
+def holes_reason(holes: int) -> str:
+    """Why a polygon with holes gets an error result (one line)."""
+    return f"polygon has {holes} hole(s); exact optimal triangulation with holes is not supported"
+
+
+def solve_polygons(polygons: Sequence[Any], options: SolveOptions) -> list[Result]:
+    """Solve many polygons; one :data:`Result` per input, in order, never raising for a row.
+
+    With ``options.project`` each polygon is measured in metres, and the
+    result's ``vertices`` are the input coordinates again.
+
+    >>> from optri.batch.solver import SolveOptions, solve_polygons
+    >>> out = solve_polygons([[[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 0]]], SolveOptions())
+    >>> round(out[0].weight, 6), type(out[1]).__name__
+    (6.828427, 'InvalidPolygonError')
+    """
+    results: list[Result | None] = [None] * len(polygons)
+    todo: list[int] = []
+    originals: list[NDArray[np.float64]] = []
+    for i, obj in enumerate(polygons):
+        try:
+            originals.append(polygon_vertices(obj))
+            todo.append(i)
+        except OptriError as exc:
+            results[i] = exc
+    arrays = originals
+    if options.project is not None:
+        arrays, todo, originals = _projected(originals, todo, options.project, results)
+    for i, res, original in zip(todo, chunk_solver(options)(arrays, options), originals):
+        if options.project is not None and isinstance(res, Triangulation):
+            res = replace(res, vertices=original[: res.n])
+        results[i] = res
+    return results  # type: ignore[return-value]  # every slot is filled above
+
+
+def _projected(
+    originals: list[NDArray[np.float64]],
+    todo: list[int],
+    crs: str,
+    results: list[Result | None],
+) -> tuple[list[NDArray[np.float64]], list[int], list[NDArray[np.float64]]]:
+    project = local_projector(crs)
+    arrays, kept, kept_originals = [], [], []
+    for i, arr in zip(todo, originals):
+        try:
+            arrays.append(project(arr))
+            kept.append(i)
+            kept_originals.append(arr)
+        except OptriError as exc:
+            results[i] = exc
+    return arrays, kept, kept_originals
+
+
+def chunk_solver(options: SolveOptions) -> ChunkSolver:
+    """The solver for a chunk under ``options``: where a compiled many-polygon path plugs in."""
+    return solve_each
+
+
+def solve_each(arrays: Sequence[NDArray[np.float64]], options: SolveOptions) -> list[Result]:
+    """The per-polygon path: :func:`optri.triangulate` on each array, errors as results.
+
+    Any exception a polygon raises (a user weight's included) becomes its
+    result, wrapped in an :class:`OptriError` naming the original type.
+    ``stats["wall_seconds"]`` is the polygon's whole time, ``stats["warnings"]``
+    the warnings it raised.
+    """
+    out: list[Result] = []
+    for arr in arrays:
+        start = time.perf_counter()
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                tri = triangulate(
+                    arr, weight=options.weight, objective=options.objective, method=options.method
+                )
+            except OptriError as exc:
+                out.append(exc)
+                continue
+            except Exception as exc:  # a user weight, or numpy on odd input: this row only
+                wrapped = OptriError(f"{type(exc).__name__}: {exc}")
+                wrapped.__cause__ = exc
+                out.append(wrapped)
+                continue
+        tri.stats["wall_seconds"] = time.perf_counter() - start  # type: ignore[assignment]
+        notes = list(dict.fromkeys(str(w.message) for w in caught))
+        if notes:
+            tri.stats["warnings"] = notes  # type: ignore[assignment]
+        out.append(tri)
+    return out

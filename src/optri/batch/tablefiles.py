@@ -1,0 +1,145 @@
+"""Table files: GeoParquet (pyarrow) and GeoPackage / FlatGeobuf (pyogrio), written atomically.
+
+Every file is written under a temporary name in the same directory and renamed
+over the target only once complete. A single-file output is assembled from
+its Parquet parts as one Arrow stream (``pyarrow.RecordBatchReader`` into
+``ParquetWriter`` or ``pyogrio.write_arrow``), so memory stays flat however
+many features there are. FlatGeobuf is written without a spatial index: the
+index cannot hold the null geometry of an error row, and it would keep every
+feature's box in memory.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import warnings
+from collections.abc import Iterable, Iterator, Sequence
+from pathlib import Path
+from typing import Any
+
+from .. import config
+from .._optional import import_optional
+from ..io.atomic import atomic_write
+from .layer import Layer
+from .tables import GEOMETRY, conform, geo_metadata, has_z, records_table, unify
+
+__all__ = ["OGR_DRIVERS", "assemble_tables", "read_table_records", "write_table"]
+
+#: Output format -> GDAL driver.
+OGR_DRIVERS = {"gpkg": "GPKG", "fgb": "FlatGeobuf"}
+_LAYER_OPTIONS = {"fgb": {"SPATIAL_INDEX": "NO"}}
+_SIDECARS = ("-journal", "-wal", "-shm")
+
+
+def flavor_of(fmt: str) -> str:
+    """The table flavour a format stores: ``"parquet"`` or ``"ogr"``."""
+    return "ogr" if fmt in OGR_DRIVERS else "parquet"
+
+
+def write_table(path: Path, table: Any, fmt: str, layer: Layer, temp_dir: Path) -> None:
+    """Write one table as a ``fmt`` file (parquet, gpkg, fgb) at ``path``, atomically."""
+    if fmt == "parquet":
+        pq = import_optional("pyarrow.parquet")
+        table = table.replace_schema_metadata(_parquet_metadata(table.schema, layer))
+        with atomic_write(path, "wb") as fh:
+            pq.write_table(table, fh)
+        return
+    _write_ogr(path, fmt, layer, table.schema, table.to_batches(), temp_dir)
+
+
+def assemble_tables(
+    parts: Sequence[Path], fmt: str, target: Path, layer: Layer, temp_dir: Path
+) -> None:
+    """Join Parquet parts, in order, into one ``fmt`` file at ``target``, atomically."""
+    pq = import_optional("pyarrow.parquet")
+    if parts:
+        schema = unify([pq.read_schema(p) for p in parts])
+    else:  # no input at all: still a valid, empty layer
+        schema = records_table([], [], layer, flavor_of(fmt)).schema
+
+    def batches() -> Iterator[Any]:
+        for part in parts:
+            yield from conform(pq.read_table(part), schema).to_batches()
+
+    if fmt == "parquet":
+        schema = schema.with_metadata(_parquet_metadata(schema, layer))
+        with atomic_write(target, "wb") as fh, pq.ParquetWriter(fh, schema) as writer:
+            for batch in batches():
+                writer.write_batch(batch)
+        return
+    _write_ogr(target, fmt, layer, schema, batches(), temp_dir)
+
+
+def _parquet_metadata(schema: Any, layer: Layer) -> dict:
+    meta = dict(schema.metadata or {})
+    meta[b"geo"] = json.dumps(geo_metadata(layer, has_z(schema)))
+    return meta
+
+
+def _write_ogr(
+    path: Path, fmt: str, layer: Layer, schema: Any, batches: Iterable[Any], temp_dir: Path
+) -> None:
+    pa = import_optional("pyarrow")
+    pyogrio = import_optional("pyogrio")
+    temp_dir.mkdir(parents=True, exist_ok=True)
+    # GDAL wants the format's own suffix; the name marks it as a temporary of ours
+    tmp = temp_dir / f".part-{path.stem}.{os.getpid()}.tmp{path.suffix or '.' + fmt}"
+    # GDAL has no column type for Arrow's null type: a column of nulls only is text
+    typed = pa.schema(
+        [f.with_type(pa.string()) if pa.types.is_null(f.type) else f for f in schema],
+        metadata=schema.metadata,
+    )
+    reader = pa.RecordBatchReader.from_batches(typed, (b.cast(typed) for b in batches))
+    try:
+        with warnings.catch_warnings():
+            # a layer without a CRS gives an output without one: nothing to warn about
+            warnings.filterwarnings("ignore", message="'crs' was not provided")
+            pyogrio.write_arrow(
+                reader,
+                tmp,
+                driver=OGR_DRIVERS[fmt],
+                layer=path.stem or "triangles",
+                geometry_name=GEOMETRY,
+                geometry_type="MultiPolygon Z" if has_z(schema) else "MultiPolygon",
+                crs=_wkt(layer.crs),
+                layer_options=_LAYER_OPTIONS.get(fmt),
+            )
+        os.replace(tmp, path)
+    finally:
+        for name in (str(tmp), *(str(tmp) + s for s in _SIDECARS)):
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(name)
+
+
+def _wkt(crs: str | None) -> str | None:
+    if crs is None:
+        return None
+    pyproj = import_optional("pyproj")
+    return str(pyproj.CRS.from_user_input(crs).to_wkt())
+
+
+def read_table_records(path: Path, fmt: str) -> Iterator[dict]:
+    """Rows of a table file written by a batch, geometry left out, as record dicts.
+
+    ``triangles`` and a lexicographic ``cost`` stored as JSON text (GeoPackage,
+    FlatGeobuf) come back as lists.
+    """
+    if fmt == "parquet":
+        pq = import_optional("pyarrow.parquet")
+        pf = pq.ParquetFile(path)
+        names = [c for c in pf.schema_arrow.names if c != GEOMETRY]
+        for batch in pf.iter_batches(batch_size=config.BATCH_ROWS_PER_READ, columns=names):
+            yield from batch.to_pylist()
+        return
+    pyogrio = import_optional("pyogrio")
+    with pyogrio.open_arrow(
+        path, use_pyarrow=True, read_geometry=False, batch_size=config.BATCH_ROWS_PER_READ
+    ) as (_, reader):
+        for batch in reader:
+            for row in batch.to_pylist():
+                for key in ("triangles", "cost"):
+                    if isinstance(row.get(key), str):
+                        row[key] = json.loads(row[key])
+                yield row

@@ -1,0 +1,58 @@
+"""``optri explore``: write the explorer page of a polygon."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import click
+import numpy as np
+
+from ..io.files import read_polygon
+from ..teaching import explore as explore_page
+from .app import main
+from .options import parse_pair
+
+__all__ = ["explore"]
+
+_VALUES = re.compile(r"^\s*[-+0-9.eE]+(\s*,\s*[-+0-9.eE]+){2,}\s*$")
+
+
+@main.command()
+@click.argument("source", metavar="INPUT")
+@click.option(
+    "--weight",
+    "-w",
+    default="perimeter",
+    show_default=True,
+    help="Triangle weight (product for vertex values such as 5,1,5,1,5).",
+)
+@click.option("--objective", default="sum", show_default=True, help="sum or max.")
+@click.option(
+    "--method",
+    "-m",
+    default="memo",
+    show_default=True,
+    type=click.Choice(["memo", "table", "naive"]),
+    help="Order shown first; memo and table are both in the page.",
+)
+@click.option(
+    "--output",
+    "-o",
+    required=True,
+    type=click.Path(dir_okay=False),
+    help="The HTML file to write (one self-contained page).",
+)
+def explore(source: str, weight: str, objective: str, method: str, output: str) -> None:
+    """Write an explorer page replaying the DP on INPUT step by step.
+
+    INPUT is a polygon file (CSV, JSON, GeoJSON, WKT) or, when no such file
+    exists, vertex values such as 5,1,5,1,5 (the paper's pentagon, with
+    --weight product). The page needs no network: open it in any browser.
+    """
+    if not Path(source).exists() and _VALUES.match(source):
+        vertices = np.array([float(v) for v in source.split(",")])
+    else:
+        vertices = read_polygon(source)
+    explore_page(vertices, weight, parse_pair(objective), method, path=output)
+    click.echo(f"explorer written to {output} (n = {len(vertices)}, {method} shown first)")

@@ -1,0 +1,258 @@
+"""Shrinking the search: unusable triangles, forced diagonals, independent blocks, walks.
+
+* A triangle with a diagonal side that no remaining triangle covers from the
+  other side can be in no triangulation: :func:`prune` drops it, repeatedly.
+* A remaining diagonal that no other remaining diagonal crosses is in every
+  remaining triangulation (a triangulation is a maximal set of non-crossing
+  diagonals): :func:`forced_diagonals` finds them.
+* Boundary edges and forced diagonals are *fixed*; triangles linked through
+  shared free diagonals or fixed edge sides form :func:`blocks`, whose
+  constraints share nothing, so each block is solved on its own.
+* A block whose fixed edges are connected covers a simply connected region:
+  :func:`trace_walk` walks its boundary (a weakly simple polygon) for the DP.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cmp_to_key
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..predicates import orient
+from .candidates import Candidates, side_signs
+
+__all__ = [
+    "Block",
+    "blocks",
+    "crossing_any",
+    "forced_diagonals",
+    "prune",
+    "trace_walk",
+]
+
+#: Segment pairs per block of the crossing tests.
+_PAIRS = 1 << 21
+
+
+def prune(cand: Candidates, keep: NDArray[np.bool_]) -> NDArray[np.bool_] | None:
+    """``keep`` less every triangle that a diagonal side leaves uncovered, repeatedly.
+
+    Returns None when some boundary edge is left with no triangle at all (no
+    triangulation uses only the kept triangles).
+    """
+    keep = keep.copy()
+    n_edges = len(cand.edges)
+    diag = cand.is_diagonal
+    while True:
+        t = np.flatnonzero(keep)
+        s, g = cand.sides[t].ravel(), cand.signs[t].ravel()
+        left = np.bincount(s[g > 0], minlength=n_edges)
+        right = np.bincount(s[g < 0], minlength=n_edges)
+        if ((left + right)[: cand.n_boundary] == 0).any():
+            return None
+        other = np.where(cand.signs[t] > 0, right[cand.sides[t]], left[cand.sides[t]])
+        bad = (diag[cand.sides[t]] & (other == 0)).any(axis=1)
+        if not bad.any():
+            return keep
+        keep[t[bad]] = False
+
+
+def alive_diagonals(cand: Candidates, keep: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Per edge: a diagonal that kept triangles use (on both sides, after :func:`prune`)."""
+    used = np.zeros(len(cand.edges), dtype=bool)
+    used[cand.sides[keep].ravel()] = True
+    return used & cand.is_diagonal
+
+
+def crossing_any(
+    points: NDArray[np.float64], seg: NDArray[np.int64], others: NDArray[np.int64]
+) -> NDArray[np.bool_]:
+    """Per segment of ``seg`` (vertex pairs), whether it crosses one of ``others`` properly.
+
+    Segments sharing an endpoint never cross properly (a zero sign). The
+    O(S N + O N) orientation tests are made once, against every vertex; the
+    S x O pairs are then sign products.
+    """
+    out = np.zeros(len(seg), dtype=bool)
+    if len(seg) == 0 or len(others) == 0:
+        return out
+    s_seg = side_signs(points, seg)
+    s_oth = side_signs(points, others)
+    ox, oy = others[:, 0], others[:, 1]
+    step = max(1, _PAIRS // len(others))
+    for lo in range(0, len(seg), step):
+        rows = seg[lo : lo + step]
+        ours = s_seg[lo : lo + step]
+        apart = (ours[:, ox] * ours[:, oy]) < 0  # the other's ends on both sides of ours
+        theirs = (s_oth[:, rows[:, 0]] * s_oth[:, rows[:, 1]]).T < 0
+        out[lo : lo + step] = (apart & theirs).any(axis=1)
+    return out
+
+
+def forced_diagonals(cand: Candidates, keep: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Per edge: a diagonal in every triangulation made of kept triangles.
+
+    Such a diagonal is used by kept triangles and crossed by no other
+    diagonal they use. Any maximal set of non-crossing such diagonals holds
+    every one of them, so a greedy one (O(D) steps of O(N) look-ups) is
+    built first, and only its members are tested against all D (O(N D)
+    look-ups in :attr:`Candidates.turns`).
+    """
+    alive = np.flatnonzero(alive_diagonals(cand, keep))
+    forced = np.zeros(len(cand.edges), dtype=bool)
+    if len(alive) == 0:
+        return forced
+    turns = cand.turns[alive - cand.n_boundary]
+    ends = cand.edges[alive]
+    greedy = _maximal_noncrossing(turns, ends)
+    crossed = _crosses_any(turns[greedy], ends[greedy], turns, ends)
+    forced[alive[greedy[~crossed]]] = True
+    return forced
+
+
+def _maximal_noncrossing(turns: NDArray[np.int8], ends: NDArray[np.int64]) -> NDArray[np.int64]:
+    """Rows of a maximal subset of pairwise non-crossing segments, taken in order."""
+    chosen = np.empty(len(ends), dtype=np.int64)
+    count = 0
+    for r in range(len(ends)):
+        c = chosen[:count]
+        a, b = ends[r]
+        apart = turns[r, ends[c, 0]] * turns[r, ends[c, 1]] < 0
+        if not (apart & (turns[c, a] * turns[c, b] < 0)).any():
+            chosen[count] = r
+            count += 1
+    return chosen[:count]
+
+
+def _crosses_any(
+    rows: NDArray[np.int8],
+    row_ends: NDArray[np.int64],
+    turns: NDArray[np.int8],
+    ends: NDArray[np.int64],
+) -> NDArray[np.bool_]:
+    """Per row segment: crossed properly by a segment of ``ends`` (sides from the turn tables)."""
+    out = np.zeros(len(rows), dtype=bool)
+    step = max(1, _PAIRS // max(len(ends), 1))
+    for lo in range(0, len(rows), step):
+        r, e = rows[lo : lo + step], row_ends[lo : lo + step]
+        apart = r[:, ends[:, 0]] * r[:, ends[:, 1]] < 0
+        theirs = (turns[:, e[:, 0]] * turns[:, e[:, 1]]).T < 0
+        out[lo : lo + step] = (apart & theirs).any(axis=1)
+    return out
+
+
+@dataclass(frozen=True)
+class Block:
+    """Kept triangles linked through free diagonals, and the fixed edges they cover.
+
+    Attributes
+    ----------
+    triangles : ndarray of int64
+        Candidate triangle ids.
+    fixed : ndarray of int64, shape (F, 2)
+        Directed fixed edges ``(x, y)`` (the block lies on their left).
+    """
+
+    triangles: NDArray[np.int64]
+    fixed: NDArray[np.int64]
+
+
+def blocks(cand: Candidates, keep: NDArray[np.bool_], fixed: NDArray[np.bool_]) -> list[Block]:
+    """Split the kept triangles into independent blocks (``fixed``: per edge).
+
+    Triangles sharing a free diagonal, or covering the same side of a fixed
+    edge, are in one block: every constraint of the program then involves
+    the triangles of one block only.
+    """
+    tris = np.flatnonzero(keep)
+    parent = list(range(len(tris)))
+
+    def find(x: int) -> int:
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    # linked: sharing a free diagonal (either side) or covering the same side of a fixed edge
+    sides, signs = cand.sides[tris], cand.signs[tris]
+    key = (2 * sides + (fixed[sides] & (signs > 0))).ravel()
+    local = np.repeat(np.arange(len(tris)), 3)
+    order = np.argsort(key, kind="stable")
+    e, t = key[order].tolist(), local[order].tolist()
+    for m in range(1, len(e)):
+        if e[m] == e[m - 1]:
+            ra, rb = find(t[m]), find(t[m - 1])
+            if ra != rb:
+                parent[ra] = rb
+    roots = np.array([find(x) for x in range(len(tris))], dtype=np.int64)
+    out = []
+    for r in np.unique(roots):
+        members = tris[roots == r]
+        out.append(Block(members, _fixed_sides(cand, members, fixed)))
+    return out
+
+
+def _fixed_sides(
+    cand: Candidates, members: NDArray[np.int64], fixed: NDArray[np.bool_]
+) -> NDArray[np.int64]:
+    t = cand.triangles[members]
+    pairs = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
+    ids = np.concatenate([cand.sides[members, m] for m in range(3)])
+    return np.unique(pairs[fixed[ids]], axis=0).reshape(-1, 2)
+
+
+def trace_walk(points: NDArray[np.float64], edges: NDArray[np.int64]) -> list[int] | None:
+    """The closed boundary walk of a region with the directed ``edges`` (region on the left).
+
+    From ``u -> v`` the walk leaves ``v`` along the first edge clockwise from
+    ``v -> u``. Returns the vertex sequence when one walk uses every edge
+    (the region is simply connected, possibly touching itself at vertices),
+    else None (the region has holes: its edges form several walks).
+    """
+    out: dict[int, list[int]] = {}
+    for x, y in edges.tolist():
+        out.setdefault(x, []).append(y)
+    u, v = (int(x) for x in edges[0])
+    seq = [u]
+    start = (u, v)
+    for _ in range(len(edges)):
+        seq.append(v)
+        options = out.get(v, [])
+        if not options:
+            return None
+        w = options[0] if len(options) == 1 else _first_clockwise(points, v, u, options)
+        u, v = v, w
+        if (u, v) == start:
+            break
+    else:
+        return None
+    seq.pop()  # the start vertex, reached again
+    return seq if len(seq) == len(edges) else None
+
+
+def _first_clockwise(points: NDArray[np.float64], v: int, u: int, options: list[int]) -> int:
+    """Of the neighbours ``options`` of ``v``, the first clockwise from the direction to ``u``."""
+    p = points
+
+    def turn(a: int, b: int, c: int) -> int:
+        return int(orient(p[a], p[b], p[c]))
+
+    def half(w: int) -> int:
+        # 0: clockwise angle from u in (0, pi]; 1: in (pi, 2 pi]
+        s = turn(v, u, w)
+        if s < 0:
+            return 0
+        if s > 0:
+            return 1
+        same = np.dot(p[w] - p[v], p[u] - p[v]) > 0
+        return 1 if same else 0
+
+    def before(a: int, b: int) -> int:
+        ha, hb = half(a), half(b)
+        if ha != hb:
+            return ha - hb
+        return turn(v, a, b)  # a first (negative) when b is clockwise of a
+
+    return sorted(options, key=cmp_to_key(before))[0]

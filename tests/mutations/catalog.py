@@ -1,0 +1,563 @@
+"""The mutations ``run.py`` applies to a copy of the repository, one at a time.
+
+Each names a file, an exact piece of its text (found exactly once), the text
+that replaces it, and the pytest arguments (test files, ``-k`` filters) whose
+run must then fail. Prefer lines whose meaning is stable, so the list still
+applies after refactoring; a mutation whose old text is gone is reported
+"stale", to be updated, not counted.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+
+class Mutation(NamedTuple):
+    """One deliberate bug and the tests that must catch it."""
+
+    name: str
+    file: str  # from the repository root
+    old: str
+    new: str
+    tests: tuple[str, ...]  # pytest arguments, run with -x -q
+    why: str = ""
+
+
+M = Mutation
+ENGINES = "tests/test_core_engines.py"
+TIES = "tests/test_core_ties.py"
+FAST = "tests/test_fast_engine.py"
+RESULT = "tests/test_core_result.py"
+ERRORS = "tests/test_core_errors.py"
+POLYLINE = "tests/test_mesh_polyline.py"
+MESH = "tests/test_mesh_fill.py"
+RESUME = "tests/test_batch_resume.py"
+MASK = "tests/test_simple_mask.py"
+SIMPLE = "tests/test_simple_solve.py"
+WEIGHTS = "tests/test_core_weights.py"
+TWINS = "tests/test_weights.py"
+GPU_SIM = ("tests/test_gpu_sim.py", "-k", "small")  # the simulator cases, tiny tiles
+GPU_PTX = "tests/test_gpu_ptx.py"
+
+MUTATIONS: list[Mutation] = [
+    # --- the issue's list: two-phase rule, ties, check(), CLI errors, 3-D limit ---------
+    M(
+        "two-phase-off",
+        "src/optri/objective.py",
+        'return self.is_lex and self.components[0] == "max"',
+        "return False",
+        (ENGINES, "-k", "two_phases"),
+        "max-led pairs solved in one (inexact) lexicographic pass",
+    ),
+    M(
+        "two-phase-skipped-for-fast",
+        "src/optri/solve.py",
+        'if objective.two_phase and method != "brute":',
+        'if objective.two_phase and method not in ("brute", "fast"):',
+        (FAST, "-k", "max_led"),
+        "the compiled engine gets the max-led pair in one pass",
+    ),
+    M(
+        "minplus-ignores-gate",
+        "src/optri/engines/jit.py",
+        'if problem.gates or problem.objective.components != ("sum",):',
+        'if problem.objective.components != ("sum",):',
+        (FAST, "-k", "max_led"),
+        "a gated sum of perimeters/diagonals runs on the gateless min-plus kernel",
+    ),
+    M(
+        "compiled-gate-excludes-equal",
+        "src/optri/engines/_jit_kernels.py",
+        "> gate[0]:",
+        ">= gate[0]:",
+        (FAST, "-k", "max_led"),
+        "the bottleneck triangle itself is gated out",
+    ),
+    M(
+        "float32-gate-not-widened",
+        "src/optri/engines/jit.py",
+        "return float(np.nextafter(np.float32(thr), np.float32(np.inf)))",
+        "return float(np.float32(thr))",
+        (FAST, "-k", "float32_gate"),
+        "a float32 bottleneck rounded down gates out its own triangle",
+    ),
+    M(
+        "python-gate-excludes-equal",
+        "src/optri/engines/problem.py",
+        "if g(i, k, j) > thr:",
+        "if g(i, k, j) >= thr:",
+        (ENGINES, "-k", "two_phases or lexicographic"),
+        "the Python engines gate out the bottleneck triangle",
+    ),
+    M(
+        "cell-ties-to-last",
+        "src/optri/engines/recurrence.py",
+        "if less(c, best):",
+        "if not less(best, c):",
+        (TIES,),
+        "memo/table keep the last of equal splits",
+    ),
+    M(
+        "splits-in-decreasing-order",
+        "src/optri/engines/recurrence.py",
+        "return range(i + 1, j)",
+        "return range(j - 1, i, -1)",
+        (TIES,),
+        "splits tried largest first: ties go to the largest k",
+    ),
+    M(
+        "objective-less-is-le",
+        "src/optri/objective.py",
+        "return operator.lt",
+        "return operator.le",
+        (TIES,),
+        "a tie replaces the best split",
+    ),
+    M(
+        "brute-ties-to-last",
+        "src/optri/engines/brute.py",
+        "if best_tris is None or objective.less(c, best_cost):",
+        "if best_tris is None or not objective.less(best_cost, c):",
+        (TIES,),
+        "brute force keeps the last optimal triangulation",
+    ),
+    M(
+        "compiled-ties-to-last",
+        "src/optri/engines/_jit_kernels.py",
+        "if v1 < b1:",
+        "if v1 <= b1:",
+        (TIES,),
+        "the generic kernel keeps the last of equal splits",
+    ),
+    M(
+        "minplus-ties-to-last",
+        "src/optri/engines/_jit_kernels.py",
+        "if c < best:",
+        "if c <= best:",
+        (TIES,),
+        "the min-plus traceback keeps the last of equal splits",
+    ),
+    M(
+        "compiled-lex-ties-to-last",
+        "src/optri/engines/_jit_kernels.py",
+        "(v1 == b1 and v2 < b2)",
+        "(v1 == b1 and v2 <= b2)",
+        (TIES,),
+        "a lexicographic tie in both components replaces the best split",
+    ),
+    M(
+        "check-ignores-crossings",
+        "src/optri/result.py",
+        '_require(chords_cross_free(diags), "two diagonals cross")',
+        '_require(True, "two diagonals cross")',
+        (RESULT,),
+    ),
+    M(
+        "cross-free-test-inverted",
+        "src/optri/result.py",
+        "if stack and b > stack[-1]:",
+        "if stack and b < stack[-1]:",
+        (RESULT,),
+    ),
+    M(
+        "check-allows-duplicates",
+        "src/optri/result.py",
+        "_require(count == (1 if side else 2),",
+        "_require(count >= 1,",
+        (RESULT,),
+    ),
+    M(
+        "check-allows-clockwise",
+        "src/optri/result.py",
+        '_require(bool((areas >= -rtol * scale).all()), "a triangle is clockwise")',
+        '_require(True, "a triangle is clockwise")',
+        (RESULT,),
+    ),
+    M(
+        "check-ignores-cost",
+        "src/optri/result.py",
+        "_require(_close(again, self.weight, rtol),",
+        "_require(True,",
+        (RESULT,),
+    ),
+    M(
+        "cli-error-keeps-newlines",
+        "src/optri/cli/app.py",
+        'first = " ".join(message.split())',
+        "first = message",
+        (ERRORS, "-k", "cli"),
+    ),
+    M(
+        "cli-error-exit-1",
+        "src/optri/cli/app.py",
+        "sys.exit(2)",
+        "sys.exit(1)",
+        (ERRORS, "-k", "cli"),
+    ),
+    M(
+        "cli-oserror-traceback",
+        "src/optri/cli/app.py",
+        "except OSError as exc:",
+        "except NotImplementedError as exc:",
+        (ERRORS, "-k", "cli"),
+        "an OSError (unwritable output) escapes as a traceback",
+    ),
+    M(
+        "cli-interrupt-exit-1",
+        "src/optri/cli/app.py",
+        "sys.exit(130)",
+        "sys.exit(1)",
+        (RESUME,),
+    ),
+    M(
+        "holes-exact-limit-exclusive",
+        "src/optri/holes/modes.py",
+        "n <= config.HOLES_EXACT_MAX_N",
+        "n < config.HOLES_EXACT_MAX_N",
+        (POLYLINE, "-k", "limit"),
+    ),
+    # --- engines and the recurrence ---------------------------------------------------
+    M(
+        "chords-skip-triangles",
+        "src/optri/engines/recurrence.py",
+        "for d in range(2, n):",
+        "for d in range(3, n):",
+        (ENGINES,),
+    ),
+    M(
+        "walk-drops-right-half",
+        "src/optri/engines/recurrence.py",
+        "stack.extend(reversed(children))",
+        "stack.extend(children[:1])",
+        (ENGINES,),
+    ),
+    M(
+        "export-split-shifted",
+        "src/optri/engines/recurrence.py",
+        "out[j, i] = split[i][j]",
+        "out[j, i] = split[i][j] + 1",
+        (ENGINES,),
+    ),
+    M(
+        "export-keeps-minus-inf",
+        "src/optri/engines/recurrence.py",
+        "out[i, j] = 0.0 if v == -math.inf else v",
+        "out[i, j] = v",
+        (ENGINES,),
+        'sides of a "max" table exported as -inf instead of 0',
+    ),
+    M(
+        "memo-lookups-off-by-one",
+        "src/optri/engines/memo.py",
+        '"lookups": requests - misses,',
+        '"lookups": requests - misses - 1,',
+        (ENGINES,),
+    ),
+    M(
+        "table-reads-lower-half",
+        "src/optri/engines/table.py",
+        "p, q = frame.send(cost[p][q])",
+        "p, q = frame.send(cost[q][p] if p + 1 < q else cost[p][q])",
+        (ENGINES,),
+    ),
+    M(
+        "fast-auto-threshold-exclusive",
+        "src/optri/engines/jit.py",
+        "return problem.n >= config.FAST_AUTO_MIN_N",
+        "return problem.n > config.FAST_AUTO_MIN_N",
+        (FAST, "-k", "auto_default"),
+    ),
+    M(
+        "minplus-edge-counted-once",
+        "src/optri/engines/_jit_kernels.py",
+        "v = best + 2.0 * edge_weight(code, pts, i, j)",
+        "v = best + edge_weight(code, pts, i, j)",
+        (FAST, "-k", "brute or square"),
+    ),
+    # --- objective ------------------------------------------------------------------
+    M(
+        "max-neutral-zero",
+        "src/optri/objective.py",
+        'vals = tuple(0.0 if c == "sum" else -math.inf for c in self.components)',
+        "vals = tuple(0.0 for c in self.components)",
+        (ENGINES, SIMPLE, "-k", "brute or oracle or negative"),
+        'a side counts as 0 under "max": wrong for negative weights (min_angle)',
+    ),
+    M(
+        "lex-combine-all-sum",
+        "src/optri/objective.py",
+        'fns = tuple(_sum3 if c == "sum" else _max3 for c in self.components)',
+        "fns = tuple(_sum3 for c in self.components)",
+        (ENGINES, "tests/test_enumerate_kbest.py"),
+    ),
+    # --- weights --------------------------------------------------------------------
+    M(
+        "perimeter-drops-a-side",
+        "src/optri/weights.py",
+        "edge_weight(code, p, k, j) + edge_weight(code, p, i, j)",
+        "edge_weight(code, p, k, j)",
+        (WEIGHTS, ENGINES),
+    ),
+    M(
+        "diagonal-counts-sides",
+        "src/optri/weights.py",
+        "return 0.0  # a polygon side is not a diagonal",
+        "return 0.5 * d",
+        (WEIGHTS, ENGINES),
+    ),
+    M(
+        "max-angle-is-smallest",
+        "src/optri/weights.py",
+        "return math.acos(min(_cosine(a, b, c), _cosine(b, c, a), _cosine(c, a, b)))",
+        "return math.acos(max(_cosine(a, b, c), _cosine(b, c, a), _cosine(c, a, b)))",
+        (WEIGHTS,),
+    ),
+    M(
+        "aspect-ratio-inverted",
+        "src/optri/weights.py",
+        "return a * b * c / (8.0 * q)",
+        "return 8.0 * q / (a * b * c)",
+        (WEIGHTS,),
+    ),
+    M(
+        "area-3d-drops-z",
+        "src/optri/weights.py",
+        "return 0.5 * math.sqrt(cx * cx + cy * cy + cz * cz)",
+        "return 0.5 * math.sqrt(cx * cx + cy * cy)",
+        (WEIGHTS,),
+    ),
+    # --- simple polygons: validation and the valid-diagonal masks ---------------------
+    M(
+        "straight-vertex-is-convex",
+        "src/optri/polygon.py",
+        "if np.any(turn_signs(ccw_points) <= 0):",
+        "if np.any(turn_signs(ccw_points) < 0):",
+        (ERRORS, SIMPLE, "-k", "straight"),
+    ),
+    M(
+        "clockwise-order-wrong",
+        "src/optri/polygon.py",
+        "order = np.concatenate(([0], np.arange(n - 1, 0, -1))).astype(np.int64)",
+        "order = np.arange(n - 1, -1, -1).astype(np.int64)",
+        (ENGINES, SIMPLE, "-k", "clockwise"),
+    ),
+    M(
+        "closing-vertex-kept",
+        "src/optri/polygon.py",
+        "if arr.ndim == 2 and arr.shape[0] > 3 and np.array_equal(arr[0], arr[-1]):",
+        "if False:",
+        (ENGINES,),
+    ),
+    M(
+        "in-cone-reflex-as-convex",
+        "src/optri/predicates.py",
+        "return np.where(convex, left_of_next & left_of_prev, left_of_next | left_of_prev)",
+        "return left_of_next & left_of_prev",
+        (MASK,),
+    ),
+    M(
+        "touch-reported-as-cross",
+        "src/optri/predicates.py",
+        "cross = (o1 * o2 < 0) & (o3 * o4 < 0)",
+        "cross = (o1 * o2 <= 0) & (o3 * o4 <= 0)",
+        (MASK, "-k", "named or indices"),
+    ),
+    M(
+        "scan-through-vertex",
+        "src/optri/simple/_kernels.py",
+        "return False  # the chord runs through vertex a",
+        "pass  # the chord runs through vertex a",
+        (MASK,),
+    ),
+    M(
+        "ear-ignores-vertex-on-new-diagonal",
+        "src/optri/simple/_kernels.py",
+        "_orient(x[q], y[q], x[p], y[p], x[w], y[w], tol) >= 0",
+        "_orient(x[q], y[q], x[p], y[p], x[w], y[w], tol) > 0",
+        (MASK,),
+        "an ear whose cut (q, p) passes through a vertex is clipped anyway",
+    ),
+    M(
+        "count-ignores-mask",
+        "src/optri/enumeration/counting.py",
+        "ok = usable_chords(polygon)",
+        "ok = None",
+        ("tests/test_enumerate_counts.py", MASK, "-k", "count or non_convex"),
+        "a non-convex polygon counted as convex (Catalan)",
+    ),
+    # --- enumeration and the matrix chain ----------------------------------------------
+    M(
+        "kbest-max-led-treated-monotone",
+        "src/optri/enumeration/kbest.py",
+        'return len(components) == 1 or components[0] == "sum"',
+        "return True",
+        ("tests/test_enumerate_kbest.py",),
+    ),
+    M(
+        "chain-parens-swapped",
+        "src/optri/chain.py",
+        'stack.extend([")", (k, b), (a, k), "("])',
+        'stack.extend([")", (a, k), (k, b), "("])',
+        ("tests/test_core_chain.py",),
+    ),
+    # --- holes ----------------------------------------------------------------------
+    M(
+        "patch-wound-backwards",
+        "src/optri/holes/mesh.py",
+        "return rec, loop.vertices[tri.triangles]",
+        "return rec, loop.vertices[tri.triangles[:, ::-1]]",
+        (MESH,),
+    ),
+    M(
+        "exact-walk-drops-triangles",
+        "src/optri/holes/_exact.py",
+        "            if b - a > 1:",
+        "            if b - a > 2:",
+        (POLYLINE,),
+    ),
+    M(
+        "liepa-area-not-summed",
+        "src/optri/holes/liepa.py",
+        "return float(worst), float(normals[:, 4].sum())",
+        "return float(worst), float(normals[:, 4].max())",
+        (POLYLINE,),
+    ),
+    M(
+        "liepa-recurrence-ignores-area",
+        "src/optri/holes/_liepa.py",
+        "if c1 < best1 or (c1 == best1 and C[1, t] < best2):",
+        "if c1 < best1:",
+        (POLYLINE,),
+    ),
+    M(
+        "exact-ignores-forbidden-chords",
+        "src/optri/holes/_exact.py",
+        "            if L == n - 1 or allowed[i, j]:",
+        "            if True:",
+        ("tests/test_mesh_exact.py", "-k", "textbook or forbidden"),
+        "the exact search joins vertices the mesh already joins (an edge with 4 faces)",
+    ),
+    M(
+        "liepa-ignores-forbidden-chords",
+        "src/optri/holes/_liepa.py",
+        "if not allowed[i, j] and not (i == 0 and j == n - 1):",
+        "if False:",
+        ("tests/test_mesh_manifold.py", "-k", "existing_edge"),
+    ),
+    M(
+        "delaunay-candidates-keep-forbidden-chords",
+        "src/optri/holes/modes.py",
+        "tris = tris[_uses_allowed(tris, hole.allowed)]",
+        "tris = tris",
+        ("tests/test_mesh_manifold.py", "-k", "existing_edge"),
+    ),
+    M(
+        "zero-area-is-just-a-fold",
+        "src/optri/holes/_kernels.py",
+        "DEGENERATE_KEY = 3.0",
+        "DEGENERATE_KEY = 2.0",
+        ("tests/test_mesh_manifold.py", "-k", "flat_sheet"),
+        "a flat sheet's border gets zero-area faces although patches without them tie",
+    ),
+    M(
+        "pinched-fans-not-followed",
+        "src/optri/holes/boundary.py",
+        "    if len(many):",
+        "    if False:",
+        ("tests/test_mesh_manifold.py", "-k", "pinched or two_vertices"),
+    ),
+    M(
+        "mesh-forgets-patch-edges",
+        "src/optri/holes/mesh.py",
+        "            joined.add(patch)",
+        "            pass",
+        ("tests/test_mesh_manifold.py", "-k", "two_vertices"),
+    ),
+    M(
+        "exact-bound-prunes-the-optimum",
+        "src/optri/holes/_exact.py",
+        "                B[first + s] = best if best <= U else np.inf",
+        "                B[first + s] = best if best < U else np.inf",
+        ("tests/test_mesh_exact.py", "-k", "bound or textbook"),
+    ),
+    M(
+        "loader-merges-with-trimesh",
+        "src/optri/io/meshes.py",
+        'force="mesh", process=False)',
+        'force="mesh", process=True)',
+        ("tests/test_mesh_cli.py", "-k", "scale"),
+        "trimesh's absolute 1e-8 merge collapses a mesh drawn in nanometres",
+    ),
+    # --- batch ----------------------------------------------------------------------
+    M(
+        "resume-redoes-every-part",
+        "src/optri/batch/driver.py",
+        "if part.exists():",
+        "if False:",
+        (RESUME,),
+    ),
+    M(
+        "manifest-ignores-weight",
+        "src/optri/batch/driver.py",
+        '"weight": repr(s.options["weight"]),',
+        '"weight": "perimeter",',
+        (RESUME,),
+    ),
+    M(
+        "interrupted-write-leaves-temporary",
+        "src/optri/io/atomic.py",
+        "os.unlink(tmp)",
+        "pass",
+        (RESUME, ERRORS, "-k", "sigint or atomic"),
+    ),
+    M(
+        "stale-temporaries-kept",
+        "src/optri/batch/layout.py",
+        'for p in self.parts_dir.glob(".part-*.tmp*"):',
+        'for p in self.parts_dir.glob(".none-*.tmp*"):',
+        (RESUME,),
+    ),
+    M(
+        "error-reason-multi-line",
+        "src/optri/batch/records.py",
+        'return " ".join(str(message).split()) or "unknown error"',
+        'return str(message) or "unknown error"',
+        ("tests/test_batch_badinput.py",),
+    ),
+    # --- GPU engine: the CUDA weight twin, the kernels (simulator), the PTX checks --------
+    M(
+        "gpu-twin-min-angle-drops-an-angle",
+        "src/optri/engines/_gpu_device.py",
+        "return -min(ta, min(tb, tc))",
+        "return -min(ta, tb)",
+        (TWINS,),
+    ),
+    M(
+        "gpu-twin-diagonal-counts-the-closing-side",
+        "src/optri/engines/_gpu_device.py",
+        "if hi - lo == 1 or (lo == 0 and hi == n - 1):",
+        "if hi - lo == 1:",
+        (TWINS,),
+    ),
+    M(
+        "gpu-rebuild-ties-to-largest-k",
+        "src/optri/engines/_gpu_kernels.py",
+        "(sa[tid] < 0 or oa < sa[tid])",
+        "(sa[tid] < 0 or oa > sa[tid])",
+        GPU_SIM,
+    ),
+    M(
+        "gpu-finish-ignores-the-mask",
+        "src/optri/engines/_gpu_kernels.py",
+        "if has_mask and mask[i, j] == 0:",
+        "if has_mask and mask[i, j] == 2:",
+        GPU_SIM,
+    ),
+    M(
+        "gpu-finish-launch-bounds-of-the-wrong-block",
+        "src/optri/engines/_gpu_kernels.py",
+        "finish=finish_kernel(tile, finish_threads, dtype),",
+        "finish=finish_kernel(tile, threads, dtype),",
+        (GPU_PTX,),
+    ),
+]
