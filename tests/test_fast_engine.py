@@ -269,18 +269,3 @@ def test_fast_unavailable_without_numba(monkeypatch: pytest.MonkeyPatch) -> None
     monkeypatch.setitem(sys.modules, "numba", None)
     assert "numba" in (jit.unavailable() or "")
 
-
-def test_fast_bench_cli_small() -> None:
-    import shutil
-
-    from click.testing import CliRunner
-
-    from optri.bench import find_yardsticks
-    from optri.cli import main
-
-    if find_yardsticks() is None or shutil.which("gcc") is None:
-        pytest.skip("yardsticks or gcc not available")
-    out = CliRunner().invoke(main, ["bench", "60", "--naive-max", "60", "--repeats", "1"])
-    assert out.exit_code == 0, out.output
-    row = out.output.strip().splitlines()[-1].split()
-    assert row[0] == "60" and row[-1] == "True"  # same optimum as the C yardstick
