@@ -22,6 +22,8 @@ Two evaluation orders of the one recurrence (``best_split``):
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 from llvmlite import ir
 from numba import njit, prange, types
@@ -103,6 +105,38 @@ def _store_release(typingctx, arr, idx, val):
         return context.get_dummy_value()
 
     return types.none(arr, idx, val), codegen
+
+
+# sched_yield (POSIX) or SwitchToThread (Windows): both take nothing, return an int
+_YIELD_SYMBOL = "SwitchToThread" if sys.platform == "win32" else "sched_yield"
+_SPINS = 2000  # polls of a tile's flag before a waiting thread gives up its CPU
+
+
+@intrinsic
+def _yield_cpu(typingctx):
+    """Let the OS run another thread now: a waiter must not starve the thread it waits on."""
+
+    def codegen(context, builder, signature, args):
+        fnty = ir.FunctionType(ir.IntType(32), [])
+        builder.call(cgutils.get_or_insert_function(builder.module, fnty, _YIELD_SYMBOL), [])
+        return context.get_dummy_value()
+
+    return types.none(), codegen
+
+
+@kernel(inline="always")
+def _wait_done(done, idx):
+    """Wait until ``done[idx]`` is set: spin briefly, then yield between polls.
+
+    On a machine with more runnable threads than cores, the tile waited on may
+    belong to a thread the OS has descheduled; spinning would burn the very CPU
+    time it needs.
+    """
+    spins = 0
+    while _load_acquire(done, idx) == 0:
+        spins += 1
+        if spins >= _SPINS:
+            _yield_cpu()
 
 
 # --- min-plus path (sum of an edge-decomposable weight) -----------------------------
@@ -371,10 +405,8 @@ def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers):
                 break
             t, d = order[k, 0], order[k, 1]
             if d > 0:
-                while _load_acquire(done, t * nt + t + d - 1) == 0:
-                    pass
-                while _load_acquire(done, (t + 1) * nt + t + d) == 0:
-                    pass
+                _wait_done(done, t * nt + t + d - 1)
+                _wait_done(done, (t + 1) * nt + t + d)
             _tile(T, pts, code, mask, use_mask, tile, t, t + d)
             _store_release(done, t * nt + t + d, 1)
 
