@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 from ..engines import ENGINES
 from ..errors import EngineUnavailableError, InvalidPolygonError, OptriError
 from ..objective import as_objective
-from ..polygon import normalize_vertices
+from ..polygon import is_ring_pair, normalize_vertices
 from ..result import Triangulation
 from ..solve import triangulate
 from ..weights import resolve_weights
@@ -38,10 +38,12 @@ from .project import local_projector
 
 __all__ = [
     "ChunkSolver",
+    "HoledRings",
     "Result",
     "SolveOptions",
     "check_options",
     "chunk_solver",
+    "polygon_rings",
     "polygon_vertices",
     "solve_each",
     "solve_polygons",
@@ -81,27 +83,99 @@ def check_options(weight: Any, objective: Any, method: str) -> dict[str, Any]:
     return dict(weight=weight, objective=objective, method=method)
 
 
-ChunkSolver = Callable[[Sequence[NDArray[np.float64]], SolveOptions], list[Result]]
+ChunkSolver = Callable[[Sequence["Polygonal"], SolveOptions], list[Result]]
 
 
-def polygon_vertices(obj: Any) -> NDArray[np.float64]:
-    """The vertex array of one polygon: an ``(n, 2)``/``(n, 3)`` array-like or a shapely Polygon.
+@dataclass(frozen=True, eq=False)
+class HoledRings:
+    """A polygon with holes in a batch: its vertices, exterior ring first, and the ring sizes.
 
-    A MultiPolygon of one part is that part. Raises InvalidPolygonError otherwise
-    (never a numpy or shapely error).
+    Vertices are numbered as :func:`optri.triangulate` numbers them (exterior,
+    then each hole in order, closing vertices dropped), so triangles index
+    :attr:`vertices` directly. Behaves as that array for the writers.
+
+    >>> h = polygon_rings([[[0, 0], [3, 0], [3, 3], [0, 3]], [[1, 1], [1, 2], [2, 2], [2, 1]]])
+    >>> h.sizes, h.shape
+    ((4, 4), (8, 2))
+    """
+
+    vertices: NDArray[np.float64]
+    sizes: tuple[int, ...]
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The shape of :attr:`vertices`."""
+        return self.vertices.shape
+
+    def __len__(self) -> int:
+        return len(self.vertices)
+
+    def __iter__(self) -> Any:
+        return iter(self.vertices)
+
+    def __array__(self, dtype: Any = None, copy: Any = None) -> NDArray[Any]:
+        return np.asarray(self.vertices, dtype=dtype)
+
+    def tolist(self) -> list:
+        """:attr:`vertices` as nested lists."""
+        return self.vertices.tolist()
+
+    def with_vertices(self, vertices: NDArray[np.float64]) -> HoledRings:
+        """The same rings at other coordinates (a projection of :attr:`vertices`)."""
+        return HoledRings(vertices, self.sizes)
+
+    def pair(self) -> tuple[NDArray[np.float64], list[NDArray[np.float64]]]:
+        """``(exterior, [holes])``, the form :func:`optri.triangulate` takes."""
+        rings = np.split(self.vertices, np.cumsum(self.sizes)[:-1])
+        return rings[0], rings[1:]
+
+
+Polygonal = NDArray[np.float64] | HoledRings
+
+
+def polygon_vertices(obj: Any) -> Polygonal:
+    """The vertices of one polygon: an ``(n, 2)``/``(n, 3)`` array-like or a shapely Polygon.
+
+    A MultiPolygon of one part is that part; a Polygon with holes, or an
+    ``(exterior, [holes])`` pair, gives :class:`HoledRings`. Raises
+    InvalidPolygonError otherwise (never a numpy or shapely error).
 
     >>> polygon_vertices([[0, 0], [1, 0], [0, 1]]).shape
     (3, 2)
     """
     if obj is None:
         raise InvalidPolygonError("empty or missing geometry")
+    if isinstance(obj, HoledRings):  # read and checked already
+        return obj
     if hasattr(obj, "geom_type"):  # shapely, without importing it
         return _shapely_vertices(obj)
+    if is_ring_pair(obj):
+        return polygon_rings([obj[0], *obj[1]])
     # the shared validator: numbers, shape, closing vertices, repeats
     return normalize_vertices(obj, values=False)
 
 
-def _shapely_vertices(geom: Any) -> NDArray[np.float64]:
+def polygon_rings(rings: Sequence[Any]) -> Polygonal:
+    """The vertices of a polygon given as rings (exterior first, then holes).
+
+    One ring is a simple polygon (an array); more give :class:`HoledRings`,
+    each ring checked by the shared validator (closing vertices dropped).
+    """
+    if len(rings) == 1:
+        return polygon_vertices(rings[0])
+    arrays = []
+    for k, ring in enumerate(rings):
+        try:
+            arrays.append(normalize_vertices(ring, values=False))
+        except InvalidPolygonError as exc:
+            name = "exterior ring" if k == 0 else f"hole {k - 1}"
+            raise InvalidPolygonError(f"{name}: {exc}") from None
+    if any(a.shape[1] != arrays[0].shape[1] for a in arrays):
+        raise InvalidPolygonError("the rings of a polygon mix 2-D and 3-D coordinates")
+    return HoledRings(np.concatenate(arrays), tuple(len(a) for a in arrays))
+
+
+def _shapely_vertices(geom: Any) -> Polygonal:
     if geom.is_empty:
         raise InvalidPolygonError("empty or missing geometry")
     if geom.geom_type == "MultiPolygon":
@@ -110,15 +184,8 @@ def _shapely_vertices(geom: Any) -> NDArray[np.float64]:
         geom = geom.geoms[0]
     if geom.geom_type != "Polygon":
         raise InvalidPolygonError(f"geometry type {geom.geom_type!r} is not a Polygon")
-    if len(geom.interiors):
-        # seam for polygons with holes (issue 19): refused until their solver is wired in
-        raise InvalidPolygonError(holes_reason(len(geom.interiors)))
-    return np.asarray(geom.exterior.coords, dtype=np.float64)
-
-
-def holes_reason(holes: int) -> str:
-    """Why a polygon with holes gets an error result (one line)."""
-    return f"polygon has {holes} hole(s); exact optimal triangulation with holes is not supported"
+    rings = [geom.exterior, *geom.interiors]
+    return polygon_rings([np.asarray(r.coords, dtype=np.float64) for r in rings])
 
 
 def solve_polygons(polygons: Sequence[Any], options: SolveOptions) -> list[Result]:
@@ -134,7 +201,7 @@ def solve_polygons(polygons: Sequence[Any], options: SolveOptions) -> list[Resul
     """
     results: list[Result | None] = [None] * len(polygons)
     todo: list[int] = []
-    originals: list[NDArray[np.float64]] = []
+    originals: list[Polygonal] = []
     for i, obj in enumerate(polygons):
         try:
             originals.append(polygon_vertices(obj))
@@ -146,22 +213,27 @@ def solve_polygons(polygons: Sequence[Any], options: SolveOptions) -> list[Resul
         arrays, todo, originals = _projected(originals, todo, options.project, results)
     for i, res, original in zip(todo, chunk_solver(options)(arrays, options), originals):
         if options.project is not None and isinstance(res, Triangulation):
-            res = replace(res, vertices=original[: res.n])
+            res = replace(res, vertices=np.asarray(original)[: res.n])
         results[i] = res
     return results  # type: ignore[return-value]  # every slot is filled above
 
 
 def _projected(
-    originals: list[NDArray[np.float64]],
+    originals: list[Polygonal],
     todo: list[int],
     crs: str,
     results: list[Result | None],
-) -> tuple[list[NDArray[np.float64]], list[int], list[NDArray[np.float64]]]:
+) -> tuple[list[Polygonal], list[int], list[Polygonal]]:
     project = local_projector(crs)
-    arrays, kept, kept_originals = [], [], []
+    arrays: list[Polygonal] = []
+    kept: list[int] = []
+    kept_originals: list[Polygonal] = []
     for i, arr in zip(todo, originals):
         try:
-            arrays.append(project(arr))
+            if isinstance(arr, HoledRings):
+                arrays.append(arr.with_vertices(project(arr.vertices)))
+            else:
+                arrays.append(project(arr))
             kept.append(i)
             kept_originals.append(arr)
         except OptriError as exc:
@@ -174,7 +246,7 @@ def chunk_solver(options: SolveOptions) -> ChunkSolver:
     return solve_each
 
 
-def solve_each(arrays: Sequence[NDArray[np.float64]], options: SolveOptions) -> list[Result]:
+def solve_each(arrays: Sequence[Polygonal], options: SolveOptions) -> list[Result]:
     """The per-polygon path: :func:`optri.triangulate` on each array, errors as results.
 
     Any exception a polygon raises (a user weight's included) becomes its
@@ -188,8 +260,12 @@ def solve_each(arrays: Sequence[NDArray[np.float64]], options: SolveOptions) -> 
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
+                source = arr.pair() if isinstance(arr, HoledRings) else arr
                 tri = triangulate(
-                    arr, weight=options.weight, objective=options.objective, method=options.method
+                    source,
+                    weight=options.weight,
+                    objective=options.objective,
+                    method=options.method,
                 )
             except OptriError as exc:
                 out.append(exc)
