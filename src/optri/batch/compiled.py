@@ -201,8 +201,9 @@ def _solve_chunk(
             declined.append(i)
             continue
         n, t0 = int(sizes[r]), int(starts[r]) - 2 * r
+        s = int(starts[r])  # vertices from the chunk's own copy: never the caller's array
         results[i] = _result(
-            plan, options, arrays[i][:n], tris[t0 : t0 + n - 2], float(costs[r]), bool(cw[r])
+            plan, options, xy[s : s + n], tris[t0 : t0 + n - 2], float(costs[r]), bool(cw[r])
         )
         results[i].stats["wall_seconds"] = share * work[r]  # type: ignore[union-attr]
     return declined

@@ -116,20 +116,46 @@ def solve_polygons(polygons: Sequence[Any], options: SolveOptions) -> list[Resul
     results: list[Result | None] = [None] * len(polygons)
     todo: list[int] = []
     originals: list[NDArray[np.float64]] = []
+    solver = chunk_solver(options)
+    # the compiled solver checks 2-D coordinates itself, exactly as the validator does
+    # (declined rows go to triangulate, which validates them): numbers need no second pass
+    quick = solver is solve_compiled and options.project is None
     for i, obj in enumerate(polygons):
         try:
-            originals.append(polygon_vertices(obj))
+            raw = _coordinates(obj) if quick else None
+            originals.append(polygon_vertices(obj) if raw is None else raw)
             todo.append(i)
         except OptriError as exc:
             results[i] = exc
     arrays = originals
     if options.project is not None:
         arrays, todo, originals = _projected(originals, todo, options.project, results)
-    for i, res, original in zip(todo, chunk_solver(options)(arrays, options), originals):
+    for i, res, original in zip(todo, solver(arrays, options), originals):
         if options.project is not None and isinstance(res, Triangulation):
             res = replace(res, vertices=original[: res.n])
         results[i] = res
     return results  # type: ignore[return-value]  # every slot is filled above
+
+
+def _coordinates(obj: Any) -> NDArray[np.float64] | None:
+    """``obj`` as a float64 ``(n, 2)`` array when it is one of plain numbers, else None.
+
+    Only the conversion :func:`optri.polygon.normalize_vertices` starts with
+    (integers and floats; booleans, strings, objects and other shapes are left
+    to it); the checks that follow are the solver's.
+    """
+    if isinstance(obj, np.ndarray):
+        raw = obj
+    elif isinstance(obj, (list, tuple)):
+        try:
+            raw = np.asarray(obj)
+        except (TypeError, ValueError):
+            return None
+    else:
+        return None
+    if raw.dtype.kind not in "fiu" or raw.ndim != 2 or raw.shape[1] != 2:
+        return None
+    return raw.astype(np.float64, copy=False)
 
 
 def _projected(

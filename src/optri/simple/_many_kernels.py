@@ -20,7 +20,10 @@ compiled function:
    the bits of the engine ``optri.triangulate`` would run: ``MODE_PYTHON``
    (the Python engines' ``cost(i, k) + cost(k, j) + w(i, k, j)``) and
    ``MODE_FAST`` (the compiled engine: the min-plus E-table for a sum of an
-   edge-decomposable weight, else the same cells as ``MODE_PYTHON``).
+   edge-decomposable weight, else the same cells as ``MODE_PYTHON``). A sum of
+   an edge-decomposable weight in ``MODE_PYTHON`` takes its edge weights from
+   a table and records its splits as it goes (``best_split``'s arithmetic and
+   rule, unrolled), then walks them as ``trace`` does.
 
 A polygon that fails any check, or whose DP ends in NaN, an infinite cost or
 an inconsistent walk, gets a non-zero status and no result: the caller solves
@@ -200,6 +203,70 @@ def _fill_cells(T, weigh, rule, mask, use_mask, neutral):  # type: ignore[no-unt
 MINPLUS_FASTMATH = {"nnan", "nsz", "arcp", "contract", "reassoc"}
 
 
+@kernel()
+def _fill_edge_sums(T, S, pts, code, mask, use_mask):  # type: ignore[no-untyped-def]
+    """The Python engines' table for a sum of an edge-decomposable weight, and its splits.
+
+    ``cost(i, j) = min_k cost(i, k) + cost(k, j) + w(i, k, j)`` with
+    ``w = (e(i, k) + e(k, j)) + e(i, j)``, added in that order as
+    ``best_split`` and the Python engines do, from edge weights computed once;
+    ``S[i, j]`` is the smallest optimal k (``best_split``'s rule), -1 if none.
+    """
+    n = T.shape[0]
+    e = np.zeros((n, n))  # 0 where not a chord: its cost is +inf, so never chosen
+    for i in range(n):
+        for j in range(i + 1, n):
+            if not use_mask or mask[i, j]:
+                e[i, j] = edge_weight(code, pts, i, j)
+                e[j, i] = e[i, j]
+    for i in range(n - 1):
+        T[i, i + 1] = 0.0
+        T[i + 1, i] = 0.0
+    for d in range(2, n):
+        for i in range(n - d):
+            j = i + d
+            best, arg = np.inf, -1
+            if not use_mask or mask[i, j]:
+                ri, rj, ei, ej, eij = T[i], T[j], e[i], e[j], e[i, j]
+                for k in range(i + 1, j):
+                    c = ri[k] + rj[k] + ((ei[k] + ej[k]) + eij)
+                    if c < best:
+                        best, arg = c, k
+            T[i, j] = best
+            T[j, i] = best
+            S[i, j] = arg
+
+
+@kernel()
+def _walk(S, tris):  # type: ignore[no-untyped-def]
+    """``trace``'s bounded walk from chord (0, n-1) over recorded splits; True if whole."""
+    n = S.shape[0]
+    stack = np.empty((n, 2), dtype=np.int64)
+    top, m = 1, 0
+    stack[0, 0], stack[0, 1] = 0, n - 1
+    while top > 0:
+        top -= 1
+        i, j = stack[top, 0], stack[top, 1]
+        if j - i < 2:
+            continue
+        k = S[i, j]
+        if k <= i or k >= j or m >= n - 2:
+            return False
+        tris[m, 0], tris[m, 1], tris[m, 2] = i, k, j
+        m += 1
+        stack[top, 0], stack[top, 1] = k, j
+        stack[top + 1, 0], stack[top + 1, 1] = i, k
+        top += 2
+    return m == n - 2
+
+
+# The compiled engine's min-plus kernels compile with these flags, which let LLVM fuse
+# the side lengths' squares (FMA): the E-table is theirs bit for bit only with the same
+# flags (tests hold this set to optri.engines._jit_kernels'). Costs stay non-negative
+# sums and minima, never NaN, so the flags change nothing else.
+MINPLUS_FASTMATH = {"nnan", "nsz", "arcp", "contract", "reassoc"}
+
+
 @kernel(fastmath=MINPLUS_FASTMATH)
 def _fill_minplus(E, pts, code, mask, use_mask):  # type: ignore[no-untyped-def]
     """The compiled engine's E-table: ``E(i, j) = min_k E(i, k) + E(k, j) + 2 e(i, j)``.
@@ -226,7 +293,7 @@ def _fill_minplus(E, pts, code, mask, use_mask):  # type: ignore[no-untyped-def]
 
 
 @kernel()
-def _optimum(pts, code, is_max, minplus, mask, use_mask):  # type: ignore[no-untyped-def]
+def _optimum(pts, code, is_max, edge, minplus, mask, use_mask):  # type: ignore[no-untyped-def]
     """``(cost, triangles, ok)`` of the CCW polygon ``pts`` by the recurrence."""
     n = pts.shape[0]
     T = np.empty((n, n), dtype=np.float64)
@@ -236,20 +303,27 @@ def _optimum(pts, code, is_max, minplus, mask, use_mask):  # type: ignore[no-unt
     weigh = (pts, codes, gate, pts, order, None, None, None)
     nan = np.zeros(1, dtype=np.int64)
     rule = (np.array([is_max, is_max]), False, nan)
-    if minplus:
-        _fill_minplus(T, pts, code, mask, use_mask)
-        cost = T[0, n - 1] - edge_weight(code, pts, 0, n - 1)
-    else:
-        _fill_cells(T, weigh, rule, mask, use_mask, -np.inf if is_max else 0.0)
+    if edge and not minplus:  # splits recorded: the walk needs no second scan
+        S = np.empty((n, n), dtype=np.int64)
+        _fill_edge_sums(T, S, pts, code, mask, use_mask)
+        tris = np.empty((n - 2, 3), dtype=np.int64)
+        ok = _walk(S, tris)
         cost = T[0, n - 1]
-    tris, bad = trace((T, T), weigh, rule, minplus)
-    ok = bad[0] < 0 and nan[0] == 0 and tris.shape[0] == n - 2
+    else:
+        if minplus:
+            _fill_minplus(T, pts, code, mask, use_mask)
+            cost = T[0, n - 1] - edge_weight(code, pts, 0, n - 1)
+        else:
+            _fill_cells(T, weigh, rule, mask, use_mask, -np.inf if is_max else 0.0)
+            cost = T[0, n - 1]
+        tris, bad = trace((T, T), weigh, rule, minplus)
+        ok = bad[0] < 0 and nan[0] == 0 and tris.shape[0] == n - 2
     ok = ok and (cost == -np.inf or math.isfinite(cost))
     return cost, tris, ok
 
 
 @kernel()
-def _solve_one(xy, s, count, modes, code, is_max, minplus_code, tris_out, t0):  # type: ignore[no-untyped-def]
+def _solve_one(xy, s, count, modes, code, is_max, edge, tris_out, t0):  # type: ignore[no-untyped-def]
     """``(status, n, cw, cost)`` of one polygon; its triangles (input indices) from row t0."""
     status, n = _normalized(xy, s, count)
     if status != _OK:
@@ -280,8 +354,8 @@ def _solve_one(xy, s, count, modes, code, is_max, minplus_code, tris_out, t0):  
     pts = np.empty((n, 2))
     pts[:, 0] = x
     pts[:, 1] = y
-    minplus = modes[n] == MODE_FAST and minplus_code
-    cost, tris, ok = _optimum(pts, code, is_max, minplus, mask, use_mask)
+    minplus = modes[n] == MODE_FAST and edge
+    cost, tris, ok = _optimum(pts, code, is_max, edge, minplus, mask, use_mask)
     if not ok:
         return _DP, n, cw, np.nan
     for t in range(n - 2):
@@ -294,7 +368,7 @@ def _solve_one(xy, s, count, modes, code, is_max, minplus_code, tris_out, t0):  
 
 
 @kernel(parallel=True)
-def solve_chunk(xy, starts, counts, perm, modes, code, is_max, minplus_code, threads, out):  # type: ignore[no-untyped-def]
+def solve_chunk(xy, starts, counts, perm, modes, code, is_max, edge, threads, out):  # type: ignore[no-untyped-def]
     """Solve polygon ``p`` from rows ``starts[p] .. starts[p] + counts[p] - 1`` of ``xy``.
 
     ``out = (status, sizes, cw, costs, tris)``: per polygon its status
@@ -310,7 +384,7 @@ def solve_chunk(xy, starts, counts, perm, modes, code, is_max, minplus_code, thr
         for r in range(t, m, threads):
             p = perm[r]
             st, n, c, cost = _solve_one(
-                xy, starts[p], counts[p], modes, code, is_max, minplus_code, tris, starts[p] - 2 * p
+                xy, starts[p], counts[p], modes, code, is_max, edge, tris, starts[p] - 2 * p
             )
             status[p] = st
             sizes[p] = n
