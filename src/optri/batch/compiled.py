@@ -158,7 +158,7 @@ def _fits(arr: Any) -> bool:
 
 def _solve_chunk(
     plan: ManyPlan,
-    arrays: list[NDArray[np.float64]],
+    arrays: Sequence[NDArray[np.float64]],
     idx: list[int],
     options: SolveOptions,
     results: list[Result | None],
@@ -210,9 +210,9 @@ def _solve_chunk(
 
 
 def _threads(numba: Any, wanted: int | None, polygons: int) -> int:
-    top = numba.config.NUMBA_NUM_THREADS
-    count = top if wanted is None else int(wanted)
-    return max(1, min(count, top, polygons))
+    """``wanted`` threads, else numba's current setting (``numba.set_num_threads``)."""
+    count = numba.get_num_threads() if wanted is None else int(wanted)
+    return max(1, min(count, numba.config.NUMBA_NUM_THREADS, polygons))
 
 
 def _result(
