@@ -32,11 +32,11 @@ BAD = {
             "id": "hole",
             "geometry": {
                 "type": "Polygon",
-                "coordinates": [SQUARE, [[0.2, 0.2], [0.4, 0.2], [0.3, 0.4]]],
+                "coordinates": [SQUARE, [[2.2, 0.2], [2.4, 0.2], [2.3, 0.4]]],
             },
             "properties": {},
         },
-        "1 hole",
+        "outside the exterior ring",
     ),
     "multi": (
         {

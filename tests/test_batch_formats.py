@@ -25,6 +25,11 @@ def _expected():
     return out
 
 
+def shoelace(tri):
+    (ax, ay), (bx, by), (cx, cy) = tri
+    return ((bx - ax) * (cy - ay) - (by - ay) * (cx - ax)) / 2
+
+
 def _run(*args):
     res = CliRunner().invoke(main, ["batch", *map(str, args), "-q", "-j", "1"])
     assert res.exit_code == 0, res.output
@@ -136,15 +141,40 @@ def test_parquet_that_is_not_a_polygon_layer(tmp_path):
     assert res.exit_code == 2 and "junk.parquet" in res.output and "Traceback" not in res.output
 
 
-def test_holes_in_geoparquet_are_errors(tmp_path):
+def test_holes_in_geoparquet_are_triangulated(tmp_path):
     gpd = pytest.importorskip("geopandas")
     shapely = pytest.importorskip("shapely")
     holed = shapely.Polygon([[0, 0], [4, 0], [4, 4], [0, 4]], [[[1, 1], [2, 1], [1, 2]]])
-    gpd.GeoDataFrame(geometry=[holed, shapely.box(0, 0, 1, 1)]).to_parquet(tmp_path / "h.parquet")
+    outside = shapely.Polygon([[0, 0], [4, 0], [4, 4], [0, 4]], [[[5, 1], [6, 1], [5, 2]]])
+    gpd.GeoDataFrame(geometry=[holed, shapely.box(0, 0, 1, 1), outside]).to_parquet(
+        tmp_path / "h.parquet"
+    )
     _run(tmp_path / "h.parquet", "-o", tmp_path / "o.ndjson")
     recs = list(iter_records(tmp_path / "o.ndjson"))
-    assert recs[0]["status"] == "error" and "1 hole" in recs[0]["reason"]
+    want = optri.triangulate(holed)
+    # 7 vertices (exterior first, then the hole), 7 + 2 - 2 triangles, the optimum of triangulate
+    assert recs[0]["status"] == "ok" and recs[0]["n"] == 7 and len(recs[0]["triangles"]) == 7
+    assert recs[0]["cost"] == want.weight and recs[0]["triangles"] == want.triangles.tolist()
     assert recs[1]["status"] == "ok" and recs[1]["id"] == 1
+    assert recs[2]["status"] == "error" and "outside the exterior ring" in recs[2]["reason"]
+
+
+def test_holes_in_ndjson_and_geojson(tmp_path):
+    square = [[0, 0], [3, 0], [3, 3], [0, 3], [0, 0]]
+    hole = [[1, 1], [1, 2], [2, 2], [2, 1], [1, 1]]
+    geom = {"type": "Polygon", "coordinates": [square, hole]}
+    (tmp_path / "h.ndjson").write_text(
+        json.dumps({"id": "court", "geometry": geom, "type": "Feature"}) + "\n"
+    )
+    _run(tmp_path / "h.ndjson", "-o", tmp_path / "o.geojson")
+    feat = json.loads((tmp_path / "o.geojson").read_text())["features"][0]
+    want = optri.triangulate((square, [hole]))
+    assert feat["properties"]["status"] == "ok"
+    assert feat["properties"]["cost"] == want.weight
+    tris = feat["geometry"]["coordinates"]
+    assert len(tris) == 8  # 8 vertices, one hole: 8 + 2 - 2 triangles
+    area = sum(abs(shoelace(t[0][:3])) for t in tris)
+    assert area == 9 - 1  # the square less its hole
 
 
 def test_import_loads_no_optional_batch_dependency():
@@ -157,3 +187,28 @@ def test_import_loads_no_optional_batch_dependency():
     )
     out = run_python("-c", code)
     assert out.returncode == 0 and out.stdout.strip() == "[]", out.stderr
+
+
+def test_triangulate_many_takes_ring_pairs():
+    square, hole = [[0, 0], [3, 0], [3, 3], [0, 3]], [[1, 1], [2, 1], [2, 2], [1, 2]]
+    outside = [[4, 1], [5, 1], [5, 2]]
+    out = optri.triangulate_many([(square, [hole]), square, (square, [outside])])
+    assert out[0].rings == (4, 4) and len(out[0].triangles) == 8
+    assert out[0].weight == optri.triangulate((square, [hole])).weight
+    assert len(out[1].triangles) == 2
+    assert isinstance(out[2], optri.InvalidPolygonError) and "outside" in str(out[2])
+
+
+def test_holes_survive_the_worker_pool(tmp_path):
+    square = [[0, 0], [3, 0], [3, 3], [0, 3], [0, 0]]
+    hole = [[1, 1], [1, 2], [2, 2], [2, 1], [1, 1]]
+    lines = [
+        {"type": "Feature", "id": k, "properties": {},
+         "geometry": {"type": "Polygon", "coordinates": [square, hole] if k % 2 else [square]}}
+        for k in range(6)
+    ]  # fmt: skip
+    (tmp_path / "h.ndjson").write_text("".join(json.dumps(x) + "\n" for x in lines))
+    summary = optri.batch(tmp_path / "h.ndjson", tmp_path / "o.ndjson", workers=2, chunk_size=2)
+    recs = list(iter_records(tmp_path / "o.ndjson"))
+    assert summary.ok == 6 and [r["n"] for r in recs] == [4, 8] * 3
+    assert [len(r["triangles"]) for r in recs] == [2, 8] * 3

@@ -47,9 +47,9 @@ def _geometry(ring, crs):
     if ring == "hole":
         (x0, y0), size = PLACES[crs]
         box = shapely.box(x0, y0, x0 + 4 * size, y0 + 4 * size)
-        return shapely.Polygon(
-            box.exterior, [shapely.box(x0 + size, y0 + size, x0 + 2 * size, y0 + 2 * size).exterior]
-        )
+        # a hole outside its exterior ring: a bad row (holes inside are triangulated)
+        outside = shapely.box(x0 + 5 * size, y0 + size, x0 + 6 * size, y0 + 2 * size)
+        return shapely.Polygon(box.exterior, [outside.exterior])
     return shapely.Polygon(ring)
 
 

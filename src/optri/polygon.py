@@ -32,6 +32,7 @@ __all__ = [
     "as_polygon",
     "drop_closing_vertices",
     "find_self_intersection",
+    "is_ring_pair",
     "newell_normal",
     "normalize_vertices",
     "require_simple",
@@ -265,6 +266,27 @@ def _integer_values(data: ArrayLike) -> tuple[int, ...] | None:
         if all(isinstance(v, int) and not isinstance(v, bool) for v in vals):
             return tuple(vals)
     return None
+
+
+def is_ring_pair(obj: Any) -> bool:
+    """Whether ``obj`` is ``(exterior, [holes])``: a pair whose first item is itself a ring.
+
+    >>> is_ring_pair(([[0, 0], [3, 0], [0, 3]], [[[1, 1], [1, 2], [2, 1]]]))
+    True
+    >>> is_ring_pair([[0, 0], [1, 1]])       # two vertices, not a pair of rings
+    False
+    """
+    if not isinstance(obj, (tuple, list)) or len(obj) != 2:
+        return False
+    holes = obj[1]
+    if not isinstance(holes, (tuple, list)) and not (
+        isinstance(holes, np.ndarray) and holes.ndim == 3
+    ):
+        return False
+    try:
+        return bool(np.ndim(obj[0]) == 2)
+    except ValueError:  # ragged
+        return False
 
 
 def signed_area(points: NDArray[np.float64]) -> float:

@@ -20,7 +20,7 @@ from .errors import InvalidPolygonError, NoTriangulationError
 from .io.files import read_rings
 from .io.geo import geo_polygon_rings
 from .objective import Objective, ObjectiveLike, as_objective, tie_ceiling
-from .polygon import Polygon, as_polygon
+from .polygon import Polygon, as_polygon, is_ring_pair
 from .result import Triangulation, recompute_cost
 from .simple import allowed_chords, zero_area_triangles
 from .weights import WeightLike, resolve_weights
@@ -265,26 +265,11 @@ def _source(vertices: Any) -> Any:
         rings = read_rings(vertices)
     elif hasattr(vertices, "__geo_interface__"):  # shapely or any GeoJSON-like geometry
         rings = geo_polygon_rings(vertices)
-    elif _is_ring_pair(vertices):
+    elif is_ring_pair(vertices):
         rings = [vertices[0], *vertices[1]]
     if rings is None:
         return vertices
     return _Holed(rings[0], rings[1:]) if len(rings) > 1 else rings[0]
-
-
-def _is_ring_pair(obj: Any) -> bool:
-    """``(exterior, [holes])``: a pair whose first item is itself a ring of points."""
-    if not isinstance(obj, (tuple, list)) or len(obj) != 2:
-        return False
-    holes = obj[1]
-    if not isinstance(holes, (tuple, list)) and not (
-        isinstance(holes, np.ndarray) and holes.ndim == 3
-    ):
-        return False
-    try:
-        return bool(np.ndim(obj[0]) == 2)
-    except ValueError:  # ragged
-        return False
 
 
 _NOT_FINITE = (

@@ -1,7 +1,7 @@
 """The per-polygon path: :func:`optri.triangulate` on each vertex array, errors as results.
 
 Holds what every chunk solver shares: :class:`SolveOptions`, the
-:data:`Result` type and :func:`solve_each`, the reference every faster solver
+:data:`Result` type, :class:`HoledRings` and :func:`solve_each`, the reference every faster solver
 (:mod:`optri.batch.compiled`) is held to and falls back on.
 """
 
@@ -20,7 +20,7 @@ from ..errors import OptriError
 from ..result import Triangulation
 from ..solve import triangulate
 
-__all__ = ["ChunkSolver", "Result", "SolveOptions", "solve_each"]
+__all__ = ["ChunkSolver", "HoledRings", "Polygonal", "Result", "SolveOptions", "solve_each"]
 
 Result = Triangulation | OptriError
 
@@ -42,10 +42,58 @@ class SolveOptions:
     threads: int | None = None
 
 
-ChunkSolver = Callable[[Sequence[NDArray[np.float64]], SolveOptions], list[Result]]
+ChunkSolver = Callable[[Sequence["Polygonal"], SolveOptions], list[Result]]
 
 
-def solve_each(arrays: Sequence[NDArray[np.float64]], options: SolveOptions) -> list[Result]:
+@dataclass(frozen=True, eq=False)
+class HoledRings:
+    """A polygon with holes in a batch: its vertices, exterior ring first, and the ring sizes.
+
+    Vertices are numbered as :func:`optri.triangulate` numbers them (exterior,
+    then each hole in order, closing vertices dropped), so triangles index
+    :attr:`vertices` directly. Behaves as that array for the writers.
+
+    >>> from optri.batch.solver import polygon_rings
+    >>> h = polygon_rings([[[0, 0], [3, 0], [3, 3], [0, 3]], [[1, 1], [1, 2], [2, 2], [2, 1]]])
+    >>> h.sizes, h.shape
+    ((4, 4), (8, 2))
+    """
+
+    vertices: NDArray[np.float64]
+    sizes: tuple[int, ...]
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The shape of :attr:`vertices`."""
+        return self.vertices.shape
+
+    def __len__(self) -> int:
+        return len(self.vertices)
+
+    def __iter__(self) -> Any:
+        return iter(self.vertices)
+
+    def __array__(self, dtype: Any = None, copy: Any = None) -> NDArray[Any]:
+        return np.asarray(self.vertices, dtype=dtype)
+
+    def tolist(self) -> list:
+        """:attr:`vertices` as nested lists."""
+        return self.vertices.tolist()
+
+    def with_vertices(self, vertices: NDArray[np.float64]) -> HoledRings:
+        """The same rings at other coordinates (a projection of :attr:`vertices`)."""
+        return HoledRings(vertices, self.sizes)
+
+    def pair(self) -> tuple[NDArray[np.float64], list[NDArray[np.float64]]]:
+        """``(exterior, [holes])``, the form :func:`optri.triangulate` takes."""
+        rings = np.split(self.vertices, np.cumsum(self.sizes)[:-1])
+        return rings[0], rings[1:]
+
+
+Polygonal = NDArray[np.float64] | HoledRings
+
+
+def solve_each(arrays: Sequence[Polygonal], options: SolveOptions) -> list[Result]:
     """The per-polygon path: :func:`optri.triangulate` on each array, errors as results.
 
     Any exception a polygon raises (a user weight's included) becomes its
@@ -59,8 +107,12 @@ def solve_each(arrays: Sequence[NDArray[np.float64]], options: SolveOptions) -> 
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
+                source = arr.pair() if isinstance(arr, HoledRings) else arr
                 tri = triangulate(
-                    arr, weight=options.weight, objective=options.objective, method=options.method
+                    source,
+                    weight=options.weight,
+                    objective=options.objective,
+                    method=options.method,
                 )
             except OptriError as exc:
                 out.append(exc)

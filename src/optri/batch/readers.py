@@ -26,7 +26,7 @@ from . import geo
 from .jsonstream import BadValue, read_feature_collection
 from .layer import GEOJSON_DEFAULT_CRS, Layer, crs_from_geojson_member
 from .records import Item, json_id, json_safe
-from .solver import holes_reason, polygon_vertices
+from .solver import polygon_rings, polygon_vertices
 
 __all__ = [
     "INPUT_FORMATS",
@@ -111,13 +111,16 @@ def item_from_geojson(obj: Any, index: int) -> Item:
 
     The id is the feature's ``id``, else ``properties.id``, else ``index``.
     A Feature's ``properties`` (or the bare form's other keys) are its
-    attributes. A Polygon contributes its exterior ring; a polygon with holes,
-    a multi-part MultiPolygon or anything else becomes an item with a ``reason``.
+    attributes. A Polygon contributes its rings (exterior, then holes:
+    :class:`~optri.batch.solver.HoledRings`); a multi-part MultiPolygon or
+    anything else becomes an item with a ``reason``.
 
     >>> item_from_geojson({"id": "a", "coordinates": [[0, 0], [1, 0], [0, 1]]}, 0).coords.shape
     (3, 2)
-    >>> item_from_geojson({"type": "Polygon", "coordinates": [[[0, 0]], [[1, 1]]]}, 4).reason
-    'polygon has 1 hole(s); exact optimal triangulation with holes is not supported'
+    >>> square = [[0, 0], [3, 0], [3, 3], [0, 3], [0, 0]]
+    >>> hole = [[1, 1], [1, 2], [2, 2], [2, 1], [1, 1]]
+    >>> item_from_geojson({"type": "Polygon", "coordinates": [square, hole]}, 4).coords.sizes
+    (4, 4)
     """
     if not isinstance(obj, dict):
         return Item(index, reason=f"expected a JSON object, got {_json_type(obj)}")
@@ -142,17 +145,18 @@ def item_from_geojson(obj: Any, index: int) -> Item:
     if not isinstance(geom, dict) or "coordinates" not in geom:
         missing = "no 'coordinates' (or Feature 'geometry') in the object"
         return Item(item_id, reason=missing, props=attrs)
-    ring, reason = _exterior(geom.get("type"), geom["coordinates"])
+    rings, reason = _rings(geom.get("type"), geom["coordinates"])
+    coords = rings
     if reason is None:
         try:
-            ring = polygon_vertices(ring)
+            coords = polygon_vertices(rings) if geom.get("type") is None else polygon_rings(rings)
         except OptriError as exc:
             reason = str(exc)
-    return Item(item_id, ring, reason, attrs)
+    return Item(item_id, coords, reason, attrs)
 
 
-def _exterior(gtype: Any, coords: Any) -> tuple[Any, str | None]:
-    """The exterior ring of GeoJSON coordinates, or why there is none."""
+def _rings(gtype: Any, coords: Any) -> tuple[Any, str | None]:
+    """The rings of GeoJSON coordinates (the bare form: one ring), or why there are none."""
     if not isinstance(coords, list):
         return coords, f"coordinates must be a list, got {_json_type(coords)}"
     if gtype is None:  # the bare {"id", "coordinates": [[x, y], ...]} form
@@ -167,9 +171,7 @@ def _exterior(gtype: Any, coords: Any) -> tuple[Any, str | None]:
         return None, f"geometry type {gtype!r} is not a Polygon"
     if not coords:
         return None, "Polygon without rings"
-    if len(coords) > 1:
-        return coords[0], holes_reason(len(coords) - 1)
-    return coords[0], None
+    return coords, None
 
 
 def _json_type(obj: Any) -> str:

@@ -29,19 +29,21 @@ from numpy.typing import NDArray
 from ..engines import ENGINES
 from ..errors import EngineUnavailableError, InvalidPolygonError, OptriError
 from ..objective import as_objective
-from ..polygon import normalize_vertices
+from ..polygon import is_ring_pair, normalize_vertices
 from ..result import Triangulation
 from ..weights import resolve_weights
 from .compiled import many_plan, solve_compiled
-from .each import ChunkSolver, Result, SolveOptions, solve_each
+from .each import ChunkSolver, HoledRings, Polygonal, Result, SolveOptions, solve_each
 from .project import local_projector
 
 __all__ = [
     "ChunkSolver",
+    "HoledRings",
     "Result",
     "SolveOptions",
     "check_options",
     "chunk_solver",
+    "polygon_rings",
     "polygon_vertices",
     "solve_each",
     "solve_polygons",
@@ -65,24 +67,49 @@ def check_options(weight: Any, objective: Any, method: str) -> dict[str, Any]:
     return dict(weight=weight, objective=objective, method=method)
 
 
-def polygon_vertices(obj: Any) -> NDArray[np.float64]:
-    """The vertex array of one polygon: an ``(n, 2)``/``(n, 3)`` array-like or a shapely Polygon.
+def polygon_vertices(obj: Any) -> Polygonal:
+    """The vertices of one polygon: an ``(n, 2)``/``(n, 3)`` array-like or a shapely Polygon.
 
-    A MultiPolygon of one part is that part. Raises InvalidPolygonError otherwise
-    (never a numpy or shapely error).
+    A MultiPolygon of one part is that part; a Polygon with holes, or an
+    ``(exterior, [holes])`` pair, gives :class:`HoledRings`. Raises
+    InvalidPolygonError otherwise (never a numpy or shapely error).
 
     >>> polygon_vertices([[0, 0], [1, 0], [0, 1]]).shape
     (3, 2)
     """
     if obj is None:
         raise InvalidPolygonError("empty or missing geometry")
+    if isinstance(obj, HoledRings):  # read and checked already
+        return obj
     if hasattr(obj, "geom_type"):  # shapely, without importing it
         return _shapely_vertices(obj)
+    if is_ring_pair(obj):
+        return polygon_rings([obj[0], *obj[1]])
     # the shared validator: numbers, shape, closing vertices, repeats
     return normalize_vertices(obj, values=False)
 
 
-def _shapely_vertices(geom: Any) -> NDArray[np.float64]:
+def polygon_rings(rings: Sequence[Any]) -> Polygonal:
+    """The vertices of a polygon given as rings (exterior first, then holes).
+
+    One ring is a simple polygon (an array); more give :class:`HoledRings`,
+    each ring checked by the shared validator (closing vertices dropped).
+    """
+    if len(rings) == 1:
+        return polygon_vertices(rings[0])
+    arrays = []
+    for k, ring in enumerate(rings):
+        try:
+            arrays.append(normalize_vertices(ring, values=False))
+        except InvalidPolygonError as exc:
+            name = "exterior ring" if k == 0 else f"hole {k - 1}"
+            raise InvalidPolygonError(f"{name}: {exc}") from None
+    if any(a.shape[1] != arrays[0].shape[1] for a in arrays):
+        raise InvalidPolygonError("the rings of a polygon mix 2-D and 3-D coordinates")
+    return HoledRings(np.concatenate(arrays), tuple(len(a) for a in arrays))
+
+
+def _shapely_vertices(geom: Any) -> Polygonal:
     if geom.is_empty:
         raise InvalidPolygonError("empty or missing geometry")
     if geom.geom_type == "MultiPolygon":
@@ -91,15 +118,8 @@ def _shapely_vertices(geom: Any) -> NDArray[np.float64]:
         geom = geom.geoms[0]
     if geom.geom_type != "Polygon":
         raise InvalidPolygonError(f"geometry type {geom.geom_type!r} is not a Polygon")
-    if len(geom.interiors):
-        # seam for polygons with holes (issue 19): refused until their solver is wired in
-        raise InvalidPolygonError(holes_reason(len(geom.interiors)))
-    return np.asarray(geom.exterior.coords, dtype=np.float64)
-
-
-def holes_reason(holes: int) -> str:
-    """Why a polygon with holes gets an error result (one line)."""
-    return f"polygon has {holes} hole(s); exact optimal triangulation with holes is not supported"
+    rings = [geom.exterior, *geom.interiors]
+    return polygon_rings([np.asarray(r.coords, dtype=np.float64) for r in rings])
 
 
 def solve_polygons(polygons: Sequence[Any], options: SolveOptions) -> list[Result]:
@@ -115,7 +135,7 @@ def solve_polygons(polygons: Sequence[Any], options: SolveOptions) -> list[Resul
     """
     results: list[Result | None] = [None] * len(polygons)
     todo: list[int] = []
-    originals: list[NDArray[np.float64]] = []
+    originals: list[Polygonal] = []
     solver = chunk_solver(options)
     # the compiled solver checks 2-D coordinates itself, exactly as the validator does
     # (declined rows go to triangulate, which validates them): numbers need no second pass
@@ -132,7 +152,7 @@ def solve_polygons(polygons: Sequence[Any], options: SolveOptions) -> list[Resul
         arrays, todo, originals = _projected(originals, todo, options.project, results)
     for i, res, original in zip(todo, solver(arrays, options), originals):
         if options.project is not None and isinstance(res, Triangulation):
-            res = replace(res, vertices=original[: res.n])
+            res = replace(res, vertices=np.asarray(original)[: res.n])
         results[i] = res
     return results  # type: ignore[return-value]  # every slot is filled above
 
@@ -159,16 +179,21 @@ def _coordinates(obj: Any) -> NDArray[np.float64] | None:
 
 
 def _projected(
-    originals: list[NDArray[np.float64]],
+    originals: list[Polygonal],
     todo: list[int],
     crs: str,
     results: list[Result | None],
-) -> tuple[list[NDArray[np.float64]], list[int], list[NDArray[np.float64]]]:
+) -> tuple[list[Polygonal], list[int], list[Polygonal]]:
     project = local_projector(crs)
-    arrays, kept, kept_originals = [], [], []
+    arrays: list[Polygonal] = []
+    kept: list[int] = []
+    kept_originals: list[Polygonal] = []
     for i, arr in zip(todo, originals):
         try:
-            arrays.append(project(arr))
+            if isinstance(arr, HoledRings):
+                arrays.append(arr.with_vertices(project(arr.vertices)))
+            else:
+                arrays.append(project(arr))
             kept.append(i)
             kept_originals.append(arr)
         except OptriError as exc:

@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .candidates import Candidates
-from .reduce import Block
+from .reduce import Block, DisjointSets
 
 __all__ = ["max_floor", "sum_floor"]
 
@@ -56,15 +56,4 @@ def sum_floor(
 
 
 def _components(edges: NDArray[np.int64]) -> int:
-    parent: dict[int, int] = {}
-
-    def find(x: int) -> int:
-        parent.setdefault(x, x)
-        while parent[x] != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
-
-    for x, y in edges.tolist():
-        parent[find(x)] = find(y)
-    return len({find(x) for x in list(parent)})
+    return DisjointSets(edges.tolist()).count()

@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 from ..errors import NoTriangulationError
 from .candidates import Candidates
 from .pieces import Gate, solve_walk
-from .reduce import Block, crossing_any, trace_walk
+from .reduce import Block, DisjointSets, crossing_any, trace_walk
 from .weighing import DomainWeight
 
 __all__ = ["choose_bridges", "bridge_block"]
@@ -27,18 +27,8 @@ def choose_bridges(
     points: NDArray[np.float64], cand: Candidates, block: Block, fixed: NDArray[np.bool_]
 ) -> NDArray[np.int64] | None:
     """Vertex pairs joining the fixed-edge components of ``block``, shortest first; or None."""
-    parent: dict[int, int] = {}
-
-    def find(x: int) -> int:
-        parent.setdefault(x, x)
-        while parent[x] != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
-
-    for x, y in block.fixed.tolist():
-        parent[find(x)] = find(y)
-    components = len({find(x) for x in list(parent)})
+    sets = DisjointSets(block.fixed.tolist())
+    components = sets.count()
     ids = np.unique(cand.sides[block.triangles])
     ids = ids[~fixed[ids]]
     pairs = cand.edges[ids]
@@ -47,12 +37,11 @@ def choose_bridges(
     for a, b in pairs[np.argsort(length, kind="stable")].tolist():
         if len(chosen) == components - 1:
             break
-        ra, rb = find(a), find(b)
-        if ra == rb:
+        if sets.find(a) == sets.find(b):
             continue
         if chosen and crossing_any(points, np.array([[a, b]]), np.array(chosen))[0]:
             continue
-        parent[ra] = rb
+        sets.union(a, b)
         chosen.append((a, b))
     if len(chosen) != components - 1:
         return None

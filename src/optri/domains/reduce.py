@@ -14,6 +14,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import cmp_to_key
 
@@ -25,6 +26,7 @@ from .candidates import Candidates, side_signs
 
 __all__ = [
     "Block",
+    "DisjointSets",
     "blocks",
     "crossing_any",
     "forced_diagonals",
@@ -34,6 +36,41 @@ __all__ = [
 
 #: Segment pairs per block of the crossing tests.
 _PAIRS = 1 << 21
+
+
+class DisjointSets:
+    """Union-find over vertex ids (path halving), built from an edge list.
+
+    >>> sets = DisjointSets([(0, 1), (2, 3), (1, 0)])
+    >>> sets.count(), sets.union(1, 2), sets.union(0, 3), sets.count()
+    (2, True, False, 1)
+    """
+
+    def __init__(self, edges: Iterable[tuple[int, int]] = ()) -> None:
+        self.parent: dict[int, int] = {}
+        for x, y in edges:
+            self.union(x, y)
+
+    def find(self, x: int) -> int:
+        """The representative of ``x``'s set (``x`` joins as a singleton if new)."""
+        parent = self.parent
+        parent.setdefault(x, x)
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    def union(self, x: int, y: int) -> bool:
+        """Join the sets of ``x`` and ``y``; False if they were one set already."""
+        rx, ry = self.find(x), self.find(y)
+        if rx == ry:
+            return False
+        self.parent[rx] = ry
+        return True
+
+    def count(self) -> int:
+        """How many sets the ids seen so far form."""
+        return len({self.find(x) for x in list(self.parent)})
 
 
 def prune(cand: Candidates, keep: NDArray[np.bool_]) -> NDArray[np.bool_] | None:

@@ -13,7 +13,7 @@ from __future__ import annotations
 from ..objective import Cost
 from .problem import Problem, Solution
 from .progress import cell_reporter
-from .recurrence import Cell, Recurrence, export_table, new_tables, triangles_from_splits
+from .recurrence import Recurrence, export_table, new_tables, triangles_from_splits
 
 __all__ = ["solve"]
 
@@ -37,36 +37,18 @@ def solve(problem: Problem) -> Solution:
     cost, split = new_tables(problem, _UNSET)
     report = cell_reporter(problem)
 
-    watch = problem.observer
-    requests = misses = cells = 0
-    stack: list[tuple[int, int, Cell]] = [(0, n - 1, rec.cell(0, n - 1))]
-    if watch is not None:
-        watch("call", 0, n - 1, None, None)
-    value: Cost | None = None  # what the top frame asked for, or None when it starts
-    while stack:
-        i, j, frame = stack[-1]
-        try:
-            p, q = frame.send(value)  # type: ignore[arg-type]
-        except StopIteration as done:
-            best, arg = done.value
-            cost[i][j], split[i][j] = best, arg
-            stack.pop()
-            value = best
-            cells += 1
-            if watch is not None:
-                watch("store", i, j, arg if arg >= 0 else None, best)
-            if report is not None:
-                report(cells)
-            continue
-        requests += 1
-        value = cost[p][q]
-        if watch is not None:
-            watch("call", p, q, None, None)
-        if value is _UNSET:  # not computed yet: recurse into it
-            misses += 1
-            stack.append((p, q, rec.cell(p, q)))
-        elif watch is not None:  # sides are set before the recursion starts
-            watch("hit", p, q, None, value)
+    cells = 0
+
+    def store(i: int, j: int, best: Cost, arg: int) -> None:
+        nonlocal cells
+        cost[i][j], split[i][j] = best, arg
+        cells += 1
+        if report is not None:
+            report(cells)
+
+    # a look-up answers a cell computed before (sides are set before the recursion)
+    requests = rec.top_down(lambda p, q: cost[p][q], store, hits=True)
+    misses = cells - 1  # every computed cell but the root was a request that missed
 
     total: Cost = cost[0][n - 1]
     table = export_table(cost, split, problem.objective, _UNSET) if problem.keep_table else None

@@ -16,7 +16,7 @@ from __future__ import annotations
 from .. import config
 from ..objective import Cost
 from .problem import Problem, Solution
-from .recurrence import Cell, Recurrence, export_table, new_tables, triangles_from_splits
+from .recurrence import Recurrence, export_table, new_tables, triangles_from_splits
 
 __all__ = ["naive_calls", "solve", "unsupported"]
 
@@ -67,34 +67,15 @@ def solve(problem: Problem) -> Solution:
     rec = Recurrence(problem)
     cost, split = new_tables(problem, _UNSET)
     neutral = problem.objective.neutral_for(problem.integer_costs)
-    watch = problem.observer
+    cells = 0
 
-    requests = cells = 0
-    stack: list[tuple[int, int, Cell]] = [(0, n - 1, rec.cell(0, n - 1))]
-    if watch is not None:
-        watch("call", 0, n - 1, None, None)
-    value: Cost | None = None
-    while stack:
-        i, j, frame = stack[-1]
-        try:
-            p, q = frame.send(value)  # type: ignore[arg-type]
-        except StopIteration as done:
-            best, arg = done.value
-            cost[i][j], split[i][j] = best, arg  # written, never read back
-            stack.pop()
-            value = best
-            cells += 1
-            if watch is not None:
-                watch("store", i, j, arg if arg >= 0 else None, best)
-            continue
-        requests += 1
-        if watch is not None:
-            watch("call", p, q, None, None)
-        if q - p == 1:  # a polygon side: the base case, no triangle
-            value = neutral
-        else:
-            value = None
-            stack.append((p, q, rec.cell(p, q)))
+    def store(i: int, j: int, best: Cost, arg: int) -> None:
+        nonlocal cells
+        cost[i][j], split[i][j] = best, arg  # written, never read back
+        cells += 1
+
+    # nothing is looked up: only a polygon side (the base case, no triangle) is known
+    requests = rec.top_down(lambda p, q: neutral if q - p == 1 else None, store, hits=False)
 
     table = export_table(cost, split, problem.objective, _UNSET) if problem.keep_table else None
     tris = triangles_from_splits(lambda i, j: split[i][j], n)

@@ -143,6 +143,50 @@ class Recurrence:
                 best, arg = c, k
         return best, arg
 
+    def top_down(
+        self,
+        known: Callable[[int, int], Any],
+        store: Callable[[int, int, Any, int], None],
+        hits: bool,
+    ) -> int:
+        """Evaluate cell (0, n - 1) top-down on an explicit stack; return the requests made.
+
+        A trampoline drives the :meth:`cell` generators, so Python's recursion
+        limit never applies. Each request (p, q) is answered by ``known(p, q)``,
+        or computed as a new cell when that is None; each computed cell is
+        handed to ``store(i, j, best, k)``. The observer hears every "call" and
+        "store" and, with ``hits``, every request ``known`` answered ("hit").
+        Memoization and the naive recursion differ only in ``known``.
+        """
+        watch = self.watch
+        root = self.n - 1
+        stack: list[tuple[int, int, Cell]] = [(0, root, self.cell(0, root))]
+        if watch is not None:
+            watch("call", 0, root, None, None)
+        requests = 0
+        value: Any = None  # what the top frame asked for, or None when it starts
+        while stack:
+            i, j, frame = stack[-1]
+            try:
+                p, q = frame.send(value)
+            except StopIteration as done:
+                best, arg = done.value
+                store(i, j, best, arg)
+                stack.pop()
+                value = best
+                if watch is not None:
+                    watch("store", i, j, arg if arg >= 0 else None, best)
+                continue
+            requests += 1
+            if watch is not None:
+                watch("call", p, q, None, None)
+            value = known(p, q)
+            if value is None:  # not known: compute it
+                stack.append((p, q, self.cell(p, q)))
+            elif hits and watch is not None:
+                watch("hit", p, q, None, value)
+        return requests
+
 
 def walk(
     root: State, expand: Callable[[State], tuple[tuple[int, int, int], Sequence[State]]], limit: int

@@ -75,7 +75,7 @@ class Trace:
     >>> import optri
     >>> t = optri.trace([5, 1, 5, 1, 5], "product")
     >>> t.method, len(t.events), t.result.weight
-    ('memo', 52, 35.0)
+    ('memo', 52, 35)
     """
 
     method: str
