@@ -40,7 +40,7 @@ from ..polygon import as_polygon
 from ..result import Triangulation, recompute_cost
 from ..solve import build_problem
 from ..weights import WeightCode, resolve_weights
-from .each import Result, SolveOptions, solve_each
+from .each import Polygonal, Result, SolveOptions, solve_each
 
 __all__ = ["ManyPlan", "many_plan", "mode_of", "solve_compiled"]
 
@@ -111,7 +111,7 @@ def many_plan(options: SolveOptions) -> ManyPlan | None:
     )
 
 
-def solve_compiled(arrays: Sequence[NDArray[np.float64]], options: SolveOptions) -> list[Result]:
+def solve_compiled(arrays: Sequence[Polygonal], options: SolveOptions) -> list[Result]:
     """Solve many vertex arrays, the small ones in compiled chunks; one result per array.
 
     Equal, polygon by polygon, to :func:`~optri.batch.each.solve_each` (and
@@ -158,7 +158,7 @@ def _fits(arr: Any) -> bool:
 
 def _solve_chunk(
     plan: ManyPlan,
-    arrays: Sequence[NDArray[np.float64]],
+    arrays: Sequence[Polygonal],
     idx: list[int],
     options: SolveOptions,
     results: list[Result | None],
