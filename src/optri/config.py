@@ -86,8 +86,12 @@ MANY_MAX_N = 256
 MANY_COMPILED = True
 #: Many small polygons: polygons per kernel call (bounds the ragged arrays' memory).
 MANY_KERNEL_CHUNK = 8192
-#: CLI: show a progress bar for ``optri solve`` from this many vertices on.
-CLI_PROGRESS_MIN_N = 1500
+#: CLI: seconds a run takes before its progress bar appears (on a terminal, any input size).
+CLI_PROGRESS_DELAY = 1.0
+#: CLI: ``optri solve --table`` prints the n x n table up to this n and refuses larger
+#: polygons before solving: its lower cells list every split, so the text grows as n^3
+#: (about 80 KB at 30, 98 MB at 300). From Python: ``triangulate(..., keep_table=True)``.
+CLI_TABLE_MAX_N = 30
 #: method="auto" picks the GPU engine (when a GPU is present) from this many vertices on.
 #: An estimate, not yet measured on a GPU: a process's first GPU solve compiles its
 #: kernels (about 2 s of NVVM, measured offline), about what the compiled CPU
