@@ -147,6 +147,17 @@ def test_fast_max_led_pair_with_edge_weight_second(n: int, seed: int, pair: tupl
     assert fast.stats["minplus"] == 0
 
 
+@pytest.mark.parametrize(
+    "values", [[3, 1, 4, 1, 5, 9, 2, 6], [5, 1, 5, 1, 5], [2, 7, 1, 8, 2, 8, 1, 8, 2]]
+)
+def test_fast_integer_max_led_pair_keeps_the_bottleneck(values: list) -> None:
+    # integer costs: the gate is the bottleneck value itself, with no tie tolerance above it
+    spec = (("product", "product"), ("max", "sum"))
+    fast = optri.triangulate(values, *spec, method="fast")
+    assert fast.weight == optri.triangulate(values, *spec, method="brute").weight
+    assert fast.method == "fast"
+
+
 def test_fast_float32_gate_admits_the_bottleneck() -> None:
     """The float32 phase-1 bottleneck is rounded; the gate widens it by one float32 ulp.
 

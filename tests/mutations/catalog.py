@@ -685,12 +685,12 @@ MUTATIONS: list[Mutation] = [
         "an ear's weight is counted once per fixed side: the 'bound' exceeds the optimum",
     ),
     M(
-        "later-bound-kept-after-unproven",
-        "src/optri/domains/solver.py",
-        "        if not phases[m - 1].proven:\n            bounds[m] = -math.inf",
-        "        if False:\n            bounds[m] = -math.inf",
-        (DOM_INV, "-k", "time_limit"),
-        "a (max, sum) bound claims a sum bound although the max phase was cut short",
+        "max-bound-from-the-top-level",
+        "src/optri/domains/search.py",
+        "return Found(best, value, float(levels[lo]), False)",
+        "return Found(best, value, float(levels[hi - 1]), False)",
+        (DOM_INV, DOM_BRUTE, "-k", "time_limited_max"),
+        "a cut-short bisection claims the highest level below its incumbent as its bound",
     ),
     M(
         "check-domain-allows-double-cover",
