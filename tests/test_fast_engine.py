@@ -147,11 +147,10 @@ def test_fast_max_led_pair_with_edge_weight_second(n: int, seed: int, pair: tupl
     assert fast.stats["minplus"] == 0
 
 
-@pytest.mark.parametrize(
-    "values", [[3, 1, 4, 1, 5, 9, 2, 6], [5, 1, 5, 1, 5], [2, 7, 1, 8, 2, 8, 1, 8, 2]]
-)
+@pytest.mark.parametrize("values", [[3, 1, 4, 1, 5, 9, 2], [0, 5, 7, 3, 2], [4, 0, 6, 0, 5, 2]])
 def test_fast_integer_max_led_pair_keeps_the_bottleneck(values: list) -> None:
-    # integer costs: the gate is the bottleneck value itself, with no tie tolerance above it
+    # a zero bottleneck (fans around a zero value): tie_ceiling(0.0) adds nothing, so the
+    # compiled gate's threshold is the bottleneck itself and must let it through
     spec = (("product", "product"), ("max", "sum"))
     fast = optri.triangulate(values, *spec, method="fast")
     assert fast.weight == optri.triangulate(values, *spec, method="brute").weight

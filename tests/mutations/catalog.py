@@ -76,7 +76,8 @@ MUTATIONS: list[Mutation] = [
         "> gate[0]:",
         ">= gate[0]:",
         (FAST, "-k", "max_led"),
-        "the bottleneck triangle itself is gated out",
+        "the bottleneck itself gated out (the threshold is loosened by tie_ceiling: only a "
+        "zero bottleneck, which it leaves as is, shows it)",
     ),
     M(
         "float32-gate-not-widened",
@@ -639,9 +640,13 @@ MUTATIONS: list[Mutation] = [
     M(
         "domain-diagonal-balance-loose",
         "src/optri/domains/program.py",
-        "lo = np.concatenate((np.ones(nf), np.zeros(nd), np.zeros(len(cu))))",
-        "lo = np.concatenate((np.ones(nf), -np.ones(nd), np.zeros(len(cu))))",
+        "lo = np.concatenate((np.ones(nf), np.zeros(nd), np.zeros(len(cu))))\n"
+        "    hi = np.concatenate((np.ones(nf), np.zeros(nd), np.ones(len(cu))))",
+        "lo = np.concatenate((np.ones(nf), -np.ones(nd), np.zeros(len(cu))))\n"
+        "    hi = np.concatenate((np.ones(nf), np.ones(nd), np.ones(len(cu))))",
         (DOM_BRUTE, "-k", "every_sum_weight"),
+        # loosened one way only (lo or hi alone) the mutant is equivalent: an uncovered
+        # region's boundary diagonals, sorted (a < b), never all have it on the same side
         "a free diagonal may be used on one side only: the triangles need not tile",
     ),
     M(
