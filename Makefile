@@ -28,7 +28,7 @@ demo: $(BASE)
 	mkdir -p $(OUT)
 	$(BIN)/optri solve examples/octagon.csv --method memo --table --plot $(OUT)/octagon.png
 	$(BIN)/optri chain 30 35 15 5 10 20 25
-	$(BIN)/optri paper --out $(OUT)/paper
+	$(BIN)/optri paper -o $(OUT)/paper
 
 # the explorer page's tests drive Chromium from the system packages (playwright never
 # downloads a browser); installed here when missing and we are root, else they skip

@@ -1,7 +1,11 @@
-"""Compiled engine vs ref_mwt.c vs naive_memo.py on the same polygons (perimeter, sum).
+"""Compiled engine vs its yardsticks on the same polygons (perimeter, sum), in one run.
 
 Usage: python benchmarks/bench_fast.py [N ...] [--quick] [--naive-max 500] [--json OUT]
-Prints n, optri seconds, C seconds, optri/C, naive seconds, naive/optri and peak memory.
+                                       [--shared ../shared/bench]
+Prints n, optri seconds, fraction of the min-plus peak, C seconds, optri/C, naive
+seconds, naive/optri, peak memory, the load average and whether optri's optimum
+equals the C reference's. The yardsticks live in src/optri/bench/yardsticks (C,
+built with gcc at run time) and optri.bench.naive (plain Python); see optri.bench.
 """
 
 from __future__ import annotations
@@ -19,10 +23,14 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("sizes", nargs="*", type=int, help="polygon sizes (default 500 1000 2000 4000)")
     ap.add_argument("--quick", action="store_true", help="small sizes only")
-    ap.add_argument("--naive-max", type=int, default=500, help="largest n for naive_memo.py")
+    ap.add_argument(
+        "--naive-max", type=int, default=500, help="largest n for the plain-Python recursion"
+    )
     ap.add_argument("--repeats", type=int, default=3, help="best of this many runs (n <= 2000)")
     ap.add_argument("--float32", action="store_true", help="float32 table")
     ap.add_argument("--json", dest="json_out", help="also write the rows to this JSON file")
+    ap.add_argument("--shared", help="also build and run DIR/ref_mwt.c and DIR/minplus_peak.c")
+    ap.add_argument("--peak-seconds", type=float, default=1.0, help="length of each peak run")
     args = ap.parse_args()
     sizes = args.sizes or (QUICK_SIZES if args.quick else DEFAULT_SIZES)
     rows = run_benchmark(
@@ -31,6 +39,8 @@ def main() -> None:
         repeats=args.repeats,
         dtype="float32" if args.float32 else "float64",
         log=print,
+        shared=args.shared,
+        peak_seconds=args.peak_seconds,
     )
     if args.json_out:
         with open(args.json_out, "w") as fh:

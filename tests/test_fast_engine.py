@@ -280,17 +280,26 @@ def test_fast_unavailable_without_numba(monkeypatch: pytest.MonkeyPatch) -> None
     assert "numba" in (jit.unavailable() or "")
 
 
-def test_fast_bench_cli_small() -> None:
-    import shutil
-
-    from click.testing import CliRunner
-
-    from optri.bench import find_yardsticks
-    from optri.cli import main
-
-    if find_yardsticks() is None or shutil.which("gcc") is None:
-        pytest.skip("yardsticks or gcc not available")
-    out = CliRunner().invoke(main, ["bench", "60", "--naive-max", "60", "--repeats", "1"])
-    assert out.exit_code == 0, out.output
-    row = out.output.strip().splitlines()[-1].split()
-    assert row[0] == "60" and row[-1] == "True"  # same optimum as the C yardstick
+def test_fast_tile_queue_waits_for_its_neighbours(monkeypatch: pytest.MonkeyPatch) -> None:
+    # tiny tiles, every tile-diagonal in one kernel call, two threads: each tile must
+    # wait for the tiles left of it and below it (done flags), else it reads unfinished
+    # cells; the table must equal the one-thread, one-call-per-diagonal table bit for bit
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("needs two numba threads")
+    monkeypatch.setattr(config, "FAST_TILE", 4)
+    monkeypatch.setattr(config, "FAST_PARALLEL_MIN_N", 0)
+    pts = convex_polygon(400, 11)
+    old = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        monkeypatch.setattr(config, "FAST_CHUNK_WORK", 1)
+        ref = optri.triangulate(pts, method="fast", keep_table=True)
+        numba.set_num_threads(2)
+        monkeypatch.setattr(config, "FAST_CHUNK_WORK", 1e18)
+        for _ in range(3):
+            got = optri.triangulate(pts, method="fast", keep_table=True)
+            assert got.stats["threads"] == 2
+            assert np.array_equal(got.table, ref.table, equal_nan=True)
+            assert got.weight == ref.weight
+    finally:
+        numba.set_num_threads(old)

@@ -51,7 +51,7 @@ def test_enumerate_bad_file_is_one_line_error(tmp_path):
 
 
 def test_paper_quick(tmp_path):
-    code, out = _run("paper", "--out", str(tmp_path / "p"), "--quick", "--quiet", "--no-figures")
+    code, out = _run("paper", "-o", str(tmp_path / "p"), "--quick", "--quiet", "--no-figures")
     assert code == 0, out
     report = (tmp_path / "p" / "report.md").read_text()
     assert "## Notes on the paper" in report and "175, 35, 35, 75, 75" in report

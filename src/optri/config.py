@@ -78,8 +78,20 @@ BATCH_READ_BLOCK = 1 << 20
 BATCH_MAX_JSON_DEPTH = 64
 #: Batch: seconds between checks that the parent still lives, in workers without pidfd.
 BATCH_WATCHDOG_SECONDS = 0.5
-#: CLI: show a progress bar for ``optri solve`` from this many vertices on.
-CLI_PROGRESS_MIN_N = 1500
+#: Many small polygons (triangulate_many, batch): the compiled path takes polygons of up
+#: to this many vertices in one kernel call per chunk; larger ones (and every polygon when
+#: False) go to ``optri.triangulate`` one by one, whose engine parallelizes inside them.
+MANY_MAX_N = 256
+#: Many small polygons: the compiled path is used at all (False: always polygon by polygon).
+MANY_COMPILED = True
+#: Many small polygons: polygons per kernel call (bounds the ragged arrays' memory).
+MANY_KERNEL_CHUNK = 8192
+#: CLI: seconds a run takes before its progress bar appears (on a terminal, any input size).
+CLI_PROGRESS_DELAY = 1.0
+#: CLI: ``optri solve --table`` prints the n x n table up to this n and refuses larger
+#: polygons before solving: its lower cells list every split, so the text grows as n^3
+#: (about 80 KB at 30, 98 MB at 300). From Python: ``triangulate(..., keep_table=True)``.
+CLI_TABLE_MAX_N = 30
 #: method="auto" picks the GPU engine (when a GPU is present) from this many vertices on.
 #: An estimate, not yet measured on a GPU: a process's first GPU solve compiles its
 #: kernels (about 2 s of NVVM, measured offline), about what the compiled CPU

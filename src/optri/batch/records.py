@@ -81,8 +81,11 @@ class ChunkTask:
 
     @property
     def options(self) -> SolveOptions:
-        """The options every polygon of this chunk is solved with."""
-        return SolveOptions(self.weight, self.objective, self.method, self.project)
+        """The options every polygon of this chunk is solved with.
+
+        One thread: a batch's parallelism is its workers (processes), not the kernel's.
+        """
+        return SolveOptions(self.weight, self.objective, self.method, self.project, threads=1)
 
 
 def one_line(message: str) -> str:

@@ -3,11 +3,12 @@
 Every polygon of a batch chunk and of :func:`optri.triangulate_many` goes
 through :func:`solve_polygons`: inputs become vertex arrays (or error results),
 are projected to metres when asked, and are handed, all at once, to the
-function :func:`chunk_solver` picks. Today that is :func:`solve_each`, which
-calls :func:`optri.triangulate` polygon by polygon; a compiled solver for many
-small polygons (ragged coordinates + offsets, one kernel call per chunk) plugs
-in there with the same signature, ``solver(arrays, options) -> results``, and
-everything around it (records, GeoDataFrames, error rows) stays as it is.
+function :func:`chunk_solver` picks: the compiled solver for many small
+polygons (:mod:`optri.batch.compiled`: ragged coordinates + offsets, one
+kernel call per chunk) where it applies, else :func:`solve_each`, which calls
+:func:`optri.triangulate` polygon by polygon. Both have the signature
+``solver(arrays, options) -> results`` and give the same results; everything
+around them (records, GeoDataFrames, error rows) is the same for both.
 
 A result is a :class:`~optri.result.Triangulation` or the
 :class:`~optri.errors.OptriError` that explains why there is none: bad rows
@@ -18,10 +19,8 @@ solved (zero-area triangles, numpy overflow) are kept in the result's
 
 from __future__ import annotations
 
-import time
-import warnings
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -32,8 +31,9 @@ from ..errors import EngineUnavailableError, InvalidPolygonError, OptriError
 from ..objective import as_objective
 from ..polygon import is_ring_pair, normalize_vertices
 from ..result import Triangulation
-from ..solve import triangulate
 from ..weights import resolve_weights
+from .compiled import many_plan, solve_compiled
+from .each import ChunkSolver, HoledRings, Polygonal, Result, SolveOptions, solve_each
 from .project import local_projector
 
 __all__ = [
@@ -48,22 +48,6 @@ __all__ = [
     "solve_each",
     "solve_polygons",
 ]
-
-Result = Triangulation | OptriError
-
-
-@dataclass(frozen=True)
-class SolveOptions:
-    """What every polygon of a chunk is solved with (picklable when the weight is).
-
-    ``project`` is the layer's CRS (any text pyproj reads) when polygons are to
-    be measured in metres in a local azimuthal equidistant projection, else None.
-    """
-
-    weight: Any = "perimeter"
-    objective: Any = "sum"
-    method: str = "auto"
-    project: str | None = None
 
 
 def check_options(weight: Any, objective: Any, method: str) -> dict[str, Any]:
@@ -81,56 +65,6 @@ def check_options(weight: Any, objective: Any, method: str) -> dict[str, Any]:
         if reason is not None:
             raise EngineUnavailableError(reason)
     return dict(weight=weight, objective=objective, method=method)
-
-
-ChunkSolver = Callable[[Sequence["Polygonal"], SolveOptions], list[Result]]
-
-
-@dataclass(frozen=True, eq=False)
-class HoledRings:
-    """A polygon with holes in a batch: its vertices, exterior ring first, and the ring sizes.
-
-    Vertices are numbered as :func:`optri.triangulate` numbers them (exterior,
-    then each hole in order, closing vertices dropped), so triangles index
-    :attr:`vertices` directly. Behaves as that array for the writers.
-
-    >>> h = polygon_rings([[[0, 0], [3, 0], [3, 3], [0, 3]], [[1, 1], [1, 2], [2, 2], [2, 1]]])
-    >>> h.sizes, h.shape
-    ((4, 4), (8, 2))
-    """
-
-    vertices: NDArray[np.float64]
-    sizes: tuple[int, ...]
-
-    @property
-    def shape(self) -> tuple[int, ...]:
-        """The shape of :attr:`vertices`."""
-        return self.vertices.shape
-
-    def __len__(self) -> int:
-        return len(self.vertices)
-
-    def __iter__(self) -> Any:
-        return iter(self.vertices)
-
-    def __array__(self, dtype: Any = None, copy: Any = None) -> NDArray[Any]:
-        return np.asarray(self.vertices, dtype=dtype)
-
-    def tolist(self) -> list:
-        """:attr:`vertices` as nested lists."""
-        return self.vertices.tolist()
-
-    def with_vertices(self, vertices: NDArray[np.float64]) -> HoledRings:
-        """The same rings at other coordinates (a projection of :attr:`vertices`)."""
-        return HoledRings(vertices, self.sizes)
-
-    def pair(self) -> tuple[NDArray[np.float64], list[NDArray[np.float64]]]:
-        """``(exterior, [holes])``, the form :func:`optri.triangulate` takes."""
-        rings = np.split(self.vertices, np.cumsum(self.sizes)[:-1])
-        return rings[0], rings[1:]
-
-
-Polygonal = NDArray[np.float64] | HoledRings
 
 
 def polygon_vertices(obj: Any) -> Polygonal:
@@ -202,20 +136,46 @@ def solve_polygons(polygons: Sequence[Any], options: SolveOptions) -> list[Resul
     results: list[Result | None] = [None] * len(polygons)
     todo: list[int] = []
     originals: list[Polygonal] = []
+    solver = chunk_solver(options)
+    # the compiled solver checks 2-D coordinates itself, exactly as the validator does
+    # (declined rows go to triangulate, which validates them): numbers need no second pass
+    quick = solver is solve_compiled and options.project is None
     for i, obj in enumerate(polygons):
         try:
-            originals.append(polygon_vertices(obj))
+            raw = _coordinates(obj) if quick else None
+            originals.append(polygon_vertices(obj) if raw is None else raw)
             todo.append(i)
         except OptriError as exc:
             results[i] = exc
     arrays = originals
     if options.project is not None:
         arrays, todo, originals = _projected(originals, todo, options.project, results)
-    for i, res, original in zip(todo, chunk_solver(options)(arrays, options), originals):
+    for i, res, original in zip(todo, solver(arrays, options), originals):
         if options.project is not None and isinstance(res, Triangulation):
             res = replace(res, vertices=np.asarray(original)[: res.n])
         results[i] = res
     return results  # type: ignore[return-value]  # every slot is filled above
+
+
+def _coordinates(obj: Any) -> NDArray[np.float64] | None:
+    """``obj`` as a float64 ``(n, 2)`` array when it is one of plain numbers, else None.
+
+    Only the conversion :func:`optri.polygon.normalize_vertices` starts with
+    (integers and floats; booleans, strings, objects and other shapes are left
+    to it); the checks that follow are the solver's.
+    """
+    if isinstance(obj, np.ndarray):
+        raw = obj
+    elif isinstance(obj, (list, tuple)):
+        try:
+            raw = np.asarray(obj)
+        except (TypeError, ValueError):
+            return None
+    else:
+        return None
+    if raw.dtype.kind not in "fiu" or raw.ndim != 2 or raw.shape[1] != 2:
+        return None
+    return raw.astype(np.float64, copy=False)
 
 
 def _projected(
@@ -242,42 +202,15 @@ def _projected(
 
 
 def chunk_solver(options: SolveOptions) -> ChunkSolver:
-    """The solver for a chunk under ``options``: where a compiled many-polygon path plugs in."""
-    return solve_each
+    """The solver for a chunk under ``options``: the compiled many-polygon path, if it applies.
 
+    :func:`optri.batch.compiled.solve_compiled` when the options suit its
+    kernel (a built-in weight on coordinates, ``"sum"`` or ``"max"``, method
+    ``"auto"``, ``"table"``, ``"memo"`` or ``"fast"``, numba installed,
+    ``config.MANY_COMPILED``), else :func:`solve_each`. Both give the same
+    results, polygon by polygon.
 
-def solve_each(arrays: Sequence[Polygonal], options: SolveOptions) -> list[Result]:
-    """The per-polygon path: :func:`optri.triangulate` on each array, errors as results.
-
-    Any exception a polygon raises (a user weight's included) becomes its
-    result, wrapped in an :class:`OptriError` naming the original type.
-    ``stats["wall_seconds"]`` is the polygon's whole time, ``stats["warnings"]``
-    the warnings it raised.
+    >>> chunk_solver(SolveOptions()).__name__, chunk_solver(SolveOptions(method="brute")).__name__
+    ('solve_compiled', 'solve_each')
     """
-    out: list[Result] = []
-    for arr in arrays:
-        start = time.perf_counter()
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            try:
-                source = arr.pair() if isinstance(arr, HoledRings) else arr
-                tri = triangulate(
-                    source,
-                    weight=options.weight,
-                    objective=options.objective,
-                    method=options.method,
-                )
-            except OptriError as exc:
-                out.append(exc)
-                continue
-            except Exception as exc:  # a user weight, or numpy on odd input: this row only
-                wrapped = OptriError(f"{type(exc).__name__}: {exc}")
-                wrapped.__cause__ = exc
-                out.append(wrapped)
-                continue
-        tri.stats["wall_seconds"] = time.perf_counter() - start  # type: ignore[assignment]
-        notes = list(dict.fromkeys(str(w.message) for w in caught))
-        if notes:
-            tri.stats["warnings"] = notes  # type: ignore[assignment]
-        out.append(tri)
-    return out
+    return solve_compiled if many_plan(options) is not None else solve_each

@@ -1,11 +1,14 @@
-"""Benchmark the compiled engine against the C and pure-Python yardsticks.
+"""Benchmark ``method="fast"`` against the yardsticks, all in one run.
 
-For each n: a random convex polygon from the yardsticks' ``gen.py``, solved
-by ``ref_mwt.c`` (built here with ``gcc -O3 -march=native -ffast-math``), by
-``naive_memo.py`` (small n only) and by ``method="fast"`` in a fresh process
-(so its peak memory is its own), all on the same CSV file, weight perimeter.
-Used by ``benchmarks/bench_fast.py`` and ``optri bench``; ``python -m optri.bench``
-runs the fresh-process worker.
+For each n: a random convex polygon (sorted random angles on an ellipse, written
+to a CSV with every digit, so each solver reads the same doubles), solved by
+the C reference ``yardsticks/ref_mwt.c``, by the plain-Python recursion
+:mod:`optri.bench.naive` (small n only) and by ``method="fast"`` in a fresh
+process (so its peak memory is its own); the peak microbenchmark
+``yardsticks/minplus_peak.c`` runs just before optri, and the fraction of peak
+is ``(n³/6 candidates / optri's seconds) / peak candidates per second``.
+Used by ``optri bench`` and ``benchmarks/bench_fast.py``; ``python -m
+optri.bench`` runs the fresh-process worker.
 """
 
 from __future__ import annotations
@@ -13,7 +16,6 @@ from __future__ import annotations
 import json
 import os
 import resource
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -22,25 +24,23 @@ from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
+import numpy as np
+
 from ..io.files import read_polygon
 from ..solve import triangulate
+from .compiled import Built, build, measure_peak, run_reference
 
-__all__ = ["BenchRow", "find_yardsticks", "format_rows", "run_benchmark", "worker"]
-
-#: Where the yardsticks live, tried in turn: ``shared/bench`` beside the repository
-#: root, then beside the current directory (``$OPTRI_BENCH_DIR`` comes first).
-_BENCH_DIRS = (
-    str(Path(__file__).resolve().parents[4] / "shared" / "bench"),
-    str(Path.cwd().parent / "shared" / "bench"),
-)
+__all__ = ["BenchRow", "convex_polygon", "format_rows", "run_benchmark", "worker"]
 
 
 @dataclass
 class BenchRow:
-    """One size: seconds of each solver, ratios, peak memory of the optri process.
+    """One size: seconds of each solver, the peak rate, memory, agreement, load.
 
     ``optri_s`` is the engine's solve (``Triangulation.seconds``), ``wall_s`` the
-    whole ``triangulate`` call (validation, result checks' set-up included).
+    whole ``triangulate`` call; ``peak`` the min-plus candidates per second
+    measured just before; ``agrees`` whether optri's weight equals the C
+    reference's (relative difference at most 1e-9; None without the C one).
     """
 
     n: int
@@ -48,9 +48,18 @@ class BenchRow:
     wall_s: float
     c_s: float | None
     naive_s: float | None
+    peak: float | None
     peak_mb: float
     table_mb: float
     agrees: bool | None
+    load: float
+    shared_c_s: float | None = None
+    shared_peak: float | None = None
+
+    @property
+    def fraction(self) -> float | None:
+        """Fraction of peak: ``n³/6 / optri_s / peak``."""
+        return self.n**3 / 6 / self.optri_s / self.peak if self.peak else None
 
     @property
     def c_ratio(self) -> float | None:
@@ -64,17 +73,18 @@ class BenchRow:
 
     def to_dict(self) -> dict[str, object]:
         """Plain dict including the ratios."""
-        return {**asdict(self), "c_ratio": self.c_ratio, "naive_ratio": self.naive_ratio}
+        extra = {"fraction": self.fraction, "c_ratio": self.c_ratio}
+        return {**asdict(self), **extra, "naive_ratio": self.naive_ratio}
 
 
-def find_yardsticks() -> Path | None:
-    """The folder holding ``ref_mwt.c``, ``gen.py`` and ``naive_memo.py``, or None."""
-    env = os.environ.get("OPTRI_BENCH_DIR")
-    for d in ([env] if env else []) + list(_BENCH_DIRS):
-        p = Path(d)
-        if (p / "gen.py").is_file() and (p / "ref_mwt.c").is_file():
-            return p.resolve()
-    return None
+def convex_polygon(n: int, seed: int = 1) -> np.ndarray:
+    """``n`` vertices at sorted random angles on a 1000 × 600 ellipse (convex).
+
+    >>> convex_polygon(4).shape
+    (4, 2)
+    """
+    angles = np.sort(np.random.default_rng(seed).uniform(0.0, 2 * np.pi, n))
+    return np.column_stack((1000 * np.cos(angles), 600 * np.sin(angles)))
 
 
 def run_benchmark(
@@ -84,79 +94,108 @@ def run_benchmark(
     seed: int = 1,
     dtype: str = "float64",
     log: Callable[[str], None] | None = None,
+    shared: str | os.PathLike[str] | None = None,
+    peak_seconds: float = 1.0,
+    cc: str | None = None,
 ) -> list[BenchRow]:
-    """Time every solver on the same polygon for each n in ``sizes``."""
-    bench = find_yardsticks()
-    if bench is None:
-        raise FileNotFoundError("yardsticks not found (set OPTRI_BENCH_DIR to ../shared/bench)")
+    """Time every solver on the same polygon for each n in ``sizes``.
+
+    ``shared``: a folder with another ``ref_mwt.c`` and ``minplus_peak.c`` (such
+    as ``../shared/bench``) to build and run as well, as a cross-check. ``cc``:
+    the C compiler (default: found on the ``PATH``).
+    """
+    say = log or (lambda _line: None)
     rows = []
     with tempfile.TemporaryDirectory(prefix="optri-bench-") as tmp:
-        ref = _build_c(bench, Path(tmp))
+        ours = build(Path(tmp) / "ours", cc=cc)
+        if ours.note:
+            say(f"optri bench: {ours.note}")
+        theirs = None
+        if shared is not None:
+            theirs = build(Path(tmp) / "shared", Path(shared), cc=cc)
+            if theirs.note:
+                say(f"optri bench: --shared: {theirs.note}")
+        say(
+            f"{os.cpu_count()} CPUs, load average {_load():.2f} (fraction of peak is noisy "
+            "on a busy machine: compare figures from one run)"
+        )
         for n in sizes:
             csv = Path(tmp) / f"poly{n}.csv"
-            out = subprocess.run(
-                [sys.executable, str(bench / "gen.py"), str(n), str(seed)],
-                check=True,
-                capture_output=True,
-                text=True,
-            ).stdout
-            csv.write_text(out)
-            c = _run_yardstick([str(ref), str(csv)]) if ref else None
-            naive = None
-            if n <= naive_max:
-                naive = _run_yardstick([sys.executable, str(bench / "naive_memo.py"), str(csv)])
-            mine = _run_worker(csv, repeats if n <= 2000 else 1, dtype)
-            ref_w = c[0] if c else None
-            agrees = None if ref_w is None else abs(mine["weight"] - ref_w) <= 1e-9 * abs(ref_w)
-            row = BenchRow(
-                n,
-                mine["seconds"],
-                mine["wall"],
-                c[1] if c else None,
-                naive[1] if naive else None,
-                mine["peak_mb"],
-                mine["peak_mb"] - mine["base_mb"],
-                agrees,
-            )
-            rows.append(row)
-            if log is not None:
-                log(format_rows([row], header=len(rows) == 1))
+            csv.write_text("".join(f"{x!r},{y!r}\n" for x, y in convex_polygon(n, seed).tolist()))
+            rows.append(_one_size(n, csv, ours, theirs, naive_max, repeats, dtype, peak_seconds))
+            say(format_rows(rows[-1:], header=len(rows) == 1))
     return rows
 
 
+def _one_size(
+    n: int,
+    csv: Path,
+    ours: Built,
+    theirs: Built | None,
+    naive_max: int,
+    repeats: int,
+    dtype: str,
+    peak_seconds: float,
+) -> BenchRow:
+    c = run_reference(ours.ref, csv) if ours.ref else None
+    shared_c = run_reference(theirs.ref, csv) if theirs and theirs.ref else None
+    naive = None
+    if n <= naive_max:
+        naive = _seconds([sys.executable, "-m", "optri.bench.naive", str(csv)])
+    peak = measure_peak(ours.peak, peak_seconds) if ours.peak else None
+    shared_peak = measure_peak(theirs.peak, peak_seconds) if theirs and theirs.peak else None
+    mine = _run_worker(csv, repeats if n <= 2000 else 1, dtype)
+    agrees = None if c is None else abs(mine["weight"] - c[0]) <= 1e-9 * abs(c[0])
+    return BenchRow(
+        n,
+        mine["seconds"],
+        mine["wall"],
+        c[1] if c else None,
+        naive[1] if naive else None,
+        peak,
+        mine["peak_mb"],
+        mine["peak_mb"] - mine["base_mb"],
+        agrees,
+        _load(),
+        shared_c[1] if shared_c else None,
+        shared_peak,
+    )
+
+
 def format_rows(rows: Sequence[BenchRow], header: bool = True) -> str:
-    """Rows as an aligned text table."""
+    """Rows as an aligned text table (shared columns only when measured)."""
+    shared = any(r.shared_c_s is not None or r.shared_peak is not None for r in rows)
     lines = []
     if header:
         lines.append(
-            f"{'n':>6} {'optri s':>9} {'wall s':>8} {'C s':>9} {'optri/C':>8} {'naive s':>9} "
-            f"{'naive/optri':>11} {'peak MB':>8} {'+table MB':>9} {'same opt':>8}"
+            f"{'n':>6} {'optri s':>9} {'of peak':>7} {'C s':>9} {'optri/C':>7} {'naive s':>8} "
+            f"{'naive/optri':>11} {'peak MB':>8} {'+table MB':>9} {'load':>5} {'same':>5}"
+            + (f" {'shared C s':>10} {'of shared peak':>14}" if shared else "")
         )
 
-    def f(v: float | None, fmt: str) -> str:
+    def f(v: float | bool | None, fmt: str) -> str:
         return "-" if v is None else format(v, fmt)
 
     for r in rows:
+        frac2 = r.n**3 / 6 / r.optri_s / r.shared_peak if r.shared_peak else None
         lines.append(
-            f"{r.n:>6} {r.optri_s:>9.4f} {r.wall_s:>8.4f} {f(r.c_s, '.4f'):>9} "
-            f"{f(r.c_ratio, '.3f'):>8} "
-            f"{f(r.naive_s, '.3f'):>9} {f(r.naive_ratio, '.0f'):>11} {r.peak_mb:>8.1f} "
-            f"{r.table_mb:>9.1f} {f(r.agrees, ''):>8}"
+            f"{r.n:>6} {r.optri_s:>9.4f} {f(r.fraction, '.1%'):>7} {f(r.c_s, '.4f'):>9} "
+            f"{f(r.c_ratio, '.3f'):>7} {f(r.naive_s, '.3f'):>8} {f(r.naive_ratio, '.0f'):>11} "
+            f"{r.peak_mb:>8.1f} {r.table_mb:>9.1f} {r.load:>5.2f} {f(r.agrees, ''):>5}"
+            + (f" {f(r.shared_c_s, '.4f'):>10} {f(frac2, '.1%'):>14}" if shared else "")
         )
     return "\n".join(lines)
 
 
-def _build_c(bench: Path, tmp: Path) -> Path | None:
-    gcc = shutil.which("gcc") or shutil.which("cc")
-    if gcc is None:
-        return None
-    exe = tmp / "ref_mwt"
-    cmd = [gcc, "-O3", "-march=native", "-ffast-math", "-o", str(exe), str(bench / "ref_mwt.c")]
-    subprocess.run([*cmd, "-lm"], check=True, capture_output=True)
-    return exe
+def _load() -> float:
+    """One-minute load average (0 where the system has none)."""
+    try:
+        return os.getloadavg()[0]
+    except OSError:  # pragma: no cover - platforms without getloadavg
+        return 0.0
 
 
-def _run_yardstick(cmd: list[str]) -> tuple[float, float]:
+def _seconds(cmd: list[str]) -> tuple[float, float]:
     """(weight, seconds) printed as ``n weight seconds``."""
     out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout.split()
     return float(out[1]), float(out[2])

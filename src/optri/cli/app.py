@@ -1,12 +1,21 @@
-"""The ``optri`` command group: error handling shared by every command.
+"""The ``optri`` command group: one error style and exit status for every command.
 
-Library errors become one line on stderr and exit status 2; each command
+Every failure, a click usage error included, ends as one ``optri: error: ...``
+line on stderr and exit status 2; Ctrl-C ends with ``optri: interrupted`` and
+130, SIGTERM with ``optri: terminated`` and 143 (both unwind, so temporary
+files are removed); a reader that closes the pipe early (``| head -1``) ends
+the run quietly with status 0. Status 1 is left to ``--strict``. Each command
 lives in its own module and registers itself on :data:`main`.
 """
 
 from __future__ import annotations
 
+import contextlib
+import os
+import signal
 import sys
+import threading
+from collections.abc import Iterator
 from typing import Any
 
 import click
@@ -16,29 +25,144 @@ from ..errors import OptriError
 
 __all__ = ["main"]
 
+#: Environment variable that lets unexpected exceptions through with their traceback.
+DEBUG_ENV = "OPTRI_DEBUG"
+_TERMINATED = {"flag": False}
+
 
 class _Group(click.Group):
-    """A click group that turns library errors into one line and exit 2."""
+    """A click group that turns every error into one line and exit 2."""
+
+    def main(  # type: ignore[override]
+        self,
+        args: Any = None,
+        prog_name: str | None = None,
+        complete_var: str | None = None,
+        standalone_mode: bool = True,
+        **extra: Any,
+    ) -> Any:
+        with _process_settings():
+            try:
+                code = super().main(args, prog_name, complete_var, False, **extra)
+                _flush_stdout()
+            except click.exceptions.NoArgsIsHelpError as exc:
+                click.echo(exc.ctx.get_help() if exc.ctx else "")
+                code = 0
+            except click.ClickException as exc:
+                code = _usage_line(exc)
+            except click.exceptions.Abort:
+                click.echo("optri: interrupted", err=True)
+                code = 130
+            except SystemExit as exc:
+                code = exc.code
+        code = code if isinstance(code, int) else 0
+        if standalone_mode:
+            sys.exit(code)
+        return code
 
     def invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
+        except (click.ClickException, click.exceptions.Exit, click.exceptions.Abort):
+            raise
         except OptriError as exc:
             _fail(str(exc))
+        except BrokenPipeError:
+            _quiet_pipe()
+            sys.exit(0)
         except OSError as exc:
-            _fail(f"{getattr(exc, 'filename', None) or ''}: {exc.strerror or exc}".lstrip(": "))
+            name = getattr(exc, "filename", None) or ""
+            _fail(f"{name}: {exc.strerror or exc}".lstrip(": "))
         except KeyboardInterrupt:
-            click.echo("optri: interrupted", err=True)
-            sys.exit(130)
+            terminated = _TERMINATED["flag"]
+            click.echo(f"optri: {'terminated' if terminated else 'interrupted'}", err=True)
+            sys.exit(143 if terminated else 130)
+        except MemoryError:
+            _fail("out of memory; try a smaller input")
+        except Exception as exc:
+            if os.environ.get(DEBUG_ENV):
+                raise
+            _fail(
+                f"unexpected {type(exc).__name__}: {exc} (a bug in optri: please report it; "
+                f"{DEBUG_ENV}=1 shows the traceback)"
+            )
+
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        """List each command with its whole first paragraph, never cut short."""
+        rows = []
+        for name in self.list_commands(ctx):
+            command = self.get_command(ctx, name)
+            if command is not None and not command.hidden:
+                rows.append((name, summary(command)))
+        if rows:
+            with formatter.section("Commands"):
+                formatter.write_dl(rows)
+
+
+def summary(command: click.Command) -> str:
+    """The command's one-line summary: its short help, else its docstring's first paragraph."""
+    text = command.short_help or (command.help or "").split("\n\n")[0]
+    return " ".join(text.split())
 
 
 def _fail(message: str) -> None:
-    first = " ".join(message.split())
-    click.echo(f"optri: error: {first}", err=True)
+    click.echo(f"optri: error: {' '.join(message.split())}", err=True)
     sys.exit(2)
+
+
+def _usage_line(exc: click.ClickException) -> int:
+    """A click error (bad option, missing argument, ...) as one line; status 2."""
+    ctx = getattr(exc, "ctx", None)
+    where = ""
+    if ctx is not None and ctx.parent is not None:
+        where = f"{ctx.info_name}: "
+    hint = f" (see '{ctx.command_path} --help')" if ctx is not None else ""
+    text = " ".join(exc.format_message().split()).rstrip(".")
+    click.echo(f"optri: error: {where}{text}{hint}", err=True)
+    return 2
+
+
+def _quiet_pipe() -> None:
+    """The reader went away: send what is left for stdout nowhere, say nothing."""
+    with contextlib.suppress(OSError, ValueError):
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+
+
+def _flush_stdout() -> None:
+    try:
+        sys.stdout.flush()
+    except BrokenPipeError:
+        _quiet_pipe()
+    except (OSError, ValueError):
+        pass
+
+
+@contextlib.contextmanager
+def _process_settings() -> Iterator[None]:
+    """SIGTERM unwinds like Ctrl-C, so temporary files are removed."""
+    old_term = None
+    _TERMINATED["flag"] = False
+    if threading.current_thread() is threading.main_thread():
+
+        def terminate(signum: int, frame: Any) -> None:
+            _TERMINATED["flag"] = True
+            raise KeyboardInterrupt("terminated")
+
+        old_term = signal.signal(signal.SIGTERM, terminate)
+    try:
+        yield
+    finally:
+        if old_term is not None:
+            signal.signal(signal.SIGTERM, old_term)
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, "--version", prog_name="optri")
 def main() -> None:
-    """Optimal triangulation of polygons by dynamic programming."""
+    """Optimal triangulation of polygons by dynamic programming.
+
+    Every command reads "-" as standard input wherever it reads a file, and
+    -o/--output is the path it writes. Errors are one "optri: error:" line
+    and exit status 2 (130 on Ctrl-C; 1 only for --strict).
+    """

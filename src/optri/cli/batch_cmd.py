@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import contextlib
+import dataclasses
+import json
 import sys
 import warnings
 from collections.abc import Iterator
@@ -10,27 +12,25 @@ from typing import Any
 
 import click
 
-from ..batch import BatchFailedError, batch
+from ..batch import BatchFailedError, BatchSummary, batch
 from ..batch.readers import INPUT_FORMATS
 from ..batch.writers import OUTPUT_FORMATS
 from ..errors import BatchWarning
 from .app import main
-from .options import engine_options, parse_pair
+from .options import engine_options, output_option, parse_pair
 from .progress import progress_bar
+from .stdin import STDIN, layer_input
 
 __all__ = ["batch_command"]
 
 
 @main.command("batch")
-@click.argument("inp", metavar="IN", type=click.Path())
-@click.option(
-    "--out",
-    "-o",
-    "out",
-    required=True,
-    type=click.Path(),
-    help="Output file (.gpkg, .fgb, .parquet, .geojson, .ndjson), or a directory of "
-    "resumable parts (a path ending in / or without a suffix).",
+@click.argument("inp", metavar="IN", type=click.Path(allow_dash=True))
+@output_option(
+    "any",
+    "Output file (.gpkg, .fgb, .parquet, .geojson, .ndjson), or a directory of "
+    "resumable parts (a path ending in / or without a suffix).  [required]",
+    legacy="--out",
 )
 @click.option("--format", "fmt", type=click.Choice(list(INPUT_FORMATS)), help="Input format.")
 @click.option(
@@ -52,10 +52,11 @@ __all__ = ["batch_command"]
 @click.option("--resume/--no-resume", default=True, show_default=True, help="Keep completed parts.")
 @click.option("--overwrite", is_flag=True, help="Delete earlier output and redo everything.")
 @click.option("--strict", is_flag=True, help="Exit with status 1 if any polygon failed.")
+@click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bar, summary or warnings.")
 def batch_command(
     inp: str,
-    out: str,
+    output: str,
     fmt: str | None,
     out_format: str | None,
     weight: str,
@@ -68,9 +69,13 @@ def batch_command(
     resume: bool,
     overwrite: bool,
     strict: bool,
+    as_json: bool,
     quiet: bool,
 ) -> None:
     """Triangulate every polygon in IN (GeoJSON, NDJSON, GeoParquet, GeoPackage, FlatGeobuf).
+
+    IN may be - (standard input; the format from --format or the content; such
+    a run does not resume).
 
     Writes one row per input feature, in input order, with its attributes and
     CRS, plus id, status, cost, reason and the triangles (a MultiPolygon, or
@@ -78,22 +83,22 @@ def batch_command(
     status "error" and a reason; the run goes on. Rerunning the same command
     resumes an interrupted run.
     """
-    # no bar when stderr is a file or pipe: it would only add blank lines to logs
     with (
+        layer_input(inp, fmt) as source,
         _warnings_as_lines(quiet),
-        progress_bar("polygons", not quiet and sys.stderr.isatty(), counts=True) as progress,
+        progress_bar("polygons", not quiet, counts=True) as progress,
     ):
         try:
             summary = batch(
-                inp,
-                out,
+                source,
+                output,
                 weight=parse_pair(weight),
                 objective=parse_pair(objective),
                 method=method,
                 workers=workers,
                 chunk_size=chunk_size,
                 scheduler=scheduler,
-                resume=resume,
+                resume=resume and inp != STDIN,
                 overwrite=overwrite,
                 strict=strict,
                 progress=progress,
@@ -102,11 +107,18 @@ def batch_command(
                 project=project,
             )
         except BatchFailedError as exc:
-            summary = exc.summary
-            click.echo(f"optri: {summary}", err=True)
+            _report(exc.summary, as_json, f"optri: {exc.summary}")
             sys.exit(1)
-    if not quiet:
-        click.echo(str(summary), err=True)
+    _report(summary, as_json, None if quiet else str(summary))
+
+
+def _report(summary: BatchSummary, as_json: bool, line: str | None) -> None:
+    """The summary as JSON on stdout (--json), or as a line on stderr."""
+    if as_json:
+        fields = dataclasses.asdict(summary)
+        click.echo(json.dumps({**fields, "output": str(summary.output)}))
+    elif line is not None:
+        click.echo(line, err=True)
 
 
 @contextlib.contextmanager

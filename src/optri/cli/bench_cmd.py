@@ -1,4 +1,4 @@
-"""``optri bench``: the compiled engine against the C and pure-Python yardsticks."""
+"""``optri bench``: the compiled engine against its C and pure-Python yardsticks."""
 
 from __future__ import annotations
 
@@ -15,17 +15,33 @@ __all__ = ["bench"]
 @main.command()
 @click.argument("sizes", nargs=-1, type=int)
 @click.option("--quick", is_flag=True, help="Small sizes only (100 200 500).")
-@click.option("--naive-max", default=500, show_default=True, help="Largest n for naive_memo.py.")
+@click.option(
+    "--naive-max", default=500, show_default=True, help="Largest n for the plain-Python recursion."
+)
 @click.option("--repeats", default=3, show_default=True, help="Best of this many runs (n <= 2000).")
 @click.option("--float32", is_flag=True, help="float32 table.")
 @click.option("--json", "as_json", is_flag=True, help="Print the rows as JSON.")
+@click.option(
+    "--shared",
+    type=click.Path(exists=True, file_okay=False),
+    help="Also build and run DIR/ref_mwt.c and DIR/minplus_peak.c (a cross-check).",
+)
+@click.option("--peak-seconds", default=1.0, show_default=True, help="Length of each peak run.")
 def bench(
-    sizes: tuple[int, ...], quick: bool, naive_max: int, repeats: int, float32: bool, as_json: bool
+    sizes: tuple[int, ...],
+    quick: bool,
+    naive_max: int,
+    repeats: int,
+    float32: bool,
+    as_json: bool,
+    shared: str | None,
+    peak_seconds: float,
 ) -> None:
-    """Time method='fast', ref_mwt.c and naive_memo.py on the same polygons.
+    """Time method='fast', the C reference and the Python recursion on the same polygons.
 
-    SIZES default to 500 1000 2000 4000. The yardsticks are looked up in
-    $OPTRI_BENCH_DIR, then ../shared/bench beside the repository.
+    SIZES default to 500 1000 2000 4000. The C yardsticks ship with optri and are
+    built with gcc (or cc) at run time; without a compiler their columns stay empty.
+    "of peak" is (n^3/6 / optri seconds) / the min-plus peak rate measured just before.
     """
     chosen = sizes or ((100, 200, 500) if quick else (500, 1000, 2000, 4000))
     rows = run_benchmark(
@@ -33,7 +49,9 @@ def bench(
         naive_max=naive_max,
         repeats=repeats,
         dtype="float32" if float32 else "float64",
-        log=None if as_json else click.echo,
+        log=click.echo if not as_json else lambda line: click.echo(line, err=True),
+        shared=shared,
+        peak_seconds=peak_seconds,
     )
     if as_json:
         click.echo(json.dumps([r.to_dict() for r in rows]))

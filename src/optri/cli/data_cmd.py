@@ -2,21 +2,24 @@
 
 from __future__ import annotations
 
+import json
+
 import click
 
 from .. import data as samples
 from .app import main
+from .options import output_option
 
 
 @main.command("data")
 @click.argument("names", nargs=-1)
-@click.option(
-    "--output",
-    "-o",
-    type=click.Path(file_okay=False),
-    help="Copy the samples (all, or NAMES) into this folder instead of printing paths.",
+@output_option(
+    "dir",
+    "Copy the samples (all, or NAMES) into this folder instead of printing paths.",
+    required=False,
 )
-def data_command(names: tuple[str, ...], output: str | None) -> None:
+@click.option("--json", "as_json", is_flag=True, help="Print {name: path} as one JSON object.")
+def data_command(names: tuple[str, ...], output: str | None, as_json: bool) -> None:
     """Locate or copy the bundled sample files.
 
     With no NAMES, list every sample and its path; with NAMES, print each path
@@ -26,15 +29,18 @@ def data_command(names: tuple[str, ...], output: str | None) -> None:
     """
     chosen = list(names) or samples.names()
     if output is not None:
-        for target in samples.copy_to(output, chosen):
-            click.echo(str(target))
-    elif names:
-        for name in chosen:
-            click.echo(str(samples.path(name)))
+        paths = [str(p) for p in samples.copy_to(output, chosen)]
+    else:
+        paths = [str(samples.path(name)) for name in chosen]
+    if as_json:
+        click.echo(json.dumps(dict(zip(chosen, paths))))
+    elif output is not None or names:
+        for path in paths:
+            click.echo(path)
     else:
         width = max(len(name) for name in chosen)
-        for name in chosen:
-            click.echo(f"{name:<{width}}  {samples.path(name)}")
+        for name, path in zip(chosen, paths):
+            click.echo(f"{name:<{width}}  {path}")
 
 
 __all__ = ["data_command"]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import re
 from pathlib import Path
 
@@ -11,7 +12,7 @@ import numpy as np
 from ..io.files import read_polygon
 from ..teaching import explore as explore_page
 from .app import main
-from .options import parse_pair
+from .options import columns_option, objective_option, output_option, parse_pair
 
 __all__ = ["explore"]
 
@@ -27,7 +28,7 @@ _VALUES = re.compile(r"^\s*[-+0-9.eE]+(\s*,\s*[-+0-9.eE]+){2,}\s*$")
     show_default=True,
     help="Triangle weight (product for vertex values such as 5,1,5,1,5).",
 )
-@click.option("--objective", default="sum", show_default=True, help="sum or max.")
+@objective_option(help="sum or max.")
 @click.option(
     "--method",
     "-m",
@@ -36,23 +37,30 @@ _VALUES = re.compile(r"^\s*[-+0-9.eE]+(\s*,\s*[-+0-9.eE]+){2,}\s*$")
     type=click.Choice(["memo", "table", "naive"]),
     help="Order shown first; memo and table are both in the page.",
 )
-@click.option(
-    "--output",
-    "-o",
-    required=True,
-    type=click.Path(dir_okay=False),
-    help="The HTML file to write (one self-contained page).",
-)
-def explore(source: str, weight: str, objective: str, method: str, output: str) -> None:
+@output_option("file", "The HTML file to write (one self-contained page).  [required]")
+@columns_option
+@click.option("--json", "as_json", is_flag=True, help="Print what was written as one JSON object.")
+def explore(
+    source: str,
+    weight: str,
+    objective: str,
+    method: str,
+    output: str,
+    columns: tuple[str, ...] | None,
+    as_json: bool,
+) -> None:
     """Write an explorer page replaying the DP on INPUT step by step.
 
-    INPUT is a polygon file (CSV, JSON, GeoJSON, WKT) or, when no such file
+    INPUT is a polygon file (CSV, JSON, GeoJSON, WKT; - for stdin) or, when no such file
     exists, vertex values such as 5,1,5,1,5 (the paper's pentagon, with
     --weight product). The page needs no network: open it in any browser.
     """
     if not Path(source).exists() and _VALUES.match(source):
         vertices = np.array([float(v) for v in source.split(",")])
     else:
-        vertices = read_polygon(source)
+        vertices = read_polygon(source, columns)
     explore_page(vertices, weight, parse_pair(objective), method, path=output)
+    if as_json:
+        click.echo(json.dumps({"output": output, "n": len(vertices), "method": method}))
+        return
     click.echo(f"explorer written to {output} (n = {len(vertices)}, {method} shown first)")

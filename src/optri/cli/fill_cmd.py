@@ -15,7 +15,9 @@ from ..holes.boundary import edge_summary
 from ..holes.search import kernels_cached
 from ..io.meshes import mesh_format, read_mesh, write_mesh
 from .app import main
-from .progress import progress_bar
+from .options import input_path, output_option
+from .progress import announce, compile_notice, progress_bar
+from .stdin import mesh_input
 
 
 def _summary(rec: HoleRecord) -> str:
@@ -47,8 +49,8 @@ def _check_has_holes(mesh: Any) -> dict[str, int]:
 
 
 @main.command()
-@click.argument("infile", type=click.Path(dir_okay=False))
-@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Output mesh.")
+@click.argument("infile", type=input_path)
+@output_option("file", "Output mesh (.obj, .ply, .stl, .off).  [required]")
 @click.option(
     "--weight",
     "-w",
@@ -86,18 +88,19 @@ def fill(
     as_json: bool,
     quiet: bool,
 ) -> None:
-    """Fill the holes of the mesh in INFILE (.obj/.ply/.stl/.off) and write OUTPUT."""
+    """Fill the holes of the mesh in INFILE (.obj/.ply/.stl/.off; - for stdin), write OUTPUT."""
     mesh_format(output, "output")  # refuse an unknown output suffix before any work
-    mesh = read_mesh(infile, merge_tolerance)
+    with mesh_input(infile) as path:
+        mesh = read_mesh(path, merge_tolerance)
     counts = _check_has_holes(mesh)
-    if counts["boundary"] and not quiet and not as_json and not kernels_cached():
-        click.echo(
-            "optri: compiling the hole-filling kernels (first run only; this takes a minute)",
-            err=True,
-        )
+    if counts["boundary"] and not quiet and not kernels_cached():
+        announce("optri: compiling the hole-filling kernels (first run only; this takes a minute)")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", HoleSkippedWarning)
-        with progress_bar("filling holes", not quiet and not as_json) as progress:
+        with (
+            compile_notice(not quiet),
+            progress_bar("filling holes", not quiet) as progress,
+        ):
             filled, records = fill_holes(
                 mesh,
                 max_hole_edges=max_hole_edges,

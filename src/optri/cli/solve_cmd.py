@@ -14,22 +14,26 @@ from ..drawing import format_table, save_figure
 from ..io.files import read_rings
 from ..solve import triangulate
 from .app import main
-from .options import engine_options, parse_pair
-from .progress import progress_bar
+from .options import PlotPath, columns_option, engine_options, input_path, parse_pair
+from .progress import compile_notice, progress_bar
 
 
 @main.command()
-@click.argument("file", type=click.Path(dir_okay=False))
+@click.argument("file", type=input_path)
 @engine_options
+@columns_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @click.option(
     "--plot",
     "plot_path",
-    type=click.Path(dir_okay=False),
-    help="Write a PNG drawing of the triangulation.",
+    type=PlotPath(),
+    help="Write a drawing of the triangulation (.png, .svg, .pdf, ...).",
 )
 @click.option(
-    "--table", "show_table", is_flag=True, help="Print the n x n table like the paper's Table 1."
+    "--table",
+    "show_table",
+    is_flag=True,
+    help=f"Print the n x n table like the paper's Table 1 (n <= {config.CLI_TABLE_MAX_N}).",
 )
 @click.option("--float32", is_flag=True, help="Compiled engines: float32 table.")
 @click.option(
@@ -44,6 +48,7 @@ def solve(
     weight: str,
     objective: str,
     method: str,
+    columns: tuple[str, ...] | None,
     as_json: bool,
     plot_path: str | None,
     show_table: bool,
@@ -51,18 +56,21 @@ def solve(
     time_limit: float | None,
     quiet: bool,
 ) -> None:
-    """Optimal triangulation of the polygon in FILE (CSV x,y per line, JSON, GeoJSON, WKT).
+    """Optimal triangulation of the polygon in FILE (CSV, JSON, GeoJSON, WKT; - for stdin).
 
-    A GeoJSON or WKT polygon with holes is triangulated with its holes.
+    A CSV's delimiter, header and coordinate columns are sniffed (or named with
+    --columns). A GeoJSON or WKT polygon with holes is triangulated with its holes.
     """
-    rings = read_rings(file)
-    if show_table and len(rings) > 1:
-        raise click.UsageError("--table needs a simple polygon: a polygon with holes has no table")
-    source = (rings[0], rings[1:]) if len(rings) > 1 else rings[0]
+    rings = read_rings(file, columns)
     n = sum(len(r) for r in rings)
-    show_bar = not quiet and not as_json and len(rings) == 1 and n >= config.CLI_PROGRESS_MIN_N
+    if show_table:
+        _check_table(n, len(rings))
+    source = (rings[0], rings[1:]) if len(rings) > 1 else rings[0]
     start = time.perf_counter()
-    with progress_bar(f"solving n={n}", show_bar) as progress:
+    with (
+        compile_notice(not quiet),
+        progress_bar(f"solving n={n}", not quiet) as progress,
+    ):
         tri = triangulate(
             source,
             weight=parse_pair(weight),
@@ -97,6 +105,18 @@ def solve(
         click.echo(format_table(tri))
     if plot_path:
         click.echo(f"plot written to {plot_path}")
+
+
+def _check_table(n: int, rings: int) -> None:
+    """Refuse --table before any work where no table exists or it would be too big to read."""
+    if rings > 1:
+        raise click.UsageError("--table needs a simple polygon: a polygon with holes has no table")
+    if n > config.CLI_TABLE_MAX_N:
+        raise click.UsageError(
+            f"--table prints tables up to n = {config.CLI_TABLE_MAX_N} (this polygon has "
+            f"n = {n}; the text grows as n^3); leave out --table, or from Python use "
+            f"optri.triangulate(..., keep_table=True).table"
+        )
 
 
 @main.command()

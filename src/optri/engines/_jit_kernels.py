@@ -22,9 +22,12 @@ Two evaluation orders of the one recurrence (``best_split``):
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 from llvmlite import ir
 from numba import njit, prange, types
+from numba.core import cgutils
 from numba.extending import intrinsic, overload
 
 from ..objective import lex_better
@@ -62,6 +65,78 @@ def _fmin(typingctx, a, b):
         return builder.call(fn, args, fastmath=("nnan", "nsz"))
 
     return sig, codegen
+
+
+def _item_pointer(context, builder, signature, args):
+    ty = signature.args[0]
+    ary = context.make_array(ty)(context, builder, value=args[0])
+    return cgutils.get_item_pointer(context, builder, ty, ary, [args[1]], wraparound=False)
+
+
+@intrinsic
+def _fetch_add(typingctx, arr, idx):
+    """``arr[idx] += 1`` atomically; the old value (1-D int64 ``arr``)."""
+
+    def codegen(context, builder, signature, args):
+        ptr = _item_pointer(context, builder, signature, args)
+        return builder.atomic_rmw("add", ptr, ir.Constant(ir.IntType(64), 1), "seq_cst")
+
+    return types.int64(arr, idx), codegen
+
+
+@intrinsic
+def _load_acquire(typingctx, arr, idx):
+    """``arr[idx]``, an atomic load: writes released before it was set are visible."""
+
+    def codegen(context, builder, signature, args):
+        ptr = _item_pointer(context, builder, signature, args)
+        return builder.load_atomic(ptr, "acquire", 8)
+
+    return types.int64(arr, idx), codegen
+
+
+@intrinsic
+def _store_release(typingctx, arr, idx, val):
+    """``arr[idx] = val`` after every earlier write of this thread (atomic store)."""
+
+    def codegen(context, builder, signature, args):
+        ptr = _item_pointer(context, builder, signature, args)
+        builder.store_atomic(args[2], ptr, "release", 8)
+        return context.get_dummy_value()
+
+    return types.none(arr, idx, val), codegen
+
+
+# sched_yield (POSIX) or SwitchToThread (Windows): both take nothing, return an int
+_YIELD_SYMBOL = "SwitchToThread" if sys.platform == "win32" else "sched_yield"
+_SPINS = 2000  # polls of a tile's flag before a waiting thread gives up its CPU
+
+
+@intrinsic
+def _yield_cpu(typingctx):
+    """Let the OS run another thread now: a waiter must not starve the thread it waits on."""
+
+    def codegen(context, builder, signature, args):
+        fnty = ir.FunctionType(ir.IntType(32), [])
+        builder.call(cgutils.get_or_insert_function(builder.module, fnty, _YIELD_SYMBOL), [])
+        return context.get_dummy_value()
+
+    return types.none(), codegen
+
+
+@kernel(inline="always")
+def _wait_done(done, idx):
+    """Wait until ``done[idx]`` is set: spin briefly, then yield between polls.
+
+    On a machine with more runnable threads than cores, the tile waited on may
+    belong to a thread the OS has descheduled; spinning would burn the very CPU
+    time it needs.
+    """
+    spins = 0
+    while _load_acquire(done, idx) == 0:
+        spins += 1
+        if spins >= _SPINS:
+            _yield_cpu()
 
 
 # --- min-plus path (sum of an edge-decomposable weight) -----------------------------
@@ -102,6 +177,35 @@ def _block24(T, i, j, k0, k1):
 
 
 @kernel(fastmath=_FASTMATH, inline="always")
+def _block44(T, i, j, k0, k1):
+    """Cells (i..i+3, j..j+3) over splits k0 <= k < k1: 16 sums per 8 loads.
+
+    The loop runs along contiguous rows ``T[i..i+3]`` and ``T[j..j+3]``; LLVM
+    vectorizes it over k, so the 16 minima live in vector registers until the end.
+    """
+    x0, x1, x2, x3 = T[i, k0:k1], T[i + 1, k0:k1], T[i + 2, k0:k1], T[i + 3, k0:k1]
+    y0, y1, y2, y3 = T[j, k0:k1], T[j + 1, k0:k1], T[j + 2, k0:k1], T[j + 3, k0:k1]
+    a0, a1, a2, a3 = T[i, j], T[i, j + 1], T[i, j + 2], T[i, j + 3]
+    b0, b1, b2, b3 = T[i + 1, j], T[i + 1, j + 1], T[i + 1, j + 2], T[i + 1, j + 3]
+    c0, c1, c2, c3 = T[i + 2, j], T[i + 2, j + 1], T[i + 2, j + 2], T[i + 2, j + 3]
+    d0, d1, d2, d3 = T[i + 3, j], T[i + 3, j + 1], T[i + 3, j + 2], T[i + 3, j + 3]
+    for k in range(x0.shape[0]):
+        e0, e1, e2, e3 = y0[k], y1[k], y2[k], y3[k]
+        x = x0[k]
+        a0, a1, a2, a3 = _fmin(a0, x + e0), _fmin(a1, x + e1), _fmin(a2, x + e2), _fmin(a3, x + e3)
+        x = x1[k]
+        b0, b1, b2, b3 = _fmin(b0, x + e0), _fmin(b1, x + e1), _fmin(b2, x + e2), _fmin(b3, x + e3)
+        x = x2[k]
+        c0, c1, c2, c3 = _fmin(c0, x + e0), _fmin(c1, x + e1), _fmin(c2, x + e2), _fmin(c3, x + e3)
+        x = x3[k]
+        d0, d1, d2, d3 = _fmin(d0, x + e0), _fmin(d1, x + e1), _fmin(d2, x + e2), _fmin(d3, x + e3)
+    T[i, j], T[i, j + 1], T[i, j + 2], T[i, j + 3] = a0, a1, a2, a3
+    T[i + 1, j], T[i + 1, j + 1], T[i + 1, j + 2], T[i + 1, j + 3] = b0, b1, b2, b3
+    T[i + 2, j], T[i + 2, j + 1], T[i + 2, j + 2], T[i + 2, j + 3] = c0, c1, c2, c3
+    T[i + 3, j], T[i + 3, j + 1], T[i + 3, j + 2], T[i + 3, j + 3] = d0, d1, d2, d3
+
+
+@kernel(fastmath=_FASTMATH, inline="always")
 def _block11(T, i, j, k0, k1):
     T[i, j] = _rowmin(T[i, j], T[i, k0:k1], T[j, k0:k1])
 
@@ -118,73 +222,193 @@ def _any_allowed(mask, use_mask, i0, i1, j0, j1):
     return False
 
 
-@kernel(fastmath=_FASTMATH)
+@kernel(fastmath=_FASTMATH, _nrt=False)
 def _far(T, mask, use_mask, i0, i1, j0, j1):
-    """``T[i, j] = min over i1 <= k < j0 of T[i, k] + T[j, k]`` for the tile's cells.
+    """``T[i, j] = min(T[i, j], min over i1 <= k < j0 of T[i, k] + T[j, k])``.
 
-    With a chord mask, blocks of cells that are all disallowed are skipped: a
-    simple polygon has few valid diagonals, so most of the product is never
-    needed (disallowed cells end up +inf either way).
+    In blocks of 512 splits (4 + 64 rows of 512 doubles stay in L1/L2). With a
+    chord mask, blocks of cells that are all disallowed are skipped: a simple
+    polygon has few valid diagonals, so most of the product is never needed
+    (disallowed cells end up +inf either way).
     """
-    for i in range(i0, i1):
-        for j in range(j0, j1):
-            T[i, j] = np.inf
     if not _any_allowed(mask, use_mask, i0, i1, j0, j1):
         return
     for k0 in range(i1, j0, _KBLOCK):
         k1 = min(j0, k0 + _KBLOCK)
-        for i in range(i0, i1 - 1, 2):
+        i = i0
+        while i + 4 <= i1:
             j = j0
             while j + 4 <= j1:
-                if _any_allowed(mask, use_mask, i, i + 2, j, j + 4):
-                    _block24(T, i, j, k0, k1)
+                if _any_allowed(mask, use_mask, i, i + 4, j, j + 4):
+                    _block44(T, i, j, k0, k1)
                 j += 4
             for jj in range(j, j1):
-                _block11(T, i, jj, k0, k1)
-                _block11(T, i + 1, jj, k0, k1)
-        if (i1 - i0) % 2:
-            for j in range(j0, j1):
-                _block11(T, i1 - 1, j, k0, k1)
+                for ii in range(i, i + 4):
+                    _block11(T, ii, jj, k0, k1)
+            i += 4
+        for ii in range(i, i1):
+            for jj in range(j0, j1):
+                _block11(T, ii, jj, k0, k1)
 
 
-@kernel(fastmath=_FASTMATH)
+@kernel(fastmath=_FASTMATH, inline="always")
+def _store(T, pts, code, mask, use_mask, i, j, best):
+    """Final ``E(i, j) = best + 2 e(i, j)`` (+inf for a disallowed chord), both halves."""
+    if use_mask and not mask[i, j]:
+        v = np.inf  # not a diagonal: never used
+    else:
+        v = best + 2.0 * edge_weight(code, pts, i, j)
+    T[i, j] = v
+    T[j, i] = v
+
+
+@kernel(fastmath=_FASTMATH, inline="always")
+def _cell(T, pts, code, mask, use_mask, i, j, i1, j0):
+    """Cell (i, j) alone: its near splits ``i < k < i1`` and ``j0 <= k < j``."""
+    if j == i + 1:
+        v = edge_weight(code, pts, i, j)  # a side: cost 0, so E = e
+        T[i, j] = v
+        T[j, i] = v
+        return
+    lo, hi = min(i1, j), max(j0, i1)
+    best = _rowmin(T[i, j], T[i, i + 1 : lo], T[j, i + 1 : lo])
+    best = _rowmin(best, T[i, hi:j], T[j, hi:j])
+    _store(T, pts, code, mask, use_mask, i, j, best)
+
+
+@kernel(fastmath=_FASTMATH, _nrt=False)
+def _near24(T, pts, code, mask, use_mask, i, j, i1, j0):
+    """Near splits of cells (i..i+1, j..j+3), ``j >= i + 3``, then their final values.
+
+    Splits ``i + 2 <= k < j`` are common to all eight cells and run in the
+    register block (below the tile's rows, then left of its columns); the few
+    splits through the block's own cells (``k = i + 1`` and ``j <= k < j + 3``)
+    follow, in dependency order: row i + 1 left to right, then row i.
+    """
+    lo, hi = min(i1, j), max(j0, i1)
+    if lo > i + 2:
+        _block24(T, i, j, i + 2, lo)
+    if j > hi:
+        _block24(T, i, j, hi, j)
+    for r in range(i + 1, i - 1, -1):
+        for c in range(j, j + 4):
+            best = T[r, c]
+            if r == i:
+                best = _fmin(best, T[i, i + 1] + T[i + 1, c])
+            for k in range(j, c):
+                best = _fmin(best, T[r, k] + T[k, c])
+            _store(T, pts, code, mask, use_mask, r, c, best)
+
+
+@kernel(fastmath=_FASTMATH, inline="always")
+def _near_block(T, pts, code, mask, use_mask, i, j, i1, j0):
+    """Block (i..i+1, j..j+3) off the diagonal: register block, or +inf if all disallowed."""
+    if _any_allowed(mask, use_mask, i, i + 2, j, j + 4):
+        _near24(T, pts, code, mask, use_mask, i, j, i1, j0)
+    else:
+        for r in range(i, i + 2):
+            for c in range(j, j + 4):
+                T[r, c] = np.inf
+                T[c, r] = np.inf
+
+
+@kernel(fastmath=_FASTMATH, _nrt=False)
+def _near_rows(T, pts, code, mask, use_mask, r, i1, j0, j1):
+    """Rows r and r + 1 of a tile: cells alone where a block does not fit, else blocks."""
+    first = max(j0, r + 1)
+    jb = max(first, r + 3)  # from here every cell of a 2 x 4 block is a chord
+    for c in range(first, min(jb, j1)):
+        if c > r + 1:
+            _cell(T, pts, code, mask, use_mask, r + 1, c, i1, j0)
+        _cell(T, pts, code, mask, use_mask, r, c, i1, j0)
+    j = jb
+    while j + 4 <= j1:
+        _near_block(T, pts, code, mask, use_mask, r, j, i1, j0)
+        j += 4
+    for c in range(j, j1):
+        _cell(T, pts, code, mask, use_mask, r + 1, c, i1, j0)
+        _cell(T, pts, code, mask, use_mask, r, c, i1, j0)
+
+
+@kernel(fastmath=_FASTMATH, _nrt=False)
+def _near_waves(T, pts, code, mask, use_mask, i0, i1, j0, j1):
+    """Near splits of a tile off the diagonal cut into whole 2 x 4 blocks.
+
+    Block (p, q) (row pair p from the bottom, column quad q from the left)
+    needs the blocks below and left of it, so the blocks of one anti-diagonal
+    p + q are independent: taken wave by wave, one block's short dependent
+    chain (its own cells, one after another) overlaps the next one's loops.
+    """
+    pairs, quads = (i1 - i0) // 2, (j1 - j0) // 4
+    for w in range(pairs + quads - 1):
+        for p in range(max(0, w - quads + 1), min(pairs, w + 1)):
+            i, j = i1 - 2 - 2 * p, j0 + 4 * (w - p)
+            if j < i + 3:  # the block holding side (i1 - 1, j0): cell by cell
+                for c in range(j, j + 4):
+                    _cell(T, pts, code, mask, use_mask, i + 1, c, i1, j0)
+                    _cell(T, pts, code, mask, use_mask, i, c, i1, j0)
+            else:
+                _near_block(T, pts, code, mask, use_mask, i, j, i1, j0)
+
+
+@kernel(fastmath=_FASTMATH, _nrt=False)
 def _tile(T, pts, code, mask, use_mask, tile, ti, tj):
     n = T.shape[0]
     i0, i1 = ti * tile, min(n, ti * tile + tile)
     j0, j1 = tj * tile, min(n, tj * tile + tile)
+    for i in range(i0, i1):
+        for j in range(max(j0, i + 2), j1):
+            T[i, j] = np.inf
     if tj > ti + 1:
         _far(T, mask, use_mask, i0, i1, j0, j1)
-    # near splits, in dependency order: rows upwards, columns rightwards
-    for i in range(i1 - 1, i0 - 1, -1):
-        ri = T[i]
-        for j in range(max(j0, i + 1), j1):
-            if j == i + 1:
-                v = edge_weight(code, pts, i, j)  # a side: cost 0, so E = e
-            elif use_mask and not mask[i, j]:
-                v = np.inf  # not a diagonal: never computed
-            else:
-                rj = T[j]
-                if tj <= ti + 1:
-                    ri[j] = np.inf  # no far splits; keeps best in the table's dtype
-                lo, hi = min(i1, j), max(j0, i1)
-                best = _rowmin(ri[j], ri[i + 1 : lo], rj[i + 1 : lo])
-                best = _rowmin(best, ri[hi:j], rj[hi:j])
-                v = best + 2.0 * edge_weight(code, pts, i, j)
-            ri[j] = v
-            T[j, i] = v
+    if tj > ti and (i1 - i0) % 2 == 0 and (j1 - j0) % 4 == 0:
+        _near_waves(T, pts, code, mask, use_mask, i0, i1, j0, j1)
+        return
+    # near splits, in dependency order: rows upwards (in pairs), columns rightwards
+    r = i1 - 1
+    if (i1 - i0) % 2:
+        for c in range(max(j0, r + 1), j1):
+            _cell(T, pts, code, mask, use_mask, r, c, i1, j0)
+        r -= 1
+    while r > i0:
+        _near_rows(T, pts, code, mask, use_mask, r - 1, i1, j0, j1)
+        r -= 2
 
 
 @kernel(parallel=True, fastmath=_FASTMATH)
-def minplus_tiles(T, pts, code, chords, tile, d0, d1):
+def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers):
     """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the E-table (sum, edge weight).
 
-    ``chords = (mask, use_mask)``, as for :func:`generic_tiles`.
+    ``chords = (mask, use_mask)``, as for :func:`generic_tiles`. Each of
+    ``workers`` threads takes the next tile (diagonal by diagonal) from a shared counter and starts
+    it once the two tiles it reads last, left of it and below it, are done: no
+    barrier between tile-diagonals, so no thread idles at the end of one.
     """
     mask, use_mask = chords
     nt = (T.shape[0] + tile - 1) // tile
+    d1 = min(d1, nt)
+    order = np.empty((max(0, (d1 - d0) * nt), 2), dtype=np.int64)
+    m = 0
     for d in range(d0, d1):
-        for t in prange(nt - d):
+        for t in range(nt - d):
+            order[m, 0], order[m, 1] = t, d
+            m += 1
+    done = np.zeros(nt * nt, dtype=np.int64)  # tile (ti, tj) at ti * nt + tj
+    for ti in range(nt):  # tiles of earlier calls
+        for tj in range(ti, min(nt, ti + d0)):
+            done[ti * nt + tj] = 1
+    taken = np.zeros(1, dtype=np.int64)
+    for _ in prange(workers):
+        while True:
+            k = _fetch_add(taken, 0)
+            if k >= m:
+                break
+            t, d = order[k, 0], order[k, 1]
+            if d > 0:
+                _wait_done(done, t * nt + t + d - 1)
+                _wait_done(done, (t + 1) * nt + t + d)
             _tile(T, pts, code, mask, use_mask, tile, t, t + d)
+            _store_release(done, t * nt + t + d, 1)
 
 
 @kernel()
@@ -196,16 +420,21 @@ def subtract_edges(out, pts, code):
             out[i, j] -= edge_weight(code, pts, i, j)
 
 
-@kernel()
+@kernel(fastmath=_FASTMATH)
 def minplus_split(T, i, j):
-    """Smallest k minimizing ``E(i, k) + E(k, j)``; -1 if every split is infinite."""
-    best, arg = np.inf, -1
+    """Smallest k minimizing ``E(i, k) + E(k, j)``; -1 if every split is infinite.
+
+    A vectorized minimum first, then the first split that reaches it (the
+    sums are the same additions both times, so equality is exact).
+    """
     ri, rj = T[i, i + 1 : j], T[j, i + 1 : j]
+    best = _rowmin(np.inf, ri, rj)
+    if best == np.inf:
+        return -1
     for kk in range(ri.shape[0]):
-        c = ri[kk] + rj[kk]
-        if c < best:
-            best, arg = c, i + 1 + kk
-    return arg
+        if ri[kk] + rj[kk] == best:
+            return i + 1 + kk
+    return -1
 
 
 # --- generic path (any compiled weight, sum / max / lexicographic) -------------------

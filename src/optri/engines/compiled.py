@@ -28,8 +28,10 @@ from pathlib import Path
 from typing import Any
 
 import numba
+from numba.core import event
 
 from .. import config
+from .progress import announce_compile
 
 __all__ = ["KERNEL_SOURCES", "cache_dir", "kernel", "source_hash"]
 
@@ -68,6 +70,19 @@ def cache_dir() -> str:
                 _prune(root, target)
                 return str(target)
     return str(_user_cache() / f"numba-{source_hash()}")
+
+
+class _CompileListener(event.Listener):  # type: ignore[misc]
+    """numba broadcasts "numba:compile" only on a cache miss: a real compile is starting."""
+
+    def on_start(self, event: Any) -> None:
+        announce_compile()
+
+    def on_end(self, event: Any) -> None:
+        pass
+
+
+event.register("numba:compile", _CompileListener())
 
 
 def kernel(**options: Any) -> Callable[[Callable[..., Any]], Any]:

@@ -146,7 +146,7 @@ def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:
     tables = (np.empty((n, n), dtype=dtype), np.empty((n, n) if lex else (1, 1), dtype=dtype))
     T1, T2 = tables
     if minplus:
-        _fill_minplus(K, problem, T1, args)
+        _fill_minplus(K, problem, T1, args, threads)
         e_last = edge_weight(problem.weights[0].code, args.pts, 0, n - 1)
         cost: Any = float(T1[0, n - 1]) - e_last
     else:
@@ -253,10 +253,10 @@ def _user_vertices(problem: Problem) -> NDArray[np.float64]:
     return np.ascontiguousarray(verts)
 
 
-def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args) -> None:
+def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args, threads: int) -> None:
     code = problem.weights[0].code
     for d0, d1, tile in _tile_chunks(problem, int(config.FAST_TILE), cost_per_split=1):
-        K.minplus_tiles(T, args.pts, code, args.chords, tile, d0, d1)
+        K.minplus_tiles(T, args.pts, code, args.chords, tile, d0, d1, threads)
 
 
 def _fill_generic(problem: Problem, tables: tuple[NDArray[Any], NDArray[Any]], args: _Args) -> None:

@@ -1,37 +1,51 @@
-"""Reading polygon vertices from CSV, JSON, GeoJSON and WKT files."""
+"""Reading polygon vertices from CSV, JSON, GeoJSON and WKT files (or standard input)."""
 
 from __future__ import annotations
 
-import csv
+import codecs
 import json
 import os
+import re
+import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InvalidPolygonError
+from .delimited import parse_delimited
 from .geo import rings_from_geojson, rings_from_wkt
 
-__all__ = ["read_polygon", "read_rings"]
+__all__ = ["decode_text", "read_polygon", "read_rings", "read_text"]
+
+#: The name that reads standard input wherever a file is read.
+STDIN = "-"
+_WKT = re.compile(r"^\s*(SRID=\d+;\s*)?(MULTI)?POLYGON\b", re.IGNORECASE)
+_BINARY_PROBE = 8192
 
 
-def read_polygon(path: str | os.PathLike[str]) -> NDArray[np.float64]:
+def read_polygon(
+    path: str | os.PathLike[str], columns: Sequence[str] | None = None
+) -> NDArray[np.float64]:
     """Read polygon vertices from a CSV, JSON, GeoJSON or WKT file.
 
-    CSV: ``x,y`` or ``x,y,z`` per line, an optional header, ``#`` comments; a
+    CSV: ``x,y`` or ``x,y,z`` per line, ``#`` comments; the delimiter (``,``,
+    ``;``, tab, spaces), a header line and the coordinate columns are found by
+    :func:`optri.io.delimited.parse_delimited`, or named by ``columns``; a
     single column is read as vertex values. JSON: a list of pairs or numbers,
     or an object with a ``vertices``/``coordinates``/``points``/``values`` key.
     GeoJSON (an object with a ``type``) and ``.wkt`` files: the exterior ring of
     one polygon. A polygon with holes is refused here, never cut down to its
-    exterior: :func:`read_rings` reads its every ring.
+    exterior: :func:`read_rings` reads its every ring. ``"-"`` reads standard
+    input (the format told from the content); a UTF-8 byte-order mark is skipped.
 
     Raises
     ------
     InvalidPolygonError
         Missing file, unparsable content, holes; the message names the file and line.
     """
-    rings = read_rings(path)
+    rings = read_rings(path, columns)
     if len(rings) > 1:
         raise InvalidPolygonError(
             f"{path}: the polygon has {len(rings) - 1} hole(s) and read_polygon returns one "
@@ -40,29 +54,86 @@ def read_polygon(path: str | os.PathLike[str]) -> NDArray[np.float64]:
     return rings[0]
 
 
-def read_rings(path: str | os.PathLike[str]) -> list[NDArray[np.float64]]:
+def read_rings(
+    path: str | os.PathLike[str], columns: Sequence[str] | None = None
+) -> list[NDArray[np.float64]]:
     """Read a polygon's rings from a file: the exterior first, then its holes.
 
     The formats of :func:`read_polygon`; a GeoJSON or WKT polygon gives every
     ring, a JSON object ``{"exterior": [...], "holes": [[...], ...]}`` too.
-    Other files hold one ring.
+    Other files hold one ring. A file whose suffix is none of ``.csv``, ``.tsv``,
+    ``.txt``, ``.json``, ``.geojson``, ``.wkt`` (and standard input, ``"-"``) is
+    told apart by its content: JSON starts with ``{`` or ``[``, WKT with ``POLYGON``.
 
     Raises
     ------
     InvalidPolygonError
-        Missing file, unparsable content; the message names the file and line.
+        Missing file, binary or non-UTF-8 content, unparsable content; the
+        message names the file and line.
     """
-    p = Path(path)
-    try:
-        text = p.read_text()
-    except OSError as exc:
-        raise InvalidPolygonError(f"cannot read {p}: {exc.strerror or exc}") from exc
-    suffix = p.suffix.lower()
+    text = read_text(path)
+    stdin = str(path) == STDIN
+    p = Path("standard input" if stdin else path)
+    suffix = "" if stdin else p.suffix.lower()
+    if suffix not in (".wkt", ".json", ".geojson", ".csv", ".tsv", ".txt"):
+        head = text.lstrip()[:1]
+        suffix = ".json" if head in ("{", "[") else ".wkt" if _WKT.match(text) else ".csv"
     if suffix == ".wkt":
         return rings_from_wkt(text)
     if suffix in (".json", ".geojson"):
         return _parse_json(text, p)
-    return [_parse_csv(text, p)]
+    return [parse_delimited(text, str(p), columns)]
+
+
+def read_text(path: str | os.PathLike[str]) -> str:
+    """The text of a file (``"-"``: standard input), by :func:`decode_text`.
+
+    Raises
+    ------
+    InvalidPolygonError
+        The file cannot be read, or is not text.
+    """
+    try:
+        if str(path) == STDIN:
+            data = sys.stdin.buffer.read()
+        else:
+            data = Path(path).read_bytes()
+    except OSError as exc:
+        raise InvalidPolygonError(f"cannot read {path}: {exc.strerror or exc}") from exc
+    return decode_text(data, "standard input" if str(path) == STDIN else str(path))
+
+
+def decode_text(data: bytes, name: str) -> str:
+    r"""UTF-8 (or UTF-16 with a byte-order mark) bytes as text, without the mark.
+
+    >>> decode_text(b"\xef\xbb\xbfx,y", "f.csv")
+    'x,y'
+
+    Raises
+    ------
+    InvalidPolygonError
+        Binary content (NUL bytes) or bytes that are not UTF-8; the message
+        names the file and the first bad byte.
+    """
+    for bom, codec in ((codecs.BOM_UTF16_LE, "utf-16-le"), (codecs.BOM_UTF16_BE, "utf-16-be")):
+        if data.startswith(bom):
+            try:
+                return data[len(bom) :].decode(codec)
+            except UnicodeDecodeError:
+                break
+    if data.startswith(codecs.BOM_UTF8):
+        data = data[len(codecs.BOM_UTF8) :]
+    if b"\x00" in data[:_BINARY_PROBE]:
+        raise InvalidPolygonError(
+            f"{name}: a binary file, not a text polygon file (CSV, JSON, GeoJSON or WKT)"
+        )
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InvalidPolygonError(
+            f"{name}: not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start}); "
+            f"save the file as UTF-8"
+        ) from None
 
 
 def _parse_json(text: str, path: Path) -> list[NDArray[np.float64]]:
@@ -90,24 +161,3 @@ def _as_array(data: object, path: Path) -> NDArray[np.float64]:
         return np.asarray(data, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise InvalidPolygonError(f"{path}: expected a list of [x, y] pairs or numbers") from exc
-
-
-def _parse_csv(text: str, path: Path) -> NDArray[np.float64]:
-    rows: list[list[float]] = []
-    for lineno, row in enumerate(csv.reader(text.splitlines()), start=1):
-        cells = [c.strip() for c in row if c.strip() != ""]
-        if not cells or cells[0].startswith("#"):
-            continue
-        try:
-            rows.append([float(c) for c in cells])
-        except ValueError:
-            if not rows:  # a header line
-                continue
-            raise InvalidPolygonError(f"{path}:{lineno}: not a number in {row!r}") from None
-    if not rows:
-        raise InvalidPolygonError(f"{path}: no vertices found")
-    width = {len(r) for r in rows}
-    if len(width) != 1:
-        raise InvalidPolygonError(f"{path}: rows have different numbers of columns {sorted(width)}")
-    arr = np.asarray(rows, dtype=np.float64)
-    return arr[:, 0] if arr.shape[1] == 1 else arr

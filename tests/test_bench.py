@@ -1,0 +1,133 @@
+"""``optri bench`` and its own yardsticks: the C reference, the peak run, the Python recursion.
+
+No timing assertions: the benchmark runs on tiny n and the tests check what it
+reports (rows, agreement with the C reference, the message without a compiler)
+and that every yardstick computes the same optimum as optri.
+"""
+
+from __future__ import annotations
+
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import optri
+from optri.bench import BenchRow, convex_polygon
+from optri.bench.compiled import YARDSTICKS, build, measure_peak, run_reference
+from optri.bench.naive import min_perimeter
+from optri.cli import main
+
+needs_gcc = pytest.mark.skipif(shutil.which("gcc") is None, reason="gcc not installed")
+
+
+def _polygons() -> list[np.ndarray]:
+    square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    t = np.arange(12) * 2 * np.pi / 12  # regular: many ties
+    regular = np.column_stack((np.cos(t), np.sin(t)))
+    return [square, regular, convex_polygon(3, 5), convex_polygon(37, 2), convex_polygon(150, 3)]
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory: pytest.TempPathFactory):
+    if shutil.which("gcc") is None:
+        pytest.skip("gcc not installed")
+    out = build(tmp_path_factory.mktemp("yardsticks"))
+    assert out.note is None and out.ref is not None and out.peak is not None, out.note
+    return out
+
+
+def _write(path: Path, pts: np.ndarray) -> Path:
+    path.write_text("x,y\n" + "".join(f"{x!r},{y!r}\n" for x, y in pts.tolist()))
+    return path
+
+
+@pytest.mark.parametrize("k", range(5))
+def test_c_reference_equals_optri(built, tmp_path: Path, k: int) -> None:
+    pts = _polygons()[k]
+    weight, seconds = run_reference(built.ref, _write(tmp_path / "p.csv", pts))
+    mine = optri.triangulate(pts, weight="perimeter", method="table").weight
+    assert math.isclose(weight, mine, rel_tol=1e-12) and seconds >= 0
+
+
+def test_c_reference_refuses_a_bad_file(built, tmp_path: Path) -> None:
+    (tmp_path / "two.csv").write_text("0,0\n1,0\n")
+    import subprocess
+
+    done = subprocess.run([str(built.ref), str(tmp_path / "two.csv")], capture_output=True)
+    assert done.returncode == 2 and b"usage" in done.stderr
+
+
+def test_peak_run_reports_a_rate(built) -> None:
+    assert measure_peak(built.peak, 0.05) > 0
+
+
+@pytest.mark.parametrize("k", range(4))
+def test_naive_recursion_equals_optri(k: int) -> None:
+    pts = _polygons()[k]
+    mine = optri.triangulate(pts, weight="perimeter", method="memo").weight
+    assert math.isclose(min_perimeter([tuple(p) for p in pts.tolist()]), mine, rel_tol=1e-12)
+
+
+def test_sources_ship_in_the_package() -> None:
+    assert sorted(p.name for p in YARDSTICKS.glob("*.c")) == ["minplus_peak.c", "ref_mwt.c"]
+
+
+def test_fraction_of_peak_and_ratios() -> None:
+    row = BenchRow(1000, 0.5, 0.6, 2.0, 10.0, 1e9, 200.0, 8.0, True, 1.0)
+    assert row.fraction == pytest.approx(1000**3 / 6 / 0.5 / 1e9)
+    assert row.c_ratio == 0.25 and row.naive_ratio == 20.0
+    assert BenchRow(10, 0.5, 0.6, None, None, None, 1, 1, None, 0).fraction is None
+
+
+def _rows(output: str) -> dict[int, list[str]]:
+    return {
+        int(line.split()[0]): line.split()
+        for line in output.splitlines()
+        if line[:6].strip().isdigit()
+    }
+
+
+@needs_gcc
+def test_bench_cli_tiny_sizes() -> None:
+    args = ["bench", "40", "130", "--naive-max", "40", "--repeats", "1", "--peak-seconds", "0.05"]
+    out = CliRunner().invoke(main, args)
+    assert out.exit_code == 0, out.output
+    assert "optri bench:" not in out.output  # every yardstick built
+    rows = _rows(out.output)
+    assert sorted(rows) == [40, 130]
+    for n, row in rows.items():
+        assert row[-1] == "True"  # same optimum as the C reference
+        assert row[2].endswith("%") and float(row[3]) >= 0  # fraction of peak, C seconds
+        assert (row[5] == "-") == (n > 40)  # the Python recursion on small n only
+
+
+def test_bench_cli_without_a_compiler(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    monkeypatch.setenv("PATH", str(tmp_path))  # no gcc, no cc
+    monkeypatch.delenv("CC", raising=False)
+    out = CliRunner().invoke(main, ["bench", "40", "--repeats", "1", "--naive-max", "40"])
+    assert out.exit_code == 0, out.output
+    notes = [line for line in out.output.splitlines() if line.startswith("optri bench:")]
+    assert len(notes) == 1 and "no C compiler" in notes[0]
+    row = _rows(out.output)[40]
+    assert row[2] == row[3] == row[4] == row[-1] == "-"  # no peak, no C, no agreement
+    assert float(row[5]) >= 0  # the Python recursion still ran
+
+
+@needs_gcc
+def test_bench_json_and_shared_cross_check(tmp_path: Path) -> None:
+    import json
+
+    shared = tmp_path / "other"
+    shared.mkdir()
+    for name in ("ref_mwt.c", "minplus_peak.c"):
+        shutil.copy(YARDSTICKS / name, shared / name)
+    args = ["bench", "50", "--repeats", "1", "--peak-seconds", "0.05", "--json"]
+    out = CliRunner().invoke(main, [*args, "--shared", str(shared)])
+    assert out.exit_code == 0, out.output
+    (row,) = json.loads(out.stdout.strip().splitlines()[-1])
+    assert row["agrees"] is True and row["shared_c_s"] >= 0 and row["shared_peak"] > 0
+    assert row["fraction"] == pytest.approx(50**3 / 6 / row["optri_s"] / row["peak"])
