@@ -138,8 +138,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "minplus-ties-to-last",
         "src/optri/engines/_jit_kernels.py",
-        "if c < best:",
-        "if c <= best:",
+        "for kk in range(ri.shape[0]):\n        if ri[kk] + rj[kk] == best:",
+        "for kk in range(ri.shape[0] - 1, -1, -1):\n        if ri[kk] + rj[kk] == best:",
         (TIES,),
         "the min-plus traceback keeps the last of equal splits",
     ),
@@ -193,8 +193,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "cli-error-keeps-newlines",
         "src/optri/cli/app.py",
-        'first = " ".join(message.split())',
-        "first = message",
+        """click.echo(f"optri: error: {' '.join(message.split())}", err=True)""",
+        'click.echo(f"optri: error: {message}", err=True)',
         (ERRORS, "-k", "cli"),
     ),
     M(
@@ -215,8 +215,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "cli-interrupt-exit-1",
         "src/optri/cli/app.py",
-        "sys.exit(130)",
-        "sys.exit(1)",
+        "sys.exit(143 if terminated else 130)",
+        "sys.exit(143 if terminated else 1)",
         (RESUME,),
     ),
     M(
@@ -725,7 +725,7 @@ MUTATIONS: list[Mutation] = [
     # --- batch: polygons with holes -------------------------------------------------------
     M(
         "batch-pair-drops-last-hole",
-        "src/optri/batch/solver.py",
+        "src/optri/batch/each.py",
         "return rings[0], rings[1:]",
         "return rings[0], rings[1:-1]",
         (BATCH_HOLES, "-k", "ring_pairs"),
