@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 from click.testing import CliRunner
 
@@ -212,3 +213,36 @@ def test_holes_survive_the_worker_pool(tmp_path):
     recs = list(iter_records(tmp_path / "o.ndjson"))
     assert summary.ok == 6 and [r["n"] for r in recs] == [4, 8] * 3
     assert [len(r["triangles"]) for r in recs] == [2, 8] * 3
+
+
+def test_all_holes_kept_in_order_from_pairs_and_shapely():
+    # two holes: the vertices are the exterior, then each hole, as optri.triangulate numbers them
+    ext = [[0, 0], [6, 0], [6, 5], [0, 5]]
+    holes = [[[1, 1], [2, 1], [2, 2], [1, 2]], [[4, 3], [5, 3], [4.5, 4]]]
+    want = optri.triangulate((ext, holes))
+    sources = [(ext, holes)]
+    shapely = pytest.importorskip("shapely")
+    sources.append(shapely.Polygon(ext, holes))
+    for got in optri.triangulate_many(sources):
+        assert isinstance(got, optri.Triangulation), got
+        assert got.rings == (4, 4, 3) and len(got.triangles) == 11 + 2 * 2 - 2
+        assert got.vertices.tolist() == [[float(x), float(y)] for x, y in ext + holes[0] + holes[1]]
+        assert got.weight == want.weight and got.triangles.tolist() == want.triangles.tolist()
+        got.check()
+
+
+def test_projected_holes_keep_their_rings():
+    pytest.importorskip("pyproj")
+    from optri.batch.project import local_projector
+
+    ext = [[10.0, 50.0], [10.003, 50.0], [10.003, 50.003], [10.0, 50.003]]
+    hole = [[10.001, 50.001], [10.001, 50.002], [10.002, 50.002], [10.002, 50.001]]
+    (got,) = optri.triangulate_many([(ext, [hole])], project=True, crs="EPSG:4326")
+    assert isinstance(got, optri.Triangulation), got
+    assert got.rings == (4, 4) and len(got.triangles) == 8
+    assert got.vertices.tolist() == ext + hole  # the input's degrees again
+    xy = local_projector("EPSG:4326")(np.array(ext + hole))  # one projection per polygon
+    want = optri.triangulate((xy[:4], [xy[4:]]))
+    assert 1000 < want.weight < 10000  # metres (some 215 m by 333 m), not degrees
+    assert got.weight == pytest.approx(want.weight, rel=1e-12)
+    assert got.triangles.tolist() == want.triangles.tolist()

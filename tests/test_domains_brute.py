@@ -210,3 +210,22 @@ def test_max_bisection_goes_below_the_heuristic():
             solve_program(cand, b.triangles, fixed, None, None) for b in blocks(cand, keep, fixed)
         ]
         assert any(o.status == "infeasible" for o in outs)
+
+
+def test_time_limited_max_bound_stays_below_the_optimum(monkeypatch):
+    # a bisection cut short at once: its bound is the lowest level it has not ruled out,
+    # below the optimum even where the incumbent (the bridges) is far above it
+    from optri import config
+    from optri.domains import as_domain, random_domain
+
+    d = as_domain(*random_domain(30, 2, seed=1))
+    w = _anti_bridge(d)
+    exact = optri.triangulate(d, weight=w, objective="max", method="ip")
+    assert exact.optimality == "proven"
+    monkeypatch.setattr(config, "DOMAIN_MIN_SOLVER_SECONDS", 1e-6)
+    for method in ("ip", "auto"):
+        t = optri.triangulate(d, weight=w, objective="max", method=method, time_limit=1e-9)
+        t.check()
+        assert t.optimality == "heuristic" and t.weight > exact.weight + 1.0
+        assert t.bound <= exact.weight + 1e-9
+        assert t.gap == pytest.approx((t.weight - t.bound) / abs(t.weight))

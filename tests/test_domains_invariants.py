@@ -192,6 +192,19 @@ def test_check_catches_broken_triangulations():
         bad = dataclasses.replace(good, triangles=np.asarray(t, dtype=np.int64), _recompute=None)
         with pytest.raises(AssertionError, match="Triangulation.check"):
             bad.check()
+    # each fault named by its own check
+    named = [
+        (np.concatenate([tris[:-1], tris[:1]]), "used 2 times in the same direction"),
+        (np.concatenate([tris[:-1], [[4, 5, 6]]]), "unmatched"),
+    ]
+    for t, fault in named:
+        bad = dataclasses.replace(good, triangles=np.asarray(t, dtype=np.int64), _recompute=None)
+        with pytest.raises(AssertionError, match=fault):
+            bad.check()
+    # the right triangles with the wrong cost: the recomputed cost differs
+    wrong = dataclasses.replace(good, weight=good.weight * (1 + 1e-6))
+    with pytest.raises(AssertionError, match="recomputed"):
+        wrong.check()
 
 
 def test_walk_chords_may_not_cross_a_bridge():

@@ -135,6 +135,32 @@ def test_compiled_orient_matches_fractions():
     assert expected.count(0) > 1000  # the batch really is full of collinear triples
 
 
+#: Triples whose float determinant has the wrong sign although it exceeds eps (|l| + |r|)
+#: (l, r its two products): only a filter bound of about 3 eps (Shewchuk's) sends them on
+#: to the exact stage. Found by a random search against fractions.
+FILTER_TRAPS = [
+    (-0.23050944682142416, -0.4414810394724673, 0.6976704212683744,
+     0.7059547798314745, 2.3535532490445483, 2.7529925733476563),
+    (0.954208854853732, -0.6527965498165778, -0.5562518157461687,
+     0.8758800421310686, 3.3034529817439697, -3.0303721964047696),
+    (0.7780334359921015, -0.9883582252854579, -0.7308988144915094,
+     0.5428570813027969, 3.2127753778598924, -3.4590550559652424),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("t", FILTER_TRAPS)
+def test_filter_bound_sends_wrong_float_signs_to_the_exact_stage(t):
+    ax, ay, bx, by, cx, cy = t
+    left, right = (bx - ax) * (cy - ay), (by - ay) * (cx - ax)
+    det, eps = left - right, 2.0**-53
+    assert abs(det) > eps * (abs(left) + abs(right))  # past a filter bound of eps alone
+    expected = sign_q(*t)
+    assert expected != 0 and (det > 0) - (det < 0) == -expected  # floats get it wrong
+    assert orient_sign(*t) == expected
+    a, b, c = (np.array([t[m : m + 2]]) for m in (0, 2, 4))
+    assert orient(a, b, c).tolist() == [expected]
+
+
 def test_old_tolerance_cases():
     # a turn of 2**-51 is a turn; (0.1, 0.2) and (0.3, 0.6) are not on one line through 0
     assert orient_sign(0.0, 0.0, 1.0, 1.0, 3.0, 3.0 + 2.0**-51) == 1

@@ -147,6 +147,16 @@ def test_fast_max_led_pair_with_edge_weight_second(n: int, seed: int, pair: tupl
     assert fast.stats["minplus"] == 0
 
 
+@pytest.mark.parametrize("values", [[3, 1, 4, 1, 5, 9, 2], [0, 5, 7, 3, 2], [4, 0, 6, 0, 5, 2]])
+def test_fast_integer_max_led_pair_keeps_the_bottleneck(values: list) -> None:
+    # a zero bottleneck (fans around a zero value): tie_ceiling(0.0) adds nothing, so the
+    # compiled gate's threshold is the bottleneck itself and must let it through
+    spec = (("product", "product"), ("max", "sum"))
+    fast = optri.triangulate(values, *spec, method="fast")
+    assert fast.weight == optri.triangulate(values, *spec, method="brute").weight
+    assert fast.method == "fast"
+
+
 def test_fast_float32_gate_admits_the_bottleneck() -> None:
     """The float32 phase-1 bottleneck is rounded; the gate widens it by one float32 ulp.
 

@@ -38,6 +38,11 @@ WEIGHTS = "tests/test_core_weights.py"
 TWINS = "tests/test_weights.py"
 GPU_SIM = ("tests/test_gpu_sim.py", "-k", "small")  # the simulator cases, tiny tiles
 GPU_PTX = "tests/test_gpu_ptx.py"
+TRACE = "tests/test_teaching_trace.py"
+PREDICATES = "tests/test_exact_predicates.py"
+DOM_BRUTE = "tests/test_domains_brute.py"
+DOM_INV = "tests/test_domains_invariants.py"
+BATCH_HOLES = "tests/test_batch_formats.py"
 
 MUTATIONS: list[Mutation] = [
     # --- the issue's list: two-phase rule, ties, check(), CLI errors, 3-D limit ---------
@@ -71,7 +76,8 @@ MUTATIONS: list[Mutation] = [
         "> gate[0]:",
         ">= gate[0]:",
         (FAST, "-k", "max_led"),
-        "the bottleneck triangle itself is gated out",
+        "the bottleneck itself gated out (the threshold is loosened by tie_ceiling: only a "
+        "zero bottleneck, which it leaves as is, shows it)",
     ),
     M(
         "float32-gate-not-widened",
@@ -108,8 +114,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "objective-less-is-le",
         "src/optri/objective.py",
-        "return operator.lt",
-        "return operator.le",
+        "return lex_less if self.is_lex else operator.lt",
+        "return lex_less if self.is_lex else operator.le",
         (TIES,),
         "a tie replaces the best split",
     ),
@@ -132,16 +138,16 @@ MUTATIONS: list[Mutation] = [
     M(
         "minplus-ties-to-last",
         "src/optri/engines/_jit_kernels.py",
-        "if c < best:",
-        "if c <= best:",
+        "for kk in range(ri.shape[0]):\n        if ri[kk] + rj[kk] == best:",
+        "for kk in range(ri.shape[0] - 1, -1, -1):\n        if ri[kk] + rj[kk] == best:",
         (TIES,),
         "the min-plus traceback keeps the last of equal splits",
     ),
     M(
         "compiled-lex-ties-to-last",
-        "src/optri/engines/_jit_kernels.py",
-        "(v1 == b1 and v2 < b2)",
-        "(v1 == b1 and v2 <= b2)",
+        "src/optri/objective.py",  # lex_better, compiled into the kernel's best_split
+        "return a2 < b2",
+        "return a2 <= b2",
         (TIES,),
         "a lexicographic tie in both components replaces the best split",
     ),
@@ -169,22 +175,26 @@ MUTATIONS: list[Mutation] = [
     M(
         "check-allows-clockwise",
         "src/optri/result.py",
-        '_require(bool((areas >= -rtol * scale).all()), "a triangle is clockwise")',
+        '_require(bool((orient(p[t0], p[t1], p[t2]) >= 0).all()), "a triangle is clockwise")',
         '_require(True, "a triangle is clockwise")',
         (RESULT,),
     ),
     M(
         "check-ignores-cost",
         "src/optri/result.py",
-        "_require(_close(again, self.weight, rtol),",
-        "_require(True,",
+        "            self._check_areas(rtol)\n        if self._recompute is not None:\n"
+        "            again = self._recompute(self.triangles)\n"
+        "            _require(_close(again, self.weight, rtol),",
+        "            self._check_areas(rtol)\n        if self._recompute is not None:\n"
+        "            again = self._recompute(self.triangles)\n"
+        "            _require(True,",
         (RESULT,),
     ),
     M(
         "cli-error-keeps-newlines",
         "src/optri/cli/app.py",
-        'first = " ".join(message.split())',
-        "first = message",
+        """click.echo(f"optri: error: {' '.join(message.split())}", err=True)""",
+        'click.echo(f"optri: error: {message}", err=True)',
         (ERRORS, "-k", "cli"),
     ),
     M(
@@ -205,8 +215,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "cli-interrupt-exit-1",
         "src/optri/cli/app.py",
-        "sys.exit(130)",
-        "sys.exit(1)",
+        "sys.exit(143 if terminated else 130)",
+        "sys.exit(143 if terminated else 1)",
         (RESUME,),
     ),
     M(
@@ -278,8 +288,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "max-neutral-zero",
         "src/optri/objective.py",
-        'vals = tuple(0.0 if c == "sum" else -math.inf for c in self.components)',
-        "vals = tuple(0.0 for c in self.components)",
+        'vals = tuple(zero if c == "sum" else -math.inf for c in self.components)',
+        "vals = tuple(zero for c in self.components)",
         (ENGINES, SIMPLE, "-k", "brute or oracle or negative"),
         'a side counts as 0 under "max": wrong for negative weights (min_angle)',
     ),
@@ -322,16 +332,16 @@ MUTATIONS: list[Mutation] = [
     M(
         "area-3d-drops-z",
         "src/optri/weights.py",
-        "return 0.5 * math.sqrt(cx * cx + cy * cy + cz * cz)",
-        "return 0.5 * math.sqrt(cx * cx + cy * cy)",
+        "return _ldexp(0.5 * math.sqrt(cx * cx + cy * cy + cz * cz), 2 * e)",
+        "return _ldexp(0.5 * math.sqrt(cx * cx + cy * cy), 2 * e)",
         (WEIGHTS,),
     ),
     # --- simple polygons: validation and the valid-diagonal masks ---------------------
     M(
         "straight-vertex-is-convex",
         "src/optri/polygon.py",
-        "if np.any(turn_signs(ccw_points) <= 0):",
-        "if np.any(turn_signs(ccw_points) < 0):",
+        "if np.any(signs <= 0):",
+        "if np.any(signs < 0):",
         (ERRORS, SIMPLE, "-k", "straight"),
     ),
     M(
@@ -344,8 +354,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "closing-vertex-kept",
         "src/optri/polygon.py",
-        "if arr.ndim == 2 and arr.shape[0] > 3 and np.array_equal(arr[0], arr[-1]):",
-        "if False:",
+        "while end > 3 and np.array_equal(ring[0], ring[end - 1]):",
+        "while False:",
         (ENGINES,),
     ),
     M(
@@ -372,8 +382,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "ear-ignores-vertex-on-new-diagonal",
         "src/optri/simple/_kernels.py",
-        "_orient(x[q], y[q], x[p], y[p], x[w], y[w], tol) >= 0",
-        "_orient(x[q], y[q], x[p], y[p], x[w], y[w], tol) > 0",
+        "_orient(x[q], y[q], x[p], y[p], x[w], y[w]) >= 0",
+        "_orient(x[q], y[q], x[p], y[p], x[w], y[w]) > 0",
         (MASK,),
         "an ear whose cut (q, p) passes through a vertex is clipped anyway",
     ),
@@ -559,5 +569,189 @@ MUTATIONS: list[Mutation] = [
         "finish=finish_kernel(tile, finish_threads, dtype),",
         "finish=finish_kernel(tile, threads, dtype),",
         (GPU_PTX,),
+    ),
+    # --- the top-down trampoline (memo and the naive recursion) ---------------------------
+    M(
+        "top-down-hits-without-flag",
+        "src/optri/engines/recurrence.py",
+        "elif hits and watch is not None:",
+        "elif watch is not None:",
+        (TRACE, "-k", "naive"),
+        'the naive recursion reports the polygon sides it is handed as "hit"s',
+    ),
+    M(
+        "top-down-counts-the-root",
+        "src/optri/engines/recurrence.py",
+        "requests = 0",
+        "requests = 1",
+        (ENGINES, "-k", "memo_counts"),
+        "the root cell counted as a request: lookups and requests off by one",
+    ),
+    M(
+        "top-down-root-call-unseen",
+        "src/optri/engines/recurrence.py",
+        'watch("call", 0, root, None, None)',
+        "pass",
+        (TRACE, "-k", "counts"),
+        "the observer never hears the root call",
+    ),
+    M(
+        "memo-never-looks-up",
+        "src/optri/engines/memo.py",
+        "rec.top_down(lambda p, q: cost[p][q], store, hits=True)",
+        "rec.top_down(lambda p, q: cost[p][q] if q - p == 1 else None, store, hits=True)",
+        (ENGINES, "-k", "memo_counts"),
+        "memo recomputes every sub-polygon (the naive recursion under memo's name)",
+    ),
+    # --- exact predicates: the float filter and the exact stages ------------------------
+    M(
+        "orient-exact-stage-skipped",
+        "src/optri/predicates.py",
+        "    if todo.any():",
+        "    if False:",
+        (PREDICATES, "-k", "fractions"),
+        "turns the float filter cannot certify come out collinear",
+    ),
+    M(
+        "orient-filter-too-small",
+        "src/optri/predicates.py",
+        "bound = np.maximum(ORIENT_FILTER * (np.abs(left) + np.abs(right)), _FILTER_FLOOR)",
+        "bound = np.maximum(_EPS * (np.abs(left) + np.abs(right)), _FILTER_FLOOR)",
+        (PREDICATES, "-k", "fractions or filter"),
+        "the vectorized filter trusts float determinants a third of its error bound",
+    ),
+    M(
+        "orient-sign-trusts-the-float",
+        "src/optri/predicates.py",
+        "    return orient_exact(ax, ay, bx, by, cx, cy)",
+        "    return 1 if det > 0 else -1 if det < 0 else 0",
+        (PREDICATES, "-k", "compiled"),
+        "the scalar (compiled) orient_sign skips its exact stage",
+    ),
+    M(
+        "exact-rows-trust-rounded-differences",
+        "src/optri/predicates.py",
+        "exact = (top - low <= _SPREAD) & ~ut.any(axis=1) & ~vt.any(axis=1)",
+        "exact = top - low <= _SPREAD",
+        (PREDICATES, "-k", "fractions"),
+        "the two-product shortcut taken when a coordinate difference was rounded",
+    ),
+    # --- polygons with holes: the program, the reductions, the labels, the bounds -------
+    M(
+        "domain-diagonal-balance-loose",
+        "src/optri/domains/program.py",
+        "lo = np.concatenate((np.ones(nf), np.zeros(nd), np.zeros(len(cu))))\n"
+        "    hi = np.concatenate((np.ones(nf), np.zeros(nd), np.ones(len(cu))))",
+        "lo = np.concatenate((np.ones(nf), -np.ones(nd), np.zeros(len(cu))))\n"
+        "    hi = np.concatenate((np.ones(nf), np.ones(nd), np.ones(len(cu))))",
+        (DOM_BRUTE, "-k", "every_sum_weight"),
+        # loosened one way only (lo or hi alone) the mutant is equivalent: an uncovered
+        # region's boundary diagonals, sorted (a < b), never all have it on the same side
+        "a free diagonal may be used on one side only: the triangles need not tile",
+    ),
+    M(
+        "forced-diagonals-include-crossed",
+        "src/optri/domains/reduce.py",
+        "forced[alive[greedy[~crossed]]] = True",
+        "forced[alive[greedy]] = True",
+        (DOM_BRUTE, "-k", "every_sum_weight"),
+        "every diagonal of one greedy triangulation is fixed, crossed ones too",
+    ),
+    M(
+        "domain-gate-excludes-bottleneck",
+        "src/optri/domains/solver.py",
+        "keep = keep & (setup.values[:, c] <= found.value)",
+        "keep = keep & (setup.values[:, c] < found.value)",
+        (DOM_BRUTE, "-k", "lexicographic"),
+        "the second phase of (max, sum) forbids the bottleneck triangle itself",
+    ),
+    M(
+        "domain-proven-if-any-block-is",
+        "src/optri/domains/search.py",
+        "proven = all(f.proven for f in found) or _meets(value, bound)",
+        "proven = any(f.proven for f in found) or _meets(value, bound)",
+        (DOM_INV, "-k", "time_limit"),
+        "a time-limited search labelled proven because one block (a DP block) is",
+    ),
+    M(
+        "max-bisection-cut-short-is-proven",
+        "src/optri/domains/search.py",
+        "    if lo >= hi:\n        return Found(best, value, value, True)",
+        "    if True:\n        return Found(best, value, value, True)",
+        (DOM_INV, "-k", "time_limited_max"),
+        "a bisection stopped by the time limit reports its incumbent as proven",
+    ),
+    M(
+        "sum-floor-ears-counted-whole",
+        "src/optri/domains/bounds.py",
+        "share = np.where(k > 0, (w - m) / np.maximum(k, 1), np.inf)",
+        "share = np.where(k > 0, w - m, np.inf)",
+        (DOM_BRUTE, "-k", "floor"),
+        "an ear's weight is counted once per fixed side: the 'bound' exceeds the optimum",
+    ),
+    M(
+        "max-bound-from-the-top-level",
+        "src/optri/domains/search.py",
+        "return Found(best, value, float(levels[lo]), False)",
+        "return Found(best, value, float(levels[hi - 1]), False)",
+        (DOM_INV, DOM_BRUTE, "-k", "time_limited_max"),
+        "a cut-short bisection claims the highest level below its incumbent as its bound",
+    ),
+    M(
+        "check-domain-allows-double-cover",
+        "src/optri/result.py",
+        '_require(count == 1, f"edge {(a, b)} used {count} times in the same direction")',
+        '_require(count >= 1, f"edge {(a, b)} used {count} times in the same direction")',
+        (DOM_INV, "-k", "check_catches"),
+    ),
+    M(
+        "check-domain-ignores-unmatched",
+        "src/optri/result.py",
+        '_require((b, a) in used and (b, a) not in inner, f"edge {(a, b)} unmatched")',
+        '_require(True, f"edge {(a, b)} unmatched")',
+        (DOM_INV, "-k", "check_catches"),
+    ),
+    M(
+        "check-domain-ignores-cost",
+        "src/optri/result.py",
+        "\n        self._check_areas(rtol)\n        if self._recompute is not None:\n"
+        "            again = self._recompute(self.triangles)\n"
+        "            _require(_close(again, self.weight, rtol),",
+        "\n        self._check_areas(rtol)\n        if self._recompute is not None:\n"
+        "            again = self._recompute(self.triangles)\n"
+        "            _require(True,",
+        (DOM_INV, "-k", "check_catches"),
+    ),
+    # --- batch: polygons with holes -------------------------------------------------------
+    M(
+        "batch-pair-drops-last-hole",
+        "src/optri/batch/each.py",
+        "return rings[0], rings[1:]",
+        "return rings[0], rings[1:-1]",
+        (BATCH_HOLES, "-k", "ring_pairs"),
+    ),
+    M(
+        "batch-keeps-first-hole-only",
+        "src/optri/batch/solver.py",
+        "for k, ring in enumerate(rings):",
+        "for k, ring in enumerate(rings[:2]):",
+        (BATCH_HOLES, "-k", "ring_pairs or holes"),
+        "a polygon's second and later holes are dropped",
+    ),
+    M(
+        "batch-shapely-rings-out-of-order",
+        "src/optri/batch/solver.py",
+        "rings = [geom.exterior, *geom.interiors]",
+        "rings = [*geom.interiors, geom.exterior]",
+        (BATCH_HOLES, "-k", "ring_pairs or holes"),
+        "a shapely polygon's exterior numbered after its holes",
+    ),
+    M(
+        "batch-projection-forgets-rings",
+        "src/optri/batch/solver.py",
+        "arrays.append(arr.with_vertices(project(arr.vertices)))",
+        "arrays.append(project(arr.vertices))",
+        (BATCH_HOLES, "tests/test_batch_gis.py", "-k", "ring_pairs or holes or project"),
+        "a projected polygon with holes is solved as one ring of all its vertices",
     ),
 ]
