@@ -21,7 +21,7 @@ PACKAGE = SRC / "optri"
 
 #: Layers, lowest first: a module may import only modules of its own or a lower layer.
 LAYERS = [
-    ["optri.errors", "optri.config", "optri._version", "optri._optional"],
+    ["optri.errors", "optri.config", "optri._version", "optri._optional", "optri.params"],
     ["optri.predicates"],
     ["optri.polygon"],
     ["optri.io", "optri.data"],

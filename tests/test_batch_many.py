@@ -89,7 +89,9 @@ def test_a_raising_user_weight_fails_its_row_only():
 
     out = optri.triangulate_many([SQUARE, [[0, 0], [4, 0], [5, 3], [2, 5], [-1, 3]]], weight=weight)
     assert out[0].weight == 2.0
-    assert isinstance(out[1], optri.OptriError) and str(out[1]) == "KeyError: 'boom'"
+    assert isinstance(out[1], optri.WeightError)
+    assert str(out[1]).startswith("weight 'custom' raised KeyError on triangle (")
+    assert str(out[1]).endswith(": 'boom'")
     assert isinstance(out[1].__cause__, KeyError)
 
 

@@ -20,10 +20,12 @@ from .enumeration import (
 )
 from .errors import (
     EngineUnavailableError,
+    InvalidParameterError,
     InvalidPolygonError,
     MissingDependencyError,
     NoTriangulationError,
     OptriError,
+    ParameterTypeError,
     TableTooLargeError,
     WeightError,
 )
@@ -40,10 +42,12 @@ __all__ = [
     "BatchSummary",
     "ChainOrder",
     "EngineUnavailableError",
+    "InvalidParameterError",
     "InvalidPolygonError",
     "MissingDependencyError",
     "NoTriangulationError",
     "OptriError",
+    "ParameterTypeError",
     "Polygon",
     "TableTooLargeError",
     "Trace",

@@ -11,11 +11,10 @@ Values are plain module attributes so tests and callers can patch them
 
 from __future__ import annotations
 
-import os
+__all__ = ["reset"]
 
-__all__ = ["available_memory_bytes", "reset"]
-
-#: Fraction of the currently available memory a DP table may take.
+#: Fraction of the memory available to the process (the least of /proc/meminfo's
+#: MemAvailable and the room its cgroup v1/v2 limits leave) an allocation may take.
 MEMORY_FRACTION = 0.8
 #: Hard override of the memory ceiling in bytes (None: ask the OS).
 MEMORY_LIMIT_BYTES: int | None = None
@@ -41,6 +40,9 @@ HTML_TABLE_MAX_N = 24
 #: Valid-diagonal mask: up to this n the numpy O(n^3) mask is used while numba is not
 #: loaded yet: it is instant there, and starting numba is not.
 MASK_NUMPY_MAX_N = 48
+#: ``count_triangulations(n)`` computes Catalan(n - 2) exactly (about 0.6 n digits: a second
+#: at n = 100,000, a minute at 1,000,000); it refuses larger n.
+COUNT_MAX_N = 200_000
 #: k-best for objectives led by "max" (not monotone) enumerates every triangulation;
 #: it refuses polygons with more triangulations than this.
 KBEST_ENUMERATION_LIMIT = 2_000_000
@@ -148,28 +150,3 @@ _DEFAULTS = {k: v for k, v in dict(globals()).items() if k.isupper()}
 def reset() -> None:
     """Restore every tunable to its default value."""
     globals().update(_DEFAULTS)
-
-
-def available_memory_bytes() -> int:
-    """Memory a table may use: ``MEMORY_FRACTION`` of what the OS reports free.
-
-    Reads ``MemAvailable`` from ``/proc/meminfo`` where it exists, else the
-    physical memory size; ``MEMORY_LIMIT_BYTES`` overrides both.
-    """
-    if MEMORY_LIMIT_BYTES is not None:
-        return int(MEMORY_LIMIT_BYTES)
-    avail = None
-    try:
-        with open("/proc/meminfo") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    avail = int(line.split()[1]) * 1024
-                    break
-    except OSError:
-        pass
-    if avail is None:
-        try:
-            avail = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-        except (ValueError, OSError, AttributeError):
-            avail = 8 << 30
-    return int(avail * MEMORY_FRACTION)

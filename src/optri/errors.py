@@ -26,10 +26,12 @@ __all__ = [
     "EngineUnavailableError",
     "GeographicCRSWarning",
     "HoleSkippedWarning",
+    "InvalidParameterError",
     "InvalidPolygonError",
     "MissingDependencyError",
     "NoTriangulationError",
     "OptriError",
+    "ParameterTypeError",
     "TableTooLargeError",
     "UnknownSampleError",
     "WeightError",
@@ -44,8 +46,23 @@ class InvalidPolygonError(OptriError, ValueError):
     """The input is not a polygon the chosen method can triangulate."""
 
 
+class InvalidParameterError(OptriError, ValueError):
+    """A parameter of a public function has a value it cannot take (``k=0``, ``dtype="x"``).
+
+    Raised up front, before any work; the message names the parameter and what it takes.
+    """
+
+
+class ParameterTypeError(InvalidParameterError, TypeError):
+    """A parameter has the wrong type (``k="3"``, a progress callback that is not callable)."""
+
+
 class WeightError(OptriError, ValueError):
-    """A weight is unknown, does not fit the input, or returned NaN."""
+    """A weight is unknown, does not fit the input, returned a non-number or NaN, or raised.
+
+    A user weight's own exception is chained (``__cause__``) and the message names the
+    triangle ``(i, k, j)`` (input indices) it was asked about.
+    """
 
 
 class NoTriangulationError(InvalidPolygonError, WeightError):

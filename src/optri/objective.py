@@ -215,12 +215,16 @@ def as_objective(spec: ObjectiveLike) -> Objective:
     """
     if isinstance(spec, Objective):
         return spec
-    comps = (spec,) if isinstance(spec, str) else tuple(spec)
-    if not comps or any(c not in _COMPONENTS for c in comps):
+    comps = (spec,) if isinstance(spec, str) else tuple(spec) if _is_seq(spec) else ()
+    if not comps or any(not isinstance(c, str) or c not in _COMPONENTS for c in comps):
         raise WeightError(
             f"objective must be 'sum', 'max' or a tuple of them (lexicographic), got {spec!r}"
         )
     return Objective(comps)
+
+
+def _is_seq(spec: object) -> bool:
+    return isinstance(spec, (tuple, list))
 
 
 def _sum3(a: float, b: float, w: float) -> float:

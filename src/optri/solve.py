@@ -14,18 +14,27 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .domains import Domain, triangulate_domain
-from .engines import select_engine
+from .engines import check_method, select_engine
+from .engines.memory import require_memory
 from .engines.problem import Problem, ProgressFn, Solution
 from .errors import InvalidPolygonError, NoTriangulationError
 from .io.files import read_rings
 from .io.geo import geo_polygon_rings
 from .objective import Objective, ObjectiveLike, as_objective, tie_ceiling
+from .params import check_callback, check_flag, check_float_dtype, check_seconds
 from .polygon import Polygon, as_polygon, is_ring_pair
 from .result import Triangulation, recompute_cost
 from .simple import allowed_chords, zero_area_triangles
 from .weights import WeightLike, resolve_weights
 
-__all__ = ["build_problem", "load_polygon", "solution_result", "solve_problem", "triangulate"]
+__all__ = [
+    "build_problem",
+    "load_polygon",
+    "require_table_floor",
+    "solution_result",
+    "solve_problem",
+    "triangulate",
+]
 
 PolygonLike = ArrayLike | Polygon | Domain | str | os.PathLike[str]
 
@@ -82,7 +91,8 @@ def triangulate(
         A polygon with holes takes ``"auto"``, ``"ip"`` or ``"bridge"``
         (:data:`optri.domains.METHODS`).
     progress : callable, optional
-        ``progress(done, total)`` called as the table fills.
+        ``progress(done, total)`` called as the table fills. An exception it raises
+        stops the solve and propagates unchanged (a way to cancel).
     keep_table : bool, optional
         Keep the n x n table (default: the Python engines keep it).
     dtype : numpy dtype
@@ -100,11 +110,17 @@ def triangulate(
 
     Raises
     ------
+    InvalidParameterError
+        A parameter it cannot take (``dtype``, ``time_limit``, ``keep_table``,
+        ``progress``), checked before any work; :class:`ParameterTypeError`
+        (also a ``TypeError``) for the wrong type.
     InvalidPolygonError
         Fewer than 3 vertices, NaN/inf, repeated vertices, a polygon the
         method cannot take.
     WeightError
-        Unknown weight, weight not fitting the input, a weight returning NaN.
+        Unknown weight or objective, weight not fitting the input, a user weight
+        that raises or returns a non-number or NaN (the triangle named, the
+        original exception chained).
     NoTriangulationError
         The optimum is not a finite float64 (weights that overflow, such as
         lengths of a polygon with coordinates near 1e308): never returned as inf.
@@ -144,12 +160,19 @@ def triangulate(
     >>> len(t.triangles), t.optimality
     (8, 'proven')
     """
+    dtype = check_float_dtype(dtype)
+    check_flag(keep_table, "keep_table")
+    check_callback(progress, "progress", 2)
+    time_limit = check_seconds(time_limit, "time_limit")
+    resolve_weights(weight, len(as_objective(objective).components))  # before any reading
     source = _source(vertices)
     if isinstance(source, _Holed):
         return triangulate_domain(
             source.exterior, source.holes, weight, objective, method, time_limit=time_limit
         )
+    check_method(method)
     polygon = as_polygon(source)
+    require_table_floor(polygon.n, method, dtype, polygon.convex)
     problem = build_problem(
         polygon, weight, objective, progress=progress, keep_table=keep_table, dtype=dtype
     )
@@ -164,6 +187,27 @@ def triangulate(
         _report_degenerate(problem, solution.triangles, solution.stats)
     return _to_result(
         problem, solution.cost, solution.triangles, name, seconds, solution.table, solution.stats
+    )
+
+
+def require_table_floor(n: int, method: str, dtype: Any, convex: bool) -> None:
+    """Refuse, before the chord mask is built, a polygon whose table cannot fit anyway.
+
+    Every CPU engine keeps at least one ``n x n`` table of ``dtype`` (float32: 4 bytes a
+    cell) beside the ``n x n`` bool chord mask of a non-convex polygon; the engines
+    check their full needs later. ``method="gpu"`` keeps its table on the device.
+
+    >>> require_table_floor(10**6, "auto", "float64", True)
+    Traceback (most recent call last):
+    ...
+    optri.errors.TableTooLargeError: the DP table for n = 1000000 needs ...
+    """
+    mask = 0 if convex else n * n
+    table = 0 if method == "gpu" else n * n * np.dtype(dtype).itemsize
+    require_memory(
+        mask + table,
+        f"the DP table for n = {n}" + ("" if convex else " and its chord mask"),
+        "use dtype=float32 (half the memory), method='gpu', or split the polygon",
     )
 
 

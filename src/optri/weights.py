@@ -49,12 +49,14 @@ from __future__ import annotations
 
 import inspect
 import math
+import numbers
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from enum import IntEnum
 from typing import Any, Union
 
 from .errors import WeightError
+from .params import accepts_positional
 from .polygon import Polygon
 
 __all__ = [
@@ -62,12 +64,14 @@ __all__ = [
     "Weight",
     "WeightCode",
     "WeightLike",
+    "compiled_weight_error",
     "custom_weight",
     "edge_weight",
     "get_weight",
     "register_weight",
     "resolve_weights",
     "triangle_weight",
+    "weight_number",
 ]
 
 TriangleFn = Callable[[int, int, int], float]
@@ -399,7 +403,16 @@ def custom_weight(func: Callable[..., float], name: str = "custom") -> Weight:
     >>> optri.triangulate([[0, 0], [1, 0], [1, 1], [0, 1], [-1, 0.5]], weight=spread).weight
     24.0
     """
-    wants_vertices = _positional_arity(getattr(func, "py_func", func)) >= 4
+    if not callable(func):
+        raise WeightError(f"a weight must be a name or a callable, got {type(func).__name__}")
+    target = getattr(func, "py_func", func)
+    if not (accepts_positional(target, 3) or accepts_positional(target, 4)):
+        raise WeightError(
+            f"a custom weight is called as w(i, k, j) or w(vertices, i, k, j); "
+            f"{getattr(target, '__name__', type(target).__name__)}{_signature(target)} "
+            f"cannot take 3 or 4 positional arguments"
+        )
+    wants_vertices = _positional_arity(target) >= 4
     compiled = func if wants_vertices and _is_numba_function(func) else None
     kind = "numba-compiled user callable" if compiled is not None else "user callable"
     return Weight(name, "any", WeightCode.CUSTOM, kind, func=func, compiled=compiled)
@@ -430,13 +443,114 @@ def _edge_sum(code: int, rows: list[tuple[float, ...]]) -> TriangleFn:
 
 
 def _bind_custom(weight: Weight, polygon: Polygon) -> TriangleFn:
+    """``w(i, k, j)`` over internal indices calling the user's function on input indices.
+
+    Whatever the function raises, or a value that is not a real number, becomes a
+    :class:`WeightError` naming the triangle, the original exception chained.
+    """
     func = weight.func
     assert func is not None
     orig = polygon.order.tolist()
-    if _positional_arity(getattr(func, "py_func", func)) >= 4:
-        verts = polygon.vertices
-        return lambda i, k, j: float(func(verts, orig[i], orig[k], orig[j]))
-    return lambda i, k, j: float(func(orig[i], orig[k], orig[j]))
+    lead = (polygon.vertices,) if _positional_arity(getattr(func, "py_func", func)) >= 4 else ()
+
+    def w(i: int, k: int, j: int) -> float:
+        tri = (orig[i], orig[k], orig[j])
+        try:
+            value = func(*lead, *tri)
+        except Exception as exc:
+            raise WeightError(
+                f"weight {weight.name!r} raised {type(exc).__name__} on triangle {tri}: {exc}"
+            ) from exc
+        if type(value) is float:
+            return value
+        return weight_number(value, weight.name, tri)
+
+    return w
+
+
+def weight_number(value: Any, name: str, tri: tuple[int, int, int]) -> float:
+    """A user weight's ``value`` as a float, or :class:`WeightError` naming triangle ``tri``.
+
+    Real numbers (Python, numpy, ``Fraction``) are taken; ``None``, strings, arrays
+    (even of one element), complex numbers and ints past float range are not.
+
+    >>> weight_number(None, "custom", (0, 1, 2))
+    Traceback (most recent call last):
+    ...
+    optri.errors.WeightError: weight 'custom' returned NoneType None for triangle (0, 1, 2), ...
+    """
+    if isinstance(value, numbers.Real):
+        try:
+            return float(value)
+        except (OverflowError, ValueError, TypeError) as exc:
+            raise WeightError(
+                f"weight {name!r} returned {_short(value)} for triangle {tri}, which is "
+                f"not representable as a float ({exc})"
+            ) from exc
+    raise WeightError(
+        f"weight {name!r} returned {type(value).__name__} {_short(value)} for triangle {tri}, "
+        f"not a real number; a weight must return one int or float"
+    )
+
+
+def compiled_weight_error(
+    weight: Weight, polygon: Polygon, allowed: Any, exc: BaseException, budget: int = 1_000_000
+) -> WeightError:
+    """The :class:`WeightError` for ``exc``, raised by ``weight`` inside a compiled kernel.
+
+    The kernel does not say which triangle failed, so the user's function is called
+    again from Python over the triangles the kernel evaluates (chords of ``allowed``,
+    shortest first), at most ``budget`` of them, to name the first that raises or
+    returns a non-number.
+    """
+    func = weight.func
+    assert func is not None
+    found = _first_failing(func, polygon, allowed, budget)
+    where = f"triangle {found}" if found is not None else "a triangle"
+    first = (str(exc).strip().splitlines() or [""])[0]
+    return WeightError(
+        f"weight {weight.name!r} raised {type(exc).__name__} inside the compiled engine on "
+        f"{where}: {first}"
+    )
+
+
+def _first_failing(
+    func: Callable[..., Any], polygon: Polygon, allowed: Any, budget: int
+) -> tuple[int, int, int] | None:
+    orig, verts, n = polygon.order.tolist(), polygon.vertices, polygon.n
+    ok = (lambda a, b: True) if allowed is None else (lambda a, b: bool(allowed[a, b]))
+    calls = 0
+    for length in range(2, n):
+        for i in range(n - length):
+            j = i + length
+            if not ok(i, j) and length < n - 1:
+                continue
+            for k in range(i + 1, j):
+                if not ((k - i == 1 or ok(i, k)) and (j - k == 1 or ok(k, j))):
+                    continue
+                tri = (orig[i], orig[k], orig[j])
+                calls += 1
+                if calls > budget:
+                    return None
+                try:
+                    value = func(verts, *tri)
+                except Exception:
+                    return tri
+                if not isinstance(value, numbers.Real):
+                    return tri
+    return None
+
+
+def _short(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _signature(func: Any) -> str:
+    try:
+        return str(inspect.signature(func))
+    except (TypeError, ValueError):
+        return "(...)"
 
 
 def _is_numba_function(func: object) -> bool:

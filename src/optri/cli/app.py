@@ -80,6 +80,11 @@ class _Group(click.Group):
         except MemoryError:
             _fail("out of memory; try a smaller input")
         except Exception as exc:
+            if isinstance(exc, SystemError) and isinstance(
+                exc.__cause__ or exc.__context__, KeyboardInterrupt
+            ):  # a Ctrl-C noticed as a compiled kernel returned
+                click.echo("optri: interrupted", err=True)
+                sys.exit(130)
             if os.environ.get(DEBUG_ENV):
                 raise
             _fail(

@@ -13,12 +13,18 @@ __all__ = ["bench"]
 
 
 @main.command()
-@click.argument("sizes", nargs=-1, type=int)
+@click.argument("sizes", nargs=-1, type=click.IntRange(min=3))
 @click.option("--quick", is_flag=True, help="Small sizes only (100 200 500).")
 @click.option(
     "--naive-max", default=500, show_default=True, help="Largest n for the plain-Python recursion."
 )
-@click.option("--repeats", default=3, show_default=True, help="Best of this many runs (n <= 2000).")
+@click.option(
+    "--repeats",
+    default=3,
+    type=click.IntRange(min=1),
+    show_default=True,
+    help="Best of this many runs (n <= 2000).",
+)
 @click.option("--float32", is_flag=True, help="float32 table.")
 @click.option("--json", "as_json", is_flag=True, help="Print the rows as JSON.")
 @click.option(

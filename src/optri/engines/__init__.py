@@ -21,7 +21,14 @@ from types import ModuleType
 from ..errors import EngineUnavailableError
 from .problem import Problem, Solution
 
-__all__ = ["ENGINES", "AUTO_ORDER", "EngineSpec", "register_engine", "select_engine"]
+__all__ = [
+    "ENGINES",
+    "AUTO_ORDER",
+    "EngineSpec",
+    "check_method",
+    "register_engine",
+    "select_engine",
+]
 
 
 @dataclass(frozen=True)
@@ -88,6 +95,20 @@ def _reason_unsupported(module: ModuleType, problem: Problem) -> str | None:
     return check(problem) if check is not None else None
 
 
+def check_method(method: object) -> str:
+    """``method`` if it names an engine or is ``"auto"``; checked before any work.
+
+    >>> check_method("fasst")
+    Traceback (most recent call last):
+    ...
+    optri.errors.EngineUnavailableError: unknown method 'fasst'; choose one of: auto, ...
+    """
+    if not isinstance(method, str) or (method != "auto" and method not in ENGINES):
+        known = ", ".join(["auto", *ENGINES])
+        raise EngineUnavailableError(f"unknown method {method!r}; choose one of: {known}")
+    return method
+
+
 def select_engine(method: str, problem: Problem) -> tuple[str, Callable[[Problem], Solution]]:
     """Return ``(name, solve)`` for ``method`` on ``problem``.
 
@@ -100,7 +121,7 @@ def select_engine(method: str, problem: Problem) -> tuple[str, Callable[[Problem
     EngineUnavailableError
         Unknown method, or the named engine cannot run here or take the problem.
     """
-    if method == "auto":
+    if isinstance(method, str) and method == "auto":
         for name in AUTO_ORDER:
             spec = ENGINES.get(name)
             if spec is None:
@@ -122,10 +143,7 @@ def select_engine(method: str, problem: Problem) -> tuple[str, Callable[[Problem
                 continue
             return name, module.solve
         raise EngineUnavailableError("no engine can take this problem")  # pragma: no cover
-    spec = ENGINES.get(method)
-    if spec is None:
-        known = ", ".join(["auto", *ENGINES])
-        raise EngineUnavailableError(f"unknown method {method!r}; choose one of: {known}")
+    spec = ENGINES[check_method(method)]
     module, reason = _reason_unavailable(spec)
     if module is None or reason is not None:
         raise EngineUnavailableError(reason or f"engine {method!r} is unavailable")

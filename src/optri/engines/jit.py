@@ -25,8 +25,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import config
-from ..errors import EngineUnavailableError, NoTriangulationError, WeightError
-from ..weights import Weight, WeightCode, edge_weight
+from ..errors import EngineUnavailableError, NoTriangulationError, OptriError, WeightError
+from ..weights import Weight, WeightCode, compiled_weight_error, edge_weight
+from .interrupts import interruptible
 from .memory import require_memory
 from .problem import Problem, Solution, with_sides
 
@@ -134,9 +135,25 @@ def solve(problem: Problem) -> Solution:
     previous = numba.get_num_threads()
     numba.set_num_threads(threads)
     try:
-        return _solve(K, problem, minplus, threads)
+        with interruptible():  # Ctrl-C: KeyboardInterrupt; a numba weight's error: itself
+            return _solve(K, problem, minplus, threads)
+    except Exception as exc:
+        wrapped = _user_weight_error(problem, exc)
+        if wrapped is exc:
+            raise
+        raise wrapped from exc
     finally:
         numba.set_num_threads(previous)
+
+
+def _user_weight_error(problem: Problem, exc: Exception) -> Exception:
+    """``exc`` as a :class:`WeightError` when it came from a user's numba weight."""
+    if isinstance(exc, OptriError):
+        return exc
+    for w in problem.weights:
+        if w.compiled is not None:
+            return compiled_weight_error(w, problem.polygon, problem.allowed, exc)
+    return exc
 
 
 def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:

@@ -15,11 +15,19 @@ import math
 
 import numpy as np
 
+from .. import config
+from ..engines.memory import require_memory
 from ..engines.recurrence import Rows, chords_by_length, split_points
-from ..errors import InvalidPolygonError
+from ..errors import InvalidParameterError, InvalidPolygonError
 from .builder import PolygonOrN, as_enumerable, usable_chords
 
-__all__ = ["catalan", "count_table", "count_triangulations"]
+__all__ = [
+    "catalan",
+    "count_bytes",
+    "count_table",
+    "count_triangulations",
+    "require_count_memory",
+]
 
 
 def catalan(m: int) -> int:
@@ -60,12 +68,44 @@ def count_triangulations(vertices_or_n: PolygonOrN) -> int:
         n = int(vertices_or_n)
         if n < 3:
             raise InvalidPolygonError(f"a polygon needs at least 3 vertices, got {n}")
+        if n > config.COUNT_MAX_N:
+            shown = n if n.bit_length() < 64 else f"2**{n.bit_length() - 1} or more"
+            raise InvalidParameterError(
+                f"the count for n = {shown} has about 0.6 n digits; counts are computed "
+                f"up to n = {config.COUNT_MAX_N} (config.COUNT_MAX_N)"
+            )
         return catalan(n - 2)
     polygon = as_enumerable(vertices_or_n)
+    if not (polygon.convex or polygon.is_values):
+        require_count_memory(polygon.n, "counting the triangulations")
     ok = usable_chords(polygon)
     if ok is None:
         return catalan(polygon.n - 2)
     return count_table(ok)[0][polygon.n - 1]
+
+
+def count_bytes(n: int) -> int:
+    """Peak bytes of :func:`count_table` for ``n`` vertices, with the chord mask it reads.
+
+    The mask as a numpy array and as nested lists (8 bytes a cell), the count rows
+    (8 bytes a cell) and one big int per chord: count(i, j) <= Catalan(j - i - 1)
+    < 4^(j - i), about 28 + (j - i) / 4 bytes, so about n^3 / 24 bytes in all.
+
+    >>> count_bytes(2000) // 10**6
+    464
+    """
+    cells = n * n
+    ints = sum((n - length) * (32 + length // 4) for length in range(2, n))
+    return cells + 8 * cells + 8 * cells + ints
+
+
+def require_count_memory(n: int, what: str) -> None:
+    """Refuse (:class:`~optri.errors.TableTooLargeError`) before counting can run out of memory."""
+    require_memory(
+        count_bytes(n),
+        f"{what} of a {n}-vertex simple polygon (exact big-int counts of every chord)",
+        "count a smaller polygon, or a convex one (Catalan numbers need no table)",
+    )
 
 
 def count_table(ok: Rows) -> list[list[int]]:

@@ -11,18 +11,23 @@ lazily: popping (a, b) pushes (a + 1, b) and (a, b + 1).
 from __future__ import annotations
 
 import heapq
+import math
 from typing import Any
 
 from .. import config
+from ..engines.memory import require_memory
 from ..engines.recurrence import chords_by_length, split_points, walk
-from ..errors import InvalidPolygonError, WeightError
+from ..errors import InvalidPolygonError, NoTriangulationError, WeightError
 from ..objective import ObjectiveLike, as_objective
+from ..params import check_count
 from ..result import Triangulation
+from ..solve import build_problem, solve_problem
+from ..weights import resolve_weights
 from .builder import PolygonOrN, TriangulationBuilder, as_enumerable, usable_chords
 from .counting import count_triangulations
 from .listing import index_triangulations
 
-__all__ = ["best_triangulations"]
+__all__ = ["best_triangulations", "kbest_bytes"]
 
 Entry = tuple[Any, int, int, int]  # (cost, split, rank left, rank right)
 
@@ -66,15 +71,26 @@ def best_triangulations(
     >>> [t.weight for t in best]
     [35.0, 35.0, 75.0]
     """
-    if k < 1:
-        raise ValueError(f"k must be at least 1, got {k}")
+    k = check_count(k, "k")
+    obj = as_objective(objective)
+    if weight is None:
+        raise WeightError("best_triangulations needs a weight to rank triangulations by")
+    resolve_weights(weight, len(obj.components))
     polygon = as_enumerable(vertices)
     build = TriangulationBuilder(polygon, weight, objective, "kbest")
-    obj = as_objective(objective)
+    if k == 1:  # the plain DP: O(n^2) memory, any engine
+        problem = build_problem(polygon, weight, obj)
+        _, solution = solve_problem(problem)
+        return [build(solution.triangles.tolist())]
     if not _monotone(obj.components):
         return _by_enumeration(polygon, build, k)
     combine, neutral = obj.combine, obj.neutral
     n = polygon.n
+    require_memory(
+        kbest_bytes(n, k, polygon.convex or polygon.is_values),
+        f"the k-best tables for n = {n}, k = {k}",
+        "ask for fewer (k = 1 is the plain DP) or use a smaller polygon",
+    )
     ok = usable_chords(polygon)
     best: dict[tuple[int, int], list[Entry]] = {
         (i, i + 1): [(neutral, -1, 0, 0)] for i in range(n - 1)
@@ -84,11 +100,40 @@ def best_triangulations(
     top = best.get((0, n - 1), [])
     if not top:
         raise InvalidPolygonError("the polygon has no triangulation with its allowed chords")
+    _require_finite(top[0][0])
     out = []
     for rank, entry in enumerate(top):
         tris = _expand(best, 0, n - 1, rank)
         out.append(build(tris, obj.finalize(entry[0])))
     return out
+
+
+def _require_finite(cost: Any) -> None:
+    """The cheapest cost must be finite: an infinite one means the weights overflow."""
+    values = cost if isinstance(cost, tuple) else (cost,)
+    if not all(v == -math.inf or math.isfinite(v) for v in values):
+        raise NoTriangulationError(
+            f"the cheapest cost {cost} is not a finite number: the weights are infinite or "
+            f"overflow float64 (coordinates near 1e308); scale the coordinates down"
+        )
+
+
+def kbest_bytes(n: int, k: int, convex: bool = True) -> int:
+    """Peak bytes of the k-best tables: up to k entries for each of the n^2 / 2 chords.
+
+    A chord spanning ``L`` sides keeps at most ``min(k, Catalan(L - 1))`` entries, each
+    a 4-tuple with its cost (about 110 bytes), in a list in a dict (about 160 bytes a
+    chord); a simple polygon adds its chord mask as an array and as nested lists.
+
+    >>> kbest_bytes(1000, 10) // 10**6
+    625
+    """
+    total, entries, cat = 0, 1, 1  # cat = Catalan(length - 1), capped at k
+    for length in range(2, n):
+        cat = min(k, cat * 2 * (2 * length - 3) // length) if cat < k else k
+        entries = cat
+        total += (n - length) * (160 + 110 * entries)
+    return total + (0 if convex else 9 * n * n)
 
 
 def _monotone(components: tuple[str, ...]) -> bool:

@@ -8,9 +8,10 @@ from typing import Any
 from ..engines.recurrence import split_points, triangles_from_splits
 from ..errors import InvalidPolygonError
 from ..objective import ObjectiveLike
+from ..params import check_seed
 from ..result import Triangulation
 from .builder import PolygonOrN, TriangulationBuilder, as_enumerable, usable_chords
-from .counting import catalan, count_table
+from .counting import catalan, count_table, require_count_memory
 
 __all__ = ["random_triangulation"]
 
@@ -43,9 +44,11 @@ def random_triangulation(
     >>> t.check(); len(t.diagonals)
     7
     """
+    rng = check_seed(seed)
     polygon = as_enumerable(vertices_or_n)
-    rng = seed if isinstance(seed, random.Random) else random.Random(seed)
     n = polygon.n
+    if not (polygon.convex or polygon.is_values):
+        require_count_memory(n, "uniform sampling")
     ok = usable_chords(polygon)
     if ok is None:
         cat = [catalan(m) for m in range(n)]

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import config
+from ..engines.memory import available_memory_bytes
 from ..engines.problem import Problem
 from ..errors import InvalidPolygonError, NoTriangulationError, WeightError
 from ..objective import Cost, ObjectiveLike
@@ -59,7 +60,7 @@ def fill_all(hole: Hole, method: str, stats: dict[str, Any]) -> tuple[Tris | Non
     if not hole.liepa:  # a sum or max of triangle weights: the normal engines
         return _engine_fill(hole, hole.allowed), "exact"
     n = hole.n
-    fits = search.exact_bytes(n) <= config.available_memory_bytes()
+    fits = search.exact_bytes(n) <= available_memory_bytes()
     exact = method == "exact" or (method == "auto" and n <= config.HOLES_EXACT_MAX_N and fits)
     if exact:
         search.require_exact_memory(n)  # refuse before Liepa's bound is computed

@@ -11,8 +11,6 @@ chords (or candidate triangles) admit no patch.
 
 from __future__ import annotations
 
-import contextlib
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -20,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import config
+from ..engines.interrupts import interruptible
 from ..engines.memory import require_memory
 from ..engines.recurrence import triangles_from_splits
 from ..errors import OptriError
@@ -65,18 +64,6 @@ def exact_bytes(n: int) -> int:
 def dense_bytes(n: int) -> int:
     """Peak bytes of :func:`liepa_dense`: (key, area, normal) per chord, splits, mask."""
     return (5 * 8 + 4 + 1) * n * n
-
-
-@contextlib.contextmanager
-def interruptible() -> Iterator[None]:
-    """Turn numba's ``SystemError`` around a Ctrl-C into the ``KeyboardInterrupt`` it is."""
-    try:
-        yield
-    except SystemError as exc:
-        cause = exc.__cause__ or exc.__context__
-        if isinstance(cause, KeyboardInterrupt):
-            raise KeyboardInterrupt from None
-        raise
 
 
 def _chunks(work: list[float]) -> list[tuple[int, int]]:

@@ -141,6 +141,8 @@ def _parse_json(text: str, path: Path) -> list[NDArray[np.float64]]:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise InvalidPolygonError(f"{path}:{exc.lineno}: invalid JSON ({exc.msg})") from exc
+    except RecursionError as exc:
+        raise InvalidPolygonError(f"{path}: JSON nested too deeply") from exc
     if isinstance(data, dict) and "type" in data:  # GeoJSON: every ring
         return rings_from_geojson(data)
     if isinstance(data, dict) and "exterior" in data:
@@ -158,6 +160,9 @@ def _parse_json(text: str, path: Path) -> list[NDArray[np.float64]]:
 
 def _as_array(data: object, path: Path) -> NDArray[np.float64]:
     try:
-        return np.asarray(data, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
+        arr = np.asarray(data, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError) as exc:
         raise InvalidPolygonError(f"{path}: expected a list of [x, y] pairs or numbers") from exc
+    if arr.ndim not in (1, 2):
+        raise InvalidPolygonError(f"{path}: expected a list of [x, y] pairs or numbers")
+    return arr

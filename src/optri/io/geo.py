@@ -104,8 +104,9 @@ def rings_from_geojson(data: Any) -> Rings:
         return rings_from_geojson(items[0])
     if kind == "MultiPolygon":
         polys = data.get("coordinates") or []
-        if len(polys) != 1:
-            raise InvalidPolygonError(f"expected one polygon, got a MultiPolygon of {len(polys)}")
+        if not isinstance(polys, list) or len(polys) != 1:
+            count = len(polys) if isinstance(polys, list) else 0
+            raise InvalidPolygonError(f"expected one polygon, got a MultiPolygon of {count}")
         return _rings(polys[0])
     if kind == "Polygon":
         return _rings(data.get("coordinates") or [])
@@ -165,6 +166,10 @@ def to_shapely(tri: Triangulation) -> Any:
 
 
 def _rings(rings: Any) -> Rings:
+    if not isinstance(rings, (list, tuple, np.ndarray)):
+        raise InvalidPolygonError(
+            f"polygon coordinates must be a list of rings, got {type(rings).__name__}"
+        )
     if len(rings) == 0:
         raise InvalidPolygonError("the polygon has no exterior ring")
     return [_ring(r) for r in rings]

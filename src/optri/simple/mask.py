@@ -16,12 +16,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import config
+from ..engines.interrupts import interruptible
+from ..engines.memory import require_memory
 from ..errors import InvalidPolygonError, OptriError
 from ..polygon import Polygon, as_polygon, require_simple
 from ..predicates import chord_clear, in_cone, orient
 
 __all__ = [
     "allowed_chords",
+    "mask_bytes",
     "valid_diagonals",
     "valid_diagonals_compiled",
     "valid_diagonals_numpy",
@@ -94,6 +97,11 @@ def valid_diagonals(polygon: ArrayLike | Polygon) -> NDArray[np.bool_]:
     pts = poly.planar_points
     if pts is None:
         raise InvalidPolygonError("valid diagonals need planar vertex coordinates")
+    require_memory(
+        mask_bytes(poly.n),
+        f"the chord mask of a {poly.n}-vertex simple polygon",
+        "split the polygon into smaller pieces",
+    )
     if poly.n <= config.MASK_NUMPY_MAX_N and "numba" not in sys.modules:
         return valid_diagonals_numpy(pts)  # small: not worth starting numba for
     try:
@@ -102,17 +110,30 @@ def valid_diagonals(polygon: ArrayLike | Polygon) -> NDArray[np.bool_]:
         return valid_diagonals_numpy(pts)
 
 
+def mask_bytes(n: int) -> int:
+    """Peak bytes of :func:`valid_diagonals` for ``n`` vertices (measured: about 5 n^2).
+
+    The ``(n, n)`` bool mask, the compiled walk's own ``(n, n)`` scratch and the
+    ear-clipping arrays; the numpy mask works in blocks of ``_BLOCK`` chords.
+
+    >>> mask_bytes(1000)
+    6000000
+    """
+    return 6 * n * n
+
+
 def valid_diagonals_compiled(points: NDArray[np.float64]) -> NDArray[np.bool_]:
     """Compiled :func:`valid_diagonals` of CCW ``points``: ear clipping + visibility walk."""
     from ._kernels import ear_clip, valid_mask, visibility_mask
 
     x = np.ascontiguousarray(points[:, 0], dtype=np.float64)
     y = np.ascontiguousarray(points[:, 1], dtype=np.float64)
-    tris, ok = ear_clip(x, y)
-    if not ok:  # only for input that is not simple: the scan needs no triangulation
-        mask = valid_mask(x, y)
-    else:
-        mask, ok = visibility_mask(x, y, tris)
+    with interruptible():  # Ctrl-C in a kernel: KeyboardInterrupt, not SystemError
+        tris, ok = ear_clip(x, y)
+        if not ok:  # only for input that is not simple: the scan needs no triangulation
+            mask = valid_mask(x, y)
+        else:
+            mask, ok = visibility_mask(x, y, tris)
         if not ok:
             raise OptriError(
                 "internal error: the ear-clipping triangulation is inconsistent "
