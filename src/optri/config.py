@@ -123,13 +123,17 @@ FAST_AUTO_MIN_N = 120
 FAST_PARALLEL_MIN_N = 1000
 #: The same for the generic kernel (any weight), whose splits cost ~20x more each.
 FAST_GENERIC_PARALLEL_MIN_N = 250
-#: Compiled engine: side of the square tiles of cells of the min-plus kernel.
-FAST_TILE = 64
+#: Compiled engine: side of the square tiles of cells of the min-plus kernel (a multiple
+#: of 16). 128: a tile's far splits read 2 x 128 rows per split block, twice as much work
+#: per byte from memory as 64 (about 88 % instead of 75 % of the in-cache rate at n = 4000).
+FAST_TILE = 128
 #: Compiled engine: tile side of the generic kernel (any weight): compute-bound, so small
 #: tiles that keep each kernel call short (progress, Ctrl-C) cost nothing.
 FAST_GENERIC_TILE = 16
-#: Compiled engine: work (about min-plus steps) per kernel call between progress reports.
-FAST_CHUNK_WORK = 3e8
+#: Compiled engine: work (about min-plus steps) per kernel call between progress reports
+#: (about 0.1 s at full speed; each call ends when its last tile does, so fewer calls keep
+#: every core busy for longer).
+FAST_CHUNK_WORK = 2e9
 #: Compiled kernels: cache folder when NUMBA_CACHE_DIR is unset (None: beside the package,
 #: else ~/.cache/optri); read once, when the first kernel module loads.
 JIT_CACHE_DIR: str | None = None

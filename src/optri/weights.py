@@ -67,6 +67,7 @@ __all__ = [
     "compiled_weight_error",
     "custom_weight",
     "edge_weight",
+    "edge_weight_row",
     "get_weight",
     "register_weight",
     "resolve_weights",
@@ -98,6 +99,7 @@ class WeightCode(IntEnum):
 # data, bit for bit as before), and otherwise the same formula on values scaled by a
 # power of two (exact), the result scaled back.
 _SQ_LO = 2.0**-960  # a sum of squares above this lost nothing to underflow
+_SQRT_LO = 2.0**-480  # its square root: a length above this is exact
 _SHAPE_LO = 2.0**-250  # side lengths in [2**-250, 2**250]: cubes stay in range
 _SHAPE_HI = 2.0**250
 
@@ -139,12 +141,55 @@ def edge_weight(code, p, a, b):  # type: ignore[no-untyped-def]
     (each diagonal is in two triangles, so a triangulation's total is its
     diagonals' length).
     """
-    d = side_length(p, a, b)
+    return _edge_of_length(code, p, a, b, side_length(p, a, b))
+
+
+def _edge_of_length(code, p, a, b, d):  # type: ignore[no-untyped-def]
+    """``e(a, b)`` from the length ``d`` of the segment (a, b)."""
     if code == WeightCode.DIAGONAL:
         if b - a == 1 or (a == 0 and b == len(p) - 1):
             return 0.0  # a polygon side is not a diagonal
         return 0.5 * d
     return d
+
+
+def edge_weight_row(code, p, a, b0, out):  # type: ignore[no-untyped-def]
+    """``out[q] = edge_weight(code, p, a, b0 + q)`` for every ``q``: a row at a time.
+
+    The same values bit for bit, faster compiled: a first loop without
+    branches (which vectorizes) takes the square roots of the same sums of
+    squares as :func:`side_length` (2-D and 3-D vertices); lengths outside the
+    range where that formula is exact, if any, are then taken from
+    :func:`side_length` itself.
+    """
+    lo, hi = math.inf, 0.0
+    dims = p.shape[1]
+    if dims == 2:  # one loop per dimension: no branch inside, so it vectorizes
+        for q in range(len(out)):
+            dx = float(p[a, 0]) - float(p[b0 + q, 0])
+            dy = float(p[a, 1]) - float(p[b0 + q, 1])
+            d = math.sqrt(dx * dx + dy * dy + 0.0 * 0.0)
+            lo, hi = min(lo, d), max(hi, d)
+            out[q] = d
+    elif dims == 3:
+        for q in range(len(out)):
+            dx = float(p[a, 0]) - float(p[b0 + q, 0])
+            dy = float(p[a, 1]) - float(p[b0 + q, 1])
+            dz = float(p[a, 2]) - float(p[b0 + q, 2])
+            d = math.sqrt(dx * dx + dy * dy + dz * dz)
+            lo, hi = min(lo, d), max(hi, d)
+            out[q] = d
+    else:  # 1-D vertex values: one by one
+        for q in range(len(out)):
+            out[q] = side_length(p, a, b0 + q)
+        lo = hi = 1.0  # every length is final
+    if not (_SQRT_LO < lo and hi < math.inf):
+        for q in range(len(out)):
+            if not _SQRT_LO < out[q] < math.inf:
+                out[q] = side_length(p, a, b0 + q)
+    if code != WeightCode.PERIMETER:
+        for q in range(len(out)):
+            out[q] = _edge_of_length(code, p, a, b0 + q, out[q])
 
 
 def _cosine(x, y, z):  # type: ignore[no-untyped-def]
@@ -245,7 +290,7 @@ def triangle_weight(code, p, i, k, j):  # type: ignore[no-untyped-def]
 
 #: The rare paths (values beyond float64's comfortable range), compiled as calls rather
 #: than inlined, so the common path stays small.
-OUT_OF_LINE = (_ldexp, _scaled_norm, _norm_at, _scaled_sides)
+OUT_OF_LINE = (_ldexp, _scaled_norm, _norm_at, _scaled_sides, edge_weight_row)
 
 #: The formulas, registered with numba by the compiled engine (optri.engines._jit_weights).
 FORMULAS = (
@@ -254,7 +299,9 @@ FORMULAS = (
     _norm_at,
     _scaled_sides,
     side_length,
+    _edge_of_length,
     edge_weight,
+    edge_weight_row,
     _cosine,
     triangle_area,
     _shape,

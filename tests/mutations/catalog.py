@@ -36,6 +36,7 @@ MASK = "tests/test_simple_mask.py"
 SIMPLE = "tests/test_simple_solve.py"
 WEIGHTS = "tests/test_core_weights.py"
 TWINS = "tests/test_weights.py"
+MINPLUS = "tests/test_minplus_kernels.py"
 GPU_SIM = ("tests/test_gpu_sim.py", "-k", "small")  # the simulator cases, tiny tiles
 GPU_PTX = "tests/test_gpu_ptx.py"
 TRACE = "tests/test_teaching_trace.py"
@@ -137,7 +138,7 @@ MUTATIONS: list[Mutation] = [
     ),
     M(
         "minplus-ties-to-last",
-        "src/optri/engines/_jit_kernels.py",
+        "src/optri/engines/_minplus.py",
         "for kk in range(ri.shape[0]):\n        if ri[kk] + rj[kk] == best:",
         "for kk in range(ri.shape[0] - 1, -1, -1):\n        if ri[kk] + rj[kk] == best:",
         (TIES,),
@@ -279,10 +280,50 @@ MUTATIONS: list[Mutation] = [
     ),
     M(
         "minplus-edge-counted-once",
-        "src/optri/engines/_jit_kernels.py",
-        "v = best + 2.0 * edge_weight(code, pts, i, j)",
-        "v = best + edge_weight(code, pts, i, j)",
+        "src/optri/engines/_minplus.py",
+        "v = best + 2.0 * e",
+        "v = best + e",
         (FAST, "-k", "brute or square"),
+    ),
+    M(
+        "leaf4-drops-a-split",
+        "src/optri/engines/_minplus.py",
+        "m = _min3(T[i, c3], x30 + b03, x31 + b13)",
+        "m = fmin(T[i, c3], x30 + b03)",
+        (MINPLUS, "-k", "python_table"),
+        "a 4 x 4 leaf forgets split (a + 3, c + 1) of cell (a + 3, c + 3)",
+    ),
+    M(
+        "square-skips-a-product",
+        "src/optri/engines/_minplus.py",
+        "    _product(T, mask, use_mask, a, m, m2, e, c, m2)\n",
+        "",
+        (MINPLUS, "-k", "python_table"),
+        "the top-right quarter of a block never sees the splits through its bottom-left",
+    ),
+    M(
+        "square16-product-too-short",
+        "src/optri/engines/_minplus.py",
+        "_outer(T, mask, use_mask, r, c + 8, a + 8, 8, 4, 8)",
+        "_outer(T, mask, use_mask, r, c + 8, a + 8, 7, 4, 8)",
+        (MINPLUS, "-k", "python_table"),
+        "16 x 16 blocks lose one split row (only blocks of a 128-tile are 16 x 16)",
+    ),
+    M(
+        "register-block-integer-max",
+        "src/optri/engines/_llvm.py",
+        'f"llvm.smin.v{lanes}i{8 * size}"',
+        'f"llvm.smax.v{lanes}i{8 * size}"',
+        (MINPLUS, "-k", "register_block"),
+        "the integer path keeps the largest sum",
+    ),
+    M(
+        "edge-row-trusts-tiny-lengths",
+        "src/optri/weights.py",
+        "if not (_SQRT_LO < lo and hi < math.inf):",
+        "if not hi < math.inf:",
+        (MINPLUS, "-k", "edge_weight_row"),
+        "lengths whose squares underflow keep the plain formula's wrong value",
     ),
     # --- objective ------------------------------------------------------------------
     M(

@@ -10,9 +10,16 @@ from __future__ import annotations
 
 from numba.extending import register_jitable
 
-from ..weights import FORMULAS, OUT_OF_LINE, edge_weight, side_length, triangle_weight
+from ..weights import (
+    FORMULAS,
+    OUT_OF_LINE,
+    edge_weight,
+    edge_weight_row,
+    side_length,
+    triangle_weight,
+)
 
-__all__ = ["edge_weight", "triangle_weight"]
+__all__ = ["edge_weight", "edge_weight_row", "triangle_weight"]
 
 # Straight-line helpers are inlined into their callers (numba IR), as the hand-written
 # kernels were: 1.5-2x faster on the generic path than calls. side_length is left to

@@ -1,0 +1,262 @@
+"""LLVM building blocks of the compiled kernels, as numba intrinsics.
+
+* ``fmin``: ``llvm.minnum`` (no NaN); unlike ``a if a < b else b`` LLVM
+  vectorizes its reductions.
+* ``outer_4x16`` / ``outer_4x8``: the min-plus register block
+  ``C = min(C, A (+) B)`` on 4 rows of a table, written as explicit vector
+  code so that its accumulators stay in registers (the shape of the peak
+  microbenchmark's kernel, ``optri/bench/yardsticks/minplus_peak.c``).
+* atomics and ``yield_cpu`` for the tile queue of the min-plus fill.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import llvmlite.binding as llvm
+from llvmlite import ir
+from numba import types
+from numba.core import cgutils
+from numba.core import config as numba_config
+from numba.extending import intrinsic
+
+from .compiled import kernel
+
+__all__ = [
+    "fetch_add",
+    "fmin",
+    "integer_min",
+    "load_acquire",
+    "outer_4x4",
+    "outer_4x8",
+    "outer_4x16",
+    "store_release",
+    "wait_done",
+    "yield_cpu",
+]
+
+_VECTOR_BYTES = 32  # AVX2 registers: the peak kernel's width; wider targets split nothing
+_ADD_FLAGS = ("nnan", "nsz", "arcp", "contract", "reassoc")
+_MIN_FLAGS = ("nnan", "nsz")
+
+
+@intrinsic
+def fmin(typingctx, a, b):
+    """``llvm.minnum`` of two scalars of one type (no NaN)."""
+    sig = a(a, a)
+
+    def codegen(context, builder, signature, args):
+        t = args[0].type
+        fn = builder.module.declare_intrinsic("llvm.minnum", [t], ir.FunctionType(t, [t, t]))
+        return builder.call(fn, args, fastmath=_MIN_FLAGS)
+
+    return sig, codegen
+
+
+def integer_min(itemsize: int) -> bool:
+    """Whether the register block takes minima as integers on this CPU.
+
+    Non-negative floats (+inf included) order as their bit patterns do as
+    signed integers, so ``min`` of them as integers is the same value, bit for
+    bit. Table values of the min-plus path are sums of lengths: never
+    negative, never NaN. With AVX-512VL (64-bit) or AVX2 (32-bit) the integer
+    minimum is one instruction that runs on vector ports the floating-point
+    minimum cannot use (on AMD Zen 4, 1.25-1.45x the candidates per second
+    of the float kernel); elsewhere the float minimum stays.
+    """
+    features = getattr(numba_config, "CPU_FEATURES", None) or llvm.get_host_cpu_features().flatten()
+    return ("+avx512vl" if itemsize == 8 else "+avx2") in features.split(",")
+
+
+def _outer(rows: int, cols: int):  # type: ignore[no-untyped-def]
+    """An intrinsic ``outer(C, ci, cj, A, ai, ak, B, bk, bj, kn)``: one register block.
+
+    On C-contiguous 2-D tables (``C``, ``A`` and ``B`` may be one array), for
+    ``r < rows`` and ``q < cols``, ``C[ci + r, cj + q]`` becomes the minimum of
+    itself and of ``A[ai + r, ak + t] + B[bk + t, bj + q]`` over ``t < kn``.
+    The ``rows x cols`` block is loaded once into vector registers; each step
+    ``t`` loads row ``B[bk + t, bj:bj + cols]`` and broadcasts ``A[ai + r, ak + t]``.
+    Every candidate is the same single addition as in any other order, and
+    the minimum is exact, so the result does not depend on the order of
+    evaluation.
+    """
+
+    @intrinsic
+    def outer(typingctx, C, ci, cj, A, ai, ak, B, bk, bj, kn):
+        for arr in (C, A, B):
+            if not isinstance(arr, types.Array) or arr.ndim != 2 or arr.layout != "C":
+                return None
+        if not (C.dtype == A.dtype == B.dtype):
+            return None
+        i = types.intp
+        sig = types.none(C, i, i, A, i, i, B, i, i, i)
+
+        def codegen(context, builder, signature, args):
+            def table(k):  # data pointer and row length of argument k
+                ty = signature.args[k]
+                ary = context.make_array(ty)(context, builder, value=args[k])
+                return ary.data, cgutils.unpack_tuple(builder, ary.shape, 2)[1]
+
+            (c_data, c_ld), (a_data, a_ld), (b_data, b_ld) = table(0), table(3), table(6)
+            ci, cj, ai, ak, bk, bj, kn = (args[k] for k in (1, 2, 4, 5, 7, 8, 9))
+            elt = context.get_data_type(signature.args[0].dtype)
+            size = context.get_abi_sizeof(elt)
+            lanes = max(1, min(cols, _VECTOR_BYTES // size))
+            vty = ir.VectorType(elt, lanes)
+            as_int = integer_min(size)
+            mty = ir.VectorType(ir.IntType(8 * size), lanes) if as_int else vty
+            name = (
+                f"llvm.smin.v{lanes}i{8 * size}" if as_int else f"llvm.minnum.v{lanes}f{8 * size}"
+            )
+            vmin = cgutils.get_or_insert_function(
+                builder.module, ir.FunctionType(mty, [mty, mty]), name
+            )
+            flags = () if as_int else _MIN_FLAGS
+            intp = ci.type
+
+            def const(v):
+                return ir.Constant(intp, v)
+
+            def at(data, ld, r, c):  # pointer to table[r, c]
+                return builder.gep(data, [builder.add(builder.mul(r, ld), c)], inbounds=True)
+
+            def vec_at(data, ld, r, c, v):  # pointer to the v-th vector from table[r, c]
+                p = at(data, ld, r, builder.add(c, const(v * lanes)))
+                return builder.bitcast(p, vty.as_pointer())
+
+            vecs = cols // lanes
+            c_rows = [builder.add(ci, const(r)) for r in range(rows)]
+            a_rows = [builder.add(ai, const(r)) for r in range(rows)]
+            slots = []
+            for r in range(rows):
+                for v in range(vecs):
+                    slot = cgutils.alloca_once(builder, mty)  # promoted to a register
+                    ptr = vec_at(c_data, c_ld, c_rows[r], cj, v)
+                    builder.store(builder.bitcast(builder.load(ptr, align=size), mty), slot)
+                    slots.append(slot)
+            undef = ir.Constant(vty, ir.Undefined)
+            splat = ir.Constant(ir.VectorType(ir.IntType(32), lanes), [0] * lanes)
+            with cgutils.for_range(builder, kn) as loop:
+                t = loop.index
+                brow = builder.add(bk, t)
+                b = [
+                    builder.load(vec_at(b_data, b_ld, brow, bj, v), align=size) for v in range(vecs)
+                ]
+                for r in range(rows):
+                    a = builder.load(at(a_data, a_ld, a_rows[r], builder.add(ak, t)))
+                    a = builder.insert_element(undef, a, ir.Constant(ir.IntType(32), 0))
+                    a = builder.shuffle_vector(a, undef, splat)
+                    for v in range(vecs):
+                        slot = slots[r * vecs + v]
+                        s = builder.bitcast(builder.fadd(a, b[v], flags=_ADD_FLAGS), mty)
+                        m = builder.call(vmin, [builder.load(slot), s], fastmath=flags)
+                        builder.store(m, slot)
+            for r in range(rows):
+                for v in range(vecs):
+                    ptr = vec_at(c_data, c_ld, c_rows[r], cj, v)
+                    value = builder.bitcast(builder.load(slots[r * vecs + v]), vty)
+                    builder.store(value, ptr, align=size)
+            return context.get_dummy_value()
+
+        return sig, codegen
+
+    return outer
+
+
+outer_4x16 = _outer(4, 16)
+outer_4x8 = _outer(4, 8)
+outer_4x4 = _outer(4, 4)
+
+
+def _item_pointer(context, builder, signature, args):  # type: ignore[no-untyped-def]
+    ty = signature.args[0]
+    ary = context.make_array(ty)(context, builder, value=args[0])
+    return cgutils.get_item_pointer(context, builder, ty, ary, [args[1]], wraparound=False)
+
+
+@intrinsic
+def fetch_add(typingctx, arr, idx):
+    """``arr[idx] += 1`` atomically; the old value (1-D int64 ``arr``)."""
+
+    def codegen(context, builder, signature, args):
+        ptr = _item_pointer(context, builder, signature, args)
+        return builder.atomic_rmw("add", ptr, ir.Constant(ir.IntType(64), 1), "seq_cst")
+
+    return types.int64(arr, idx), codegen
+
+
+@intrinsic
+def load_acquire(typingctx, arr, idx):
+    """``arr[idx]``, an atomic load: writes released before it was set are visible."""
+
+    def codegen(context, builder, signature, args):
+        ptr = _item_pointer(context, builder, signature, args)
+        return builder.load_atomic(ptr, "acquire", 8)
+
+    return types.int64(arr, idx), codegen
+
+
+@intrinsic
+def store_release(typingctx, arr, idx, val):
+    """``arr[idx] = val`` after every earlier write of this thread (atomic store)."""
+
+    def codegen(context, builder, signature, args):
+        ptr = _item_pointer(context, builder, signature, args)
+        builder.store_atomic(args[2], ptr, "release", 8)
+        return context.get_dummy_value()
+
+    return types.none(arr, idx, val), codegen
+
+
+# sched_yield (POSIX) or SwitchToThread (Windows): both take nothing, return an int
+_YIELD_SYMBOL = "SwitchToThread" if sys.platform == "win32" else "sched_yield"
+_SPINS = 2000  # polls of a tile's flag before a waiting thread gives up its CPU
+
+
+@intrinsic
+def yield_cpu(typingctx):
+    """Let the OS run another thread now: a waiter must not starve the thread it waits on."""
+
+    def codegen(context, builder, signature, args):
+        fnty = ir.FunctionType(ir.IntType(32), [])
+        builder.call(cgutils.get_or_insert_function(builder.module, fnty, _YIELD_SYMBOL), [])
+        return context.get_dummy_value()
+
+    return types.none(), codegen
+
+
+@kernel(inline="always")
+def wait_done(done, idx):
+    """Wait until ``done[idx]`` is set: spin briefly, then yield between polls.
+
+    On a machine with more runnable threads than cores, the tile waited on may
+    belong to a thread the OS has descheduled; spinning would burn the very CPU
+    time it needs.
+    """
+    spins = 0
+    while load_acquire(done, idx) == 0:
+        spins += 1
+        if spins >= _SPINS:
+            yield_cpu()
+
+
+@intrinsic
+def prefetch(typingctx, T, r, c):
+    """Hint the CPU to bring the cache line of ``T[r, c]`` into L2 (a 2-D C array)."""
+    if not isinstance(T, types.Array) or T.ndim != 2 or T.layout != "C":
+        return None
+    sig = types.none(T, types.intp, types.intp)
+
+    def codegen(context, builder, signature, args):
+        ary = context.make_array(signature.args[0])(context, builder, value=args[0])
+        ld = cgutils.unpack_tuple(builder, ary.shape, 2)[1]
+        ptr = builder.gep(ary.data, [builder.add(builder.mul(args[1], ld), args[2])])
+        i8p = ir.IntType(8).as_pointer()
+        i32 = ir.IntType(32)
+        fnty = ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32])
+        fn = cgutils.get_or_insert_function(builder.module, fnty, "llvm.prefetch.p0i8")
+        args_ = [builder.bitcast(ptr, i8p), i32(0), i32(2), i32(1)]  # read, L2, data
+        builder.call(fn, args_)
+        return context.get_dummy_value()
+
+    return sig, codegen

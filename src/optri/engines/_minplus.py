@@ -1,0 +1,381 @@
+"""The min-plus fill of the compiled engine: sum of an edge-decomposable weight.
+
+With ``w(i, k, j) = e(i, k) + e(k, j) + e(i, j)`` the table holds
+``E = cost + e`` and ``E(i, j) = 2 e(i, j) + min_k E(i, k) + E(k, j)``: a
+pure min-plus product (as in ``ref_mwt.c``). ``T[i, j]`` (``i < j``) holds
+``E(i, j)`` and ``T[j, i]`` the same value.
+
+Every split is evaluated by one register block, ``outer_4x16`` of
+:mod:`optri.engines._llvm` (4 rows x 16 columns of cells held in vector
+registers while the split ``k`` runs; operands ``T[i, k]`` and row
+``T[k, j:j + 16]``), in an order that makes almost all of the work a dense
+product of finished cells:
+
+* tiles of ``tile x tile`` cells, taken from a queue by each thread; a tile
+  starts when the tiles left of it and below it are done;
+* in a tile, the "far" splits (between its rows and its columns) first: one
+  dense product;
+* then the "near" splits, by recursive halving of the tile (bottom-left,
+  bottom-right, top-left, top-right): before a quarter is solved, the splits
+  through quarters already finished are applied to it as dense products;
+  only blocks of at most ``_LEAF`` rows or columns go cell by cell.
+
+A diagonal tile (a triangle) halves into two triangles and the square
+between them. The minimum of a set of sums does not depend on the order they
+are taken in, so every order gives the same table, bit for bit.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import prange
+
+from ._jit_weights import edge_weight, edge_weight_row
+from ._llvm import fetch_add, fmin, outer_4x4, outer_4x8, outer_4x16, store_release, wait_done
+from .compiled import kernel
+
+__all__ = ["FASTMATH", "minplus_split", "minplus_tiles", "subtract_edges"]
+
+# Table values are never NaN (weights are checked) but may be +inf (unusable chord),
+# so "ninf" must stay off.
+FASTMATH = {"nnan", "nsz", "arcp", "contract", "reassoc"}
+_KBLOCK = 256  # splits per pass of a register block over a far product
+_LEAF = 4  # blocks this small (rows or columns) are solved cell by cell
+
+
+@kernel(fastmath=FASTMATH, inline="always")
+def _rowmin(best, a, b):
+    """``min(best, min_k a[k] + b[k])`` over two equal-length contiguous slices."""
+    # Runs over slices from index 0: with a loop index LLVM cannot prove non-negative,
+    # numba's negative-index wraparound turns the vector loads into gathers.
+    for k in range(a.shape[0]):
+        best = fmin(best, a[k] + b[k])
+    return best
+
+
+@kernel(fastmath=FASTMATH, inline="always")
+def _any_allowed(mask, use_mask, i0, i1, j0, j1):
+    """Whether any cell of rows i0..i1-1, columns j0..j1-1 is an allowed chord."""
+    if not use_mask:
+        return True
+    for i in range(i0, i1):
+        for j in range(j0, j1):
+            if mask[i, j]:
+                return True
+    return False
+
+
+@kernel(fastmath=FASTMATH, _nrt=False)
+def _product(T, mask, use_mask, ia, ib, ja, jb, k0, k1):
+    """``T[i, j] = min(T[i, j], min over k0 <= k < k1 of T[i, k] + T[k, j])``.
+
+    For rows ``ia <= i < ib``, columns ``ja <= j < jb``; every operand cell
+    must be final. In 4 x 16 register blocks (4 x 8, then cell by cell, at
+    the edges), ``_KBLOCK`` splits at a time so that a block's rows stay in
+    L1. With a chord mask, blocks whose cells are all disallowed are skipped:
+    a simple polygon has few valid diagonals, so most of the product is never
+    needed (disallowed cells end up +inf either way).
+    """
+    if k1 <= k0 or ib <= ia or jb <= ja:
+        return
+    for kb in range(k0, k1, _KBLOCK):
+        ke = min(k1, kb + _KBLOCK)
+        i = ia
+        while i + 4 <= ib:
+            j = ja
+            while j + 16 <= jb:
+                if _any_allowed(mask, use_mask, i, i + 4, j, j + 16):
+                    outer_4x16(T, i, j, T, i, kb, T, kb, j, ke - kb)
+                j += 16
+            if j + 8 <= jb:
+                if _any_allowed(mask, use_mask, i, i + 4, j, j + 8):
+                    outer_4x8(T, i, j, T, i, kb, T, kb, j, ke - kb)
+                j += 8
+            if j + 4 <= jb:
+                if _any_allowed(mask, use_mask, i, i + 4, j, j + 4):
+                    outer_4x4(T, i, j, T, i, kb, T, kb, j, ke - kb)
+                j += 4
+            for r in range(i, i + 4):
+                for c in range(j, jb):
+                    T[r, c] = _rowmin(T[r, c], T[r, kb:ke], T[c, kb:ke])
+            i += 4
+        for r in range(i, ib):
+            for c in range(ja, jb):
+                T[r, c] = _rowmin(T[r, c], T[r, kb:ke], T[c, kb:ke])
+
+
+@kernel(fastmath=FASTMATH, inline="always")
+def _final(T, ew, mask, use_mask, i, j, best):
+    """Store and return ``E(i, j) = best + 2 e(i, j)`` (a side: ``e``; disallowed: +inf).
+
+    ``ew = (W, i0, j0)``: ``e(i, j)`` is ``W[i - i0, j - j0]``. Both halves of
+    the table are written.
+    """
+    W, wi, wj = ew
+    e = W[i - wi, j - wj]
+    v = best + 2.0 * e
+    if use_mask and not mask[i, j]:
+        v = np.inf  # not a diagonal: never used
+    if j == i + 1:
+        v = e  # a side: cost 0
+    T[i, j] = v
+    T[j, i] = v
+    return T[i, j]  # as stored (float32 tables round it)
+
+
+@kernel(fastmath=FASTMATH, inline="always")
+def _cell(T, ew, mask, use_mask, i, j, b, c):
+    """Final value of cell (i, j): its splits ``i < k < b`` and ``c <= k < j``, then 2 e.
+
+    Every other split must be applied already.
+    """
+    lo = min(b, j)
+    best = _rowmin(T[i, j], T[i, i + 1 : lo], T[j, i + 1 : lo])
+    best = _rowmin(best, T[i, c:j], T[j, c:j])
+    _final(T, ew, mask, use_mask, i, j, best)
+
+
+@kernel(fastmath=FASTMATH, inline="always")
+def _min3(x, y, z):
+    return fmin(fmin(x, y), z)
+
+
+@kernel(fastmath=FASTMATH, inline="always")
+def _min4(w, x, y, z):
+    return fmin(fmin(w, x), fmin(y, z))
+
+
+@kernel(fastmath=FASTMATH, _nrt=False)
+def _leaf4(T, ew, mask, use_mask, a, c):
+    """Block rows [a, a + 4) x columns [c, c + 4), ``a + 4 <= c``, in straight-line code.
+
+    ``xrq`` is cell (a + r, c + q). Its splits run through the rows' triangle
+    (``arr'``, final) and the cells below it (``xr'q``), and through the cells
+    left of it (``xrq'``) and the columns' triangle (``bq'q``, final). The
+    values stay in registers; each cell takes its left neighbour last, so the
+    chain from cell to cell is one addition and one minimum.
+    """
+    a01, a02, a03 = T[a, a + 1], T[a, a + 2], T[a, a + 3]
+    a12, a13, a23 = T[a + 1, a + 2], T[a + 1, a + 3], T[a + 2, a + 3]
+    b01, b02, b03 = T[c, c + 1], T[c, c + 2], T[c, c + 3]
+    b12, b13, b23 = T[c + 1, c + 2], T[c + 1, c + 3], T[c + 2, c + 3]
+    c1, c2, c3 = c + 1, c + 2, c + 3
+    i = a + 3
+    x30 = _final(T, ew, mask, use_mask, i, c, T[i, c])
+    x31 = _final(T, ew, mask, use_mask, i, c1, fmin(T[i, c1], x30 + b01))
+    x32 = _final(T, ew, mask, use_mask, i, c2, _min3(T[i, c2], x30 + b02, x31 + b12))
+    m = _min3(T[i, c3], x30 + b03, x31 + b13)
+    x33 = _final(T, ew, mask, use_mask, i, c3, fmin(m, x32 + b23))
+    i = a + 2
+    x20 = _final(T, ew, mask, use_mask, i, c, fmin(T[i, c], a23 + x30))
+    m = fmin(T[i, c1], a23 + x31)
+    x21 = _final(T, ew, mask, use_mask, i, c1, fmin(m, x20 + b01))
+    m = _min3(T[i, c2], a23 + x32, x20 + b02)
+    x22 = _final(T, ew, mask, use_mask, i, c2, fmin(m, x21 + b12))
+    m = _min4(T[i, c3], a23 + x33, x20 + b03, x21 + b13)
+    x23 = _final(T, ew, mask, use_mask, i, c3, fmin(m, x22 + b23))
+    i = a + 1
+    x10 = _final(T, ew, mask, use_mask, i, c, _min3(T[i, c], a12 + x20, a13 + x30))
+    m = _min3(T[i, c1], a12 + x21, a13 + x31)
+    x11 = _final(T, ew, mask, use_mask, i, c1, fmin(m, x10 + b01))
+    m = _min4(T[i, c2], a12 + x22, a13 + x32, x10 + b02)
+    x12 = _final(T, ew, mask, use_mask, i, c2, fmin(m, x11 + b12))
+    m = fmin(_min3(T[i, c3], a12 + x23, a13 + x33), _min3(x10 + b03, x11 + b13, x12 + b23))
+    x13 = _final(T, ew, mask, use_mask, i, c3, m)
+    i = a
+    m = _min4(T[i, c], a01 + x10, a02 + x20, a03 + x30)
+    x00 = _final(T, ew, mask, use_mask, i, c, m)
+    m = _min4(T[i, c1], a01 + x11, a02 + x21, a03 + x31)
+    x01 = _final(T, ew, mask, use_mask, i, c1, fmin(m, x00 + b01))
+    m = fmin(_min4(T[i, c2], a01 + x12, a02 + x22, a03 + x32), x00 + b02)
+    x02 = _final(T, ew, mask, use_mask, i, c2, fmin(m, x01 + b12))
+    m = fmin(
+        _min4(T[i, c3], a01 + x13, a02 + x23, a03 + x33), _min3(x00 + b03, x01 + b13, x02 + b23)
+    )
+    _final(T, ew, mask, use_mask, i, c3, m)
+
+
+@kernel(fastmath=FASTMATH, inline="always")
+def _outer(T, mask, use_mask, i, j, k0, kn, rows, cols):
+    """A ``rows x cols`` register block (4 x 4 or 4 x 8) over ``kn`` splits from ``k0``.
+
+    Skipped when no cell of it is an allowed chord.
+    """
+    if _any_allowed(mask, use_mask, i, i + rows, j, j + cols):
+        if cols == 4:
+            outer_4x4(T, i, j, T, i, k0, T, k0, j, kn)
+        else:
+            outer_4x8(T, i, j, T, i, k0, T, k0, j, kn)
+
+
+@kernel(fastmath=FASTMATH, _nrt=False)
+def _square8(T, ew, mask, use_mask, a, c):
+    """``_square`` of an 8 x 8 block: four leaves, the products between them inline."""
+    _leaf4(T, ew, mask, use_mask, a + 4, c)
+    _outer(T, mask, use_mask, a + 4, c + 4, c, 4, 4, 4)
+    _leaf4(T, ew, mask, use_mask, a + 4, c + 4)
+    _outer(T, mask, use_mask, a, c, a + 4, 4, 4, 4)
+    _leaf4(T, ew, mask, use_mask, a, c)
+    _outer(T, mask, use_mask, a, c + 4, a + 4, 4, 4, 4)
+    _outer(T, mask, use_mask, a, c + 4, c, 4, 4, 4)
+    _leaf4(T, ew, mask, use_mask, a, c + 4)
+
+
+@kernel(fastmath=FASTMATH, _nrt=False)
+def _square16(T, ew, mask, use_mask, a, c):
+    """``_square`` of a 16 x 16 block: four 8 x 8 blocks, the products between them."""
+    _square8(T, ew, mask, use_mask, a + 8, c)
+    for r in range(a + 8, a + 16, 4):
+        _outer(T, mask, use_mask, r, c + 8, c, 8, 4, 8)
+    _square8(T, ew, mask, use_mask, a + 8, c + 8)
+    for r in range(a, a + 8, 4):
+        _outer(T, mask, use_mask, r, c, a + 8, 8, 4, 8)
+    _square8(T, ew, mask, use_mask, a, c)
+    for r in range(a, a + 8, 4):
+        _outer(T, mask, use_mask, r, c + 8, a + 8, 8, 4, 8)
+        _outer(T, mask, use_mask, r, c + 8, c, 8, 4, 8)
+    _square8(T, ew, mask, use_mask, a, c + 8)
+
+
+@kernel(fastmath=FASTMATH, _nrt=False)
+def _square(T, ew, mask, use_mask, a, b, c, e):
+    """Finish block rows [a, b) x columns [c, e), ``b <= c``: its near splits.
+
+    On entry every split outside ``(a, b) + [c, e)`` is applied, and the
+    cells left of the block (its rows) and below it (its columns) are final.
+    Quarters in order bottom-left, bottom-right, top-left, top-right; before
+    each, the splits through the quarters already finished, as products.
+    """
+    if b - a == 16 and e - c == 16:
+        _square16(T, ew, mask, use_mask, a, c)
+        return
+    if b - a == 4 and e - c == 4:
+        _leaf4(T, ew, mask, use_mask, a, c)
+        return
+    if b - a <= _LEAF or e - c <= _LEAF:
+        for i in range(b - 1, a - 1, -1):
+            for j in range(c, e):
+                _cell(T, ew, mask, use_mask, i, j, b, c)
+        return
+    m = b - _half(b - a, 4)  # bottom rows [m, b), top rows [a, m)
+    m2 = c + _half(e - c, 16)  # left columns [c, m2), right columns [m2, e)
+    _square(T, ew, mask, use_mask, m, b, c, m2)
+    _product(T, mask, use_mask, m, b, m2, e, c, m2)
+    _square(T, ew, mask, use_mask, m, b, m2, e)
+    _product(T, mask, use_mask, a, m, c, m2, m, b)
+    _square(T, ew, mask, use_mask, a, m, c, m2)
+    _product(T, mask, use_mask, a, m, m2, e, m, b)
+    _product(T, mask, use_mask, a, m, m2, e, c, m2)
+    _square(T, ew, mask, use_mask, a, m, m2, e)
+
+
+@kernel(inline="always")
+def _half(size, unit):
+    """About half of ``size``, a multiple of ``unit`` when that leaves both parts non-empty."""
+    h = size // 2
+    if h >= unit:
+        h -= h % unit
+    return h
+
+
+@kernel(fastmath=FASTMATH, _nrt=False)
+def _triangle(T, ew, mask, use_mask, a, e):
+    """Finish every chord inside vertices [a, e): two triangles, then the square between."""
+    if e - a <= _LEAF:
+        for i in range(e - 2, a - 1, -1):
+            for j in range(i + 1, e):
+                _cell(T, ew, mask, use_mask, i, j, e, e)
+        return
+    m = a + _half(e - a, 16)
+    _triangle(T, ew, mask, use_mask, a, m)
+    _triangle(T, ew, mask, use_mask, m, e)
+    _square(T, ew, mask, use_mask, a, m, m, e)
+
+
+@kernel(fastmath=FASTMATH, _nrt=False)
+def _tile(T, pts, code, W, mask, use_mask, tile, ti, tj):
+    n = T.shape[0]
+    i0, i1 = ti * tile, min(n, ti * tile + tile)
+    j0, j1 = tj * tile, min(n, tj * tile + tile)
+    for i in range(i0, i1):
+        edge_weight_row(code, pts, i, j0, W[i - i0, : j1 - j0])
+    ew = (W, i0, j0)
+    if ti == tj:
+        for i in range(i0, i1):
+            for j in range(i + 2, j1):
+                T[i, j] = np.inf
+        _triangle(T, ew, mask, use_mask, i0, i1)
+        return
+    for i in range(i0, i1):
+        for j in range(j0, j1):
+            T[i, j] = np.inf
+    _product(T, mask, use_mask, i0, i1, j0, j1, i1, j0)
+    _square(T, ew, mask, use_mask, i0, i1, j0, j1)
+
+
+@kernel(parallel=True, fastmath=FASTMATH)
+def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers):
+    """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the E-table (sum, edge weight).
+
+    ``chords = (mask, use_mask)``: with ``use_mask``, cells where ``mask`` is
+    False get +inf. Each of ``workers`` threads takes the next tile (diagonal
+    by diagonal) from a shared counter and starts it once the two tiles it
+    reads last, left of it and below it, are done: no barrier between
+    tile-diagonals, so no thread idles at the end of one.
+    """
+    mask, use_mask = chords
+    nt = (T.shape[0] + tile - 1) // tile
+    d1 = min(d1, nt)
+    order = np.empty((max(0, (d1 - d0) * nt), 2), dtype=np.int64)
+    m = 0
+    for d in range(d0, d1):
+        for t in range(nt - d):
+            order[m, 0], order[m, 1] = t, d
+            m += 1
+    done = np.zeros(nt * nt, dtype=np.int64)  # tile (ti, tj) at ti * nt + tj
+    for ti in range(nt):  # tiles of earlier calls
+        for tj in range(ti, min(nt, ti + d0)):
+            done[ti * nt + tj] = 1
+    taken = np.zeros(1, dtype=np.int64)
+    scratch = np.empty((workers, tile, tile))  # e(i, j) of the tile a worker is on
+    for w in prange(workers):
+        while True:
+            k = fetch_add(taken, 0)
+            if k >= m:
+                break
+            t, d = order[k, 0], order[k, 1]
+            if d > 0:
+                wait_done(done, t * nt + t + d - 1)
+                wait_done(done, (t + 1) * nt + t + d)
+            _tile(T, pts, code, scratch[w], mask, use_mask, tile, t, t + d)
+            store_release(done, t * nt + t + d, 1)
+
+
+@kernel(fastmath=FASTMATH)
+def subtract_edges(out, pts, code):
+    """``out[i, j] -= e(i, j)`` above the diagonal: costs from an exported E-table.
+
+    Compiled with the fill's flags, so that ``e`` has the same bits as there
+    (a side's cost comes out exactly 0).
+    """
+    n = out.shape[0]
+    for i in range(n - 1):
+        for j in range(i + 1, n):
+            out[i, j] -= edge_weight(code, pts, i, j)
+
+
+@kernel(fastmath=FASTMATH)
+def minplus_split(T, i, j):
+    """Smallest k minimizing ``E(i, k) + E(k, j)``; -1 if every split is infinite.
+
+    A vectorized minimum first, then the first split that reaches it (the
+    sums are the same additions both times, so equality is exact).
+    """
+    ri, rj = T[i, i + 1 : j], T[j, i + 1 : j]
+    best = _rowmin(np.inf, ri, rj)
+    if best == np.inf:
+        return -1
+    for kk in range(ri.shape[0]):
+        if ri[kk] + rj[kk] == best:
+            return i + 1 + kk
+    return -1

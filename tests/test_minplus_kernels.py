@@ -1,0 +1,163 @@
+"""The min-plus path's building blocks, against plain numpy and against each other.
+
+* the register blocks (``optri.engines._llvm``): every entry equals the numpy
+  minimum of the same sums, for float64 and float32, with the minimum taken
+  as integers (this CPU, if it has AVX-512VL) and as floats;
+* ``edge_weight_row``: the same bits as ``edge_weight`` at every point, in
+  compiled code with the kernels' flags, including lengths outside the range
+  of the plain formula;
+* the whole fill: every tiling (tile 4 to 128: leaves, 8 x 8 and 16 x 16
+  blocks, products, partial tiles) gives the same table bit for bit, since the
+  minimum does not depend on the order the splits are taken in.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import optri
+from optri import config
+from optri.bench.compare import convex_polygon
+
+numba = pytest.importorskip("numba")
+
+from optri.engines import _llvm  # noqa: E402
+from optri.engines._jit_weights import edge_weight, edge_weight_row  # noqa: E402
+from optri.engines._minplus import FASTMATH  # noqa: E402
+
+SHAPES = [(4, 4), (4, 8), (4, 16)]
+
+
+def _block_runner(rows: int, cols: int):  # type: ignore[no-untyped-def]
+    block = _llvm._outer(rows, cols)
+
+    @numba.njit(fastmath=FASTMATH)
+    def run(T, i, j, k0, kn):  # type: ignore[no-untyped-def]
+        block(T, i, j, T, i, k0, T, k0, j, kn)
+
+    return run
+
+
+def _table(rng: np.random.Generator, n: int, dtype: type) -> np.ndarray:
+    """Non-negative values, with zeros and +inf (unusable chords) among them."""
+    T = rng.uniform(0.0, 100.0, (n, n))
+    T[rng.random((n, n)) < 0.1] = 0.0
+    T[rng.random((n, n)) < 0.1] = np.inf
+    return T.astype(dtype)
+
+
+@pytest.mark.parametrize("as_int", [True, False])
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+@pytest.mark.parametrize("shape", SHAPES)
+def test_register_block_equals_numpy(
+    monkeypatch: pytest.MonkeyPatch, shape: tuple[int, int], dtype: type, as_int: bool
+) -> None:
+    if as_int and not _llvm.integer_min(np.dtype(dtype).itemsize):
+        pytest.skip("this CPU takes the minimum as floats")
+    monkeypatch.setattr(_llvm, "integer_min", lambda itemsize: as_int)
+    rows, cols = shape
+    run = _block_runner(rows, cols)
+    rng = np.random.default_rng(rows * cols)
+    for i, j, k0, kn in [(0, 40, 10, 30), (3, 33, 7, 1), (10, 50, 20, 0), (5, 44, 9, 25)]:
+        T = _table(rng, 70, dtype)
+        want = T.copy()
+        a = T[i : i + rows, k0 : k0 + kn]  # A[r, t]
+        b = T[k0 : k0 + kn, j : j + cols]  # B[t, q]
+        if kn:
+            sums = (a[:, :, None] + b[None, :, :]).min(axis=1)
+            want[i : i + rows, j : j + cols] = np.minimum(want[i : i + rows, j : j + cols], sums)
+        run(T, i, j, k0, kn)
+        assert np.array_equal(T, want), (i, j, k0, kn)
+
+
+def test_integer_min_follows_the_cpu(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(_llvm.numba_config, "CPU_FEATURES", "+avx2,-avx512vl", raising=False)
+    assert _llvm.integer_min(4) and not _llvm.integer_min(8)
+    monkeypatch.setattr(_llvm.numba_config, "CPU_FEATURES", "+avx2,+avx512vl", raising=False)
+    assert _llvm.integer_min(8)
+    monkeypatch.setattr(_llvm.numba_config, "CPU_FEATURES", "+sse2", raising=False)
+    assert not _llvm.integer_min(4) and not _llvm.integer_min(8)
+
+
+@numba.njit(fastmath=FASTMATH)
+def _edge_rows(code, p, a, b0, out):  # type: ignore[no-untyped-def]
+    edge_weight_row(code, p, a, b0, out)
+
+
+@numba.njit(fastmath=FASTMATH)
+def _edges_one_by_one(code, p, a, b0, out):  # type: ignore[no-untyped-def]
+    for q in range(len(out)):
+        out[q] = edge_weight(code, p, a, b0 + q)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    dims=st.sampled_from([1, 2, 3]),
+    scale=st.sampled_from([1e-300, 1e-160, 1e-5, 1.0, 7e3, 1e150, 1e300]),
+    code=st.sampled_from([0, 1]),  # perimeter, diagonal
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_edge_weight_row_is_edge_weight_bit_for_bit(
+    dims: int, scale: float, code: int, seed: int
+) -> None:
+    rng = np.random.default_rng(seed)
+    n = 37
+    p = rng.normal(size=(n, dims)) * scale
+    p[5] = p[6]  # a zero length
+    p[9, 0] = np.nextafter(p[8, 0], np.inf)  # a tiny one
+    for a in (0, 5, 9, 20):
+        got, want = np.empty(n - 1), np.empty(n - 1)
+        _edge_rows(code, p, a, 1, got)
+        _edges_one_by_one(code, p, a, 1, want)
+        assert got.tobytes() == want.tobytes(), (a, dims, scale, code)
+
+
+def _star(n: int, seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    a = np.sort(rng.uniform(0, 2 * np.pi, n))
+    r = rng.uniform(0.5, 1.0, n)
+    return np.column_stack((r * np.cos(a), r * np.sin(a)))
+
+
+@pytest.mark.parametrize(
+    "pts, weight, dtype",
+    [
+        (convex_polygon(301, 3), "perimeter", "float64"),
+        (convex_polygon(150, 4), "diagonal", "float32"),
+        (_star(203, 5), "perimeter", "float64"),  # a simple polygon: chord mask
+    ],
+    ids=["convex-301", "convex-150-float32", "star-203"],
+)
+def test_every_tiling_gives_the_same_table(
+    monkeypatch: pytest.MonkeyPatch, pts: np.ndarray, weight: str, dtype: str
+) -> None:
+    results = []
+    for tile in (128, 64, 48, 16, 8, 4):
+        monkeypatch.setattr(config, "FAST_TILE", tile)
+        t = optri.triangulate(pts, weight, method="fast", dtype=dtype, keep_table=True)
+        results.append((tile, t))
+    _, first = results[0]
+    for tile, t in results[1:]:
+        assert t.weight == first.weight, tile
+        assert np.array_equal(t.triangles, first.triangles), tile
+        assert np.array_equal(t.table, first.table), tile
+    first.check(rtol=1e-5 if dtype == "float32" else 1e-9)
+
+
+@pytest.mark.parametrize("n, tile", [(131, 128), (45, 8), (41, 4)])
+def test_every_cell_equals_the_python_table(
+    monkeypatch: pytest.MonkeyPatch, n: int, tile: int
+) -> None:
+    # the paper's table holds the cost of every chord, not only of the optimal ones: a
+    # split forgotten anywhere (a leaf, a 16 x 16 block, a product) shows up here
+    monkeypatch.setattr(config, "FAST_TILE", tile)
+    pts = convex_polygon(n, tile)
+    for weight in ("perimeter", "diagonal"):
+        a = optri.triangulate(pts, weight, method="fast", keep_table=True)
+        b = optri.triangulate(pts, weight, method="table", keep_table=True)
+        upper = np.triu_indices(n, 1)
+        assert np.allclose(a.table[upper], b.table[upper], rtol=1e-12, atol=0), weight
+        assert abs(a.weight - b.weight) <= 1e-9 * abs(b.weight)
