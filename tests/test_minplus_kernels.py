@@ -98,16 +98,18 @@ def _edges_one_by_one(code, p, a, b0, out):  # type: ignore[no-untyped-def]
     dims=st.sampled_from([1, 2, 3]),
     scale=st.sampled_from([1e-300, 1e-160, 1e-5, 1.0, 7e3, 1e150, 1e300]),
     code=st.sampled_from([0, 1]),  # perimeter, diagonal
+    order=st.sampled_from("CF"),  # the fill passes coordinates column by column
     seed=st.integers(0, 2**32 - 1),
 )
 def test_edge_weight_row_is_edge_weight_bit_for_bit(
-    dims: int, scale: float, code: int, seed: int
+    dims: int, scale: float, code: int, order: str, seed: int
 ) -> None:
     rng = np.random.default_rng(seed)
     n = 37
     p = rng.normal(size=(n, dims)) * scale
     p[5] = p[6]  # a zero length
     p[9, 0] = np.nextafter(p[8, 0], np.inf)  # a tiny one
+    p = np.asarray(p, order=order)
     for a in (0, 5, 9, 20):
         got, want = np.empty(n - 1), np.empty(n - 1)
         _edge_rows(code, p, a, 1, got)

@@ -123,10 +123,11 @@ FAST_AUTO_MIN_N = 120
 FAST_PARALLEL_MIN_N = 1000
 #: The same for the generic kernel (any weight), whose splits cost ~20x more each.
 FAST_GENERIC_PARALLEL_MIN_N = 250
-#: Compiled engine: side of the square tiles of cells of the min-plus kernel (a multiple
-#: of 16). 128: a tile's far splits read 2 x 128 rows per split block, twice as much work
-#: per byte from memory as 64 (about 88 % instead of 75 % of the in-cache rate at n = 4000).
-FAST_TILE = 128
+#: Compiled engine: side of the square tiles of cells of the min-plus kernel; None: 64
+#: below 3000 vertices, 128 from there (a tile's far splits read 2 x tile rows per split
+#: block: 128 does twice the work per byte from memory, 0.65 s instead of 0.91 s for the
+#: far splits at n = 4000 on one thread, but leaves more of the work to the near splits).
+FAST_TILE: int | None = None
 #: Compiled engine: tile side of the generic kernel (any weight): compute-bound, so small
 #: tiles that keep each kernel call short (progress, Ctrl-C) cost nothing.
 FAST_GENERIC_TILE = 16

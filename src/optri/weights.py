@@ -157,33 +157,31 @@ def edge_weight_row(code, p, a, b0, out):  # type: ignore[no-untyped-def]
     """``out[q] = edge_weight(code, p, a, b0 + q)`` for every ``q``: a row at a time.
 
     The same values bit for bit, faster compiled: a first loop without
-    branches (which vectorizes) takes the square roots of the same sums of
-    squares as :func:`side_length` (2-D and 3-D vertices); lengths outside the
-    range where that formula is exact, if any, are then taken from
+    branches (which vectorizes, fastest with each coordinate contiguous: a
+    Fortran-ordered ``p``) takes the square roots of the same sums of squares
+    as :func:`side_length` (2-D and 3-D vertices); lengths outside the range
+    where that formula is exact, if any, are then taken from
     :func:`side_length` itself.
     """
-    lo, hi = math.inf, 0.0
     dims = p.shape[1]
-    if dims == 2:  # one loop per dimension: no branch inside, so it vectorizes
+    if dims == 2:  # one loop per dimension: no branch inside
         for q in range(len(out)):
             dx = float(p[a, 0]) - float(p[b0 + q, 0])
             dy = float(p[a, 1]) - float(p[b0 + q, 1])
-            d = math.sqrt(dx * dx + dy * dy + 0.0 * 0.0)
-            lo, hi = min(lo, d), max(hi, d)
-            out[q] = d
+            out[q] = math.sqrt(dx * dx + dy * dy + 0.0 * 0.0)
     elif dims == 3:
         for q in range(len(out)):
             dx = float(p[a, 0]) - float(p[b0 + q, 0])
             dy = float(p[a, 1]) - float(p[b0 + q, 1])
             dz = float(p[a, 2]) - float(p[b0 + q, 2])
-            d = math.sqrt(dx * dx + dy * dy + dz * dz)
-            lo, hi = min(lo, d), max(hi, d)
-            out[q] = d
-    else:  # 1-D vertex values: one by one
+            out[q] = math.sqrt(dx * dx + dy * dy + dz * dz)
+    else:  # 1-D vertex values
         for q in range(len(out)):
             out[q] = side_length(p, a, b0 + q)
-        lo = hi = 1.0  # every length is final
-    if not (_SQRT_LO < lo and hi < math.inf):
+    inexact = 0  # counted in a loop of its own, which vectorizes too
+    for q in range(len(out)):
+        inexact += 0 if _SQRT_LO < out[q] < math.inf else 1
+    if inexact:
         for q in range(len(out)):
             if not _SQRT_LO < out[q] < math.inf:
                 out[q] = side_length(p, a, b0 + q)

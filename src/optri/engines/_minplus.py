@@ -338,6 +338,7 @@ def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers):
             done[ti * nt + tj] = 1
     taken = np.zeros(1, dtype=np.int64)
     scratch = np.empty((workers, tile, tile))  # e(i, j) of the tile a worker is on
+    columns = np.asfortranarray(pts)  # each coordinate contiguous: edge rows vectorize
     for w in prange(workers):
         while True:
             k = fetch_add(taken, 0)
@@ -347,7 +348,7 @@ def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers):
             if d > 0:
                 wait_done(done, t * nt + t + d - 1)
                 wait_done(done, (t + 1) * nt + t + d)
-            _tile(T, pts, code, scratch[w], mask, use_mask, tile, t, t + d)
+            _tile(T, columns, code, scratch[w], mask, use_mask, tile, t, t + d)
             store_release(done, t * nt + t + d, 1)
 
 
