@@ -71,6 +71,7 @@ def test_fast_small_tiles_equal_memo(monkeypatch: pytest.MonkeyPatch, tile: int)
     monkeypatch.setattr(config, "FAST_TILE", tile)
     monkeypatch.setattr(config, "FAST_GENERIC_TILE", tile)
     monkeypatch.setattr(config, "FAST_CHUNK_WORK", 1)  # one kernel call per tile-diagonal
+    monkeypatch.setattr(config, "FAST_GENERIC_CHUNK_WORK", 1)
     pts = convex_polygon(37, tile)
     for w, obj in (("perimeter", "sum"), ("diagonal", "sum"), ("max_angle", "max")):
         a = optri.triangulate(pts, w, obj, method="fast")

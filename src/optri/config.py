@@ -131,10 +131,13 @@ FAST_TILE: int | None = None
 #: Compiled engine: tile side of the generic kernel (any weight): compute-bound, so small
 #: tiles that keep each kernel call short (progress, Ctrl-C) cost nothing.
 FAST_GENERIC_TILE = 16
-#: Compiled engine: work (about min-plus steps) per kernel call between progress reports
-#: (about 0.1 s at full speed; each call ends when its last tile does, so fewer calls keep
-#: every core busy for longer).
+#: Compiled engine: min-plus steps per kernel call between progress reports (about 0.1 s
+#: at full speed; each call ends when its last tile does, so fewer calls keep every core
+#: busy for longer).
 FAST_CHUNK_WORK = 2e9
+#: The same for the generic kernel, in min-plus-step equivalents (a weight evaluation
+#: counts 20): calls of about 0.1 s there too, where Ctrl-C takes effect.
+FAST_GENERIC_CHUNK_WORK = 3e8
 #: Compiled kernels: cache folder when NUMBA_CACHE_DIR is unset (None: beside the package,
 #: else ~/.cache/optri); read once, when the first kernel module loads.
 JIT_CACHE_DIR: str | None = None

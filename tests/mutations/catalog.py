@@ -320,8 +320,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "edge-row-trusts-tiny-lengths",
         "src/optri/weights.py",
-        "if not (_SQRT_LO < lo and hi < math.inf):",
-        "if not hi < math.inf:",
+        "inexact += 0 if _SQRT_LO < out[q] < math.inf else 1",
+        "inexact += 0 if out[q] < math.inf else 1",
         (MINPLUS, "-k", "edge_weight_row"),
         "lengths whose squares underflow keep the plain formula's wrong value",
     ),

@@ -91,7 +91,16 @@ def run_reference(exe: Path, csv: Path) -> tuple[float, float]:
     return float(fields[1]), float(fields[2])
 
 
-def measure_peak(exe: Path, seconds: float = 1.0) -> float:
-    """Min-plus candidates per second on every core (the program's second figure)."""
-    out = subprocess.run([str(exe), str(seconds)], check=True, capture_output=True, text=True)
-    return float(out.stdout.split()[1])
+def measure_peak(exe: Path, seconds: float = 1.0, runs: int = 3) -> float:
+    """Min-plus candidates per second on every core (the program's second figure).
+
+    The best of ``runs`` runs of ``seconds / runs`` each: other work on the
+    machine only ever lowers the rate, so the highest is the best estimate of
+    the ceiling.
+    """
+    rates = []
+    for _ in range(max(1, runs)):
+        cmd = [str(exe), str(seconds / max(1, runs))]
+        out = subprocess.run(cmd, check=True, capture_output=True, text=True)
+        rates.append(float(out.stdout.split()[1]))
+    return max(rates)

@@ -32,7 +32,12 @@ __all__ = ["bench"]
     type=click.Path(exists=True, file_okay=False),
     help="Also build and run DIR/ref_mwt.c and DIR/minplus_peak.c (a cross-check).",
 )
-@click.option("--peak-seconds", default=1.0, show_default=True, help="Length of each peak run.")
+@click.option(
+    "--peak-seconds",
+    default=1.0,
+    show_default=True,
+    help="Seconds of peak measurement per size (the best of three runs).",
+)
 def bench(
     sizes: tuple[int, ...],
     quick: bool,

@@ -7,14 +7,9 @@ along contiguous rows ``T[i]`` and ``T[j]``.
 
 Two evaluation orders of the one recurrence (``best_split``):
 
-* ``minplus_tiles``: sum objective with an edge-decomposable weight
-  ``w(i, k, j) = e(i, k) + e(k, j) + e(i, j)``. The table holds
-  ``E = cost + e`` and ``E(i, j) = 2 e(i, j) + min_k E(i, k) + E(k, j)``, a
-  pure min-plus product (as in ``ref_mwt.c``). It runs over square tiles of
-  cells; tiles on one tile-diagonal are independent (``prange``). A tile first
-  takes the "far" splits, whose halves lie in earlier tiles, with a 2 x 4
-  register block (two streamed rows ``i`` shared by four columns ``j``), then
-  the "near" splits in dependency order.
+* ``minplus_tiles`` (:mod:`optri.engines._minplus`): sum objective with an
+  edge-decomposable weight, as a pure min-plus product in register blocks
+  (:mod:`optri.engines._llvm`).
 * ``generic_tiles``: any built-in or numba-compiled weight, ``sum`` or
   ``max``, one table per component of a lexicographic objective, over the
   same tiles, each cell scanning all its splits.

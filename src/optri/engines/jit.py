@@ -3,7 +3,8 @@
 The table holds each chord's cost above the diagonal and its transpose below,
 so both operands of every split stream along contiguous rows (see
 :mod:`optri.engines._jit_kernels`). The sum of an edge-decomposable weight
-(perimeter, diagonal) runs as a cache-blocked min-plus product; every other
+(perimeter, diagonal) runs as a cache-blocked min-plus product
+(:mod:`optri.engines._minplus`); every other
 compiled weight and the ``"max"`` and lexicographic objectives run the generic
 recurrence (a lexicographic pair uses a second table). Split vertices are not
 stored: the O(n) cells on the optimal path are re-scanned afterwards.
@@ -288,7 +289,8 @@ def _user_vertices(problem: Problem) -> NDArray[np.float64]:
 
 def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args, threads: int) -> None:
     code = int(problem.weights[0].code)  # an int: typing an IntEnum costs 0.2 ms a call
-    for d0, d1, tile in _tile_chunks(problem, minplus_tile(problem.n), cost_per_split=1):
+    side, budget = minplus_tile(problem.n), config.FAST_CHUNK_WORK
+    for d0, d1, tile in _tile_chunks(problem, side, cost_per_split=1, budget=budget):
         K.minplus_tiles(T, args.pts, code, args.chords, tile, d0, d1, threads)
 
 
@@ -301,13 +303,14 @@ def _fill_generic(problem: Problem, tables: tuple[NDArray[Any], NDArray[Any]], a
         T[idx, idx + 1] = T[idx + 1, idx] = v
     kernel = args.kernel("generic_tiles")
     # a weight evaluation costs about 20 min-plus steps
-    for d0, d1, tile in _tile_chunks(problem, int(config.FAST_GENERIC_TILE), cost_per_split=20):
+    side, budget = int(config.FAST_GENERIC_TILE), config.FAST_GENERIC_CHUNK_WORK
+    for d0, d1, tile in _tile_chunks(problem, side, cost_per_split=20, budget=budget):
         kernel(tables, args.weigh, args.rule, args.chords, tile, d0, d1)
         args.raise_on_nan()
 
 
 def _tile_chunks(
-    problem: Problem, tile: int, cost_per_split: int
+    problem: Problem, tile: int, cost_per_split: int, budget: float
 ) -> Iterator[tuple[int, int, int]]:
     """Runs ``(d0, d1, tile)`` of tile-diagonals per kernel call, reporting progress."""
     n = problem.n
@@ -316,7 +319,7 @@ def _tile_chunks(
     # work of tile-diagonal d: its cells times the splits each scans (~ (d + 1) tiles)
     work = [c * (d + 1) * tile * cost_per_split for d, c in enumerate(cells)]
     report = _Reporter(problem, n)
-    for d0, d1 in _chunks(work, config.FAST_CHUNK_WORK):
+    for d0, d1 in _chunks(work, budget):
         yield d0, d1, tile
         report.add(sum(cells[d0:d1]))
 
