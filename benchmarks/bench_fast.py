@@ -26,7 +26,7 @@ def main() -> None:
     ap.add_argument(
         "--naive-max", type=int, default=500, help="largest n for the plain-Python recursion"
     )
-    ap.add_argument("--repeats", type=int, default=3, help="best of this many runs (n <= 4000)")
+    ap.add_argument("--repeats", type=int, default=3, help="best of this many runs in one process")
     ap.add_argument("--float32", action="store_true", help="float32 table")
     ap.add_argument("--json", dest="json_out", help="also write the rows to this JSON file")
     ap.add_argument("--shared", help="also build and run DIR/ref_mwt.c and DIR/minplus_peak.c")

@@ -162,6 +162,13 @@ def edge_weight_row(code, p, a, b0, out):  # type: ignore[no-untyped-def]
     as :func:`side_length` (2-D and 3-D vertices); lengths outside the range
     where that formula is exact, if any, are then taken from
     :func:`side_length` itself.
+
+    >>> import numpy as np
+    >>> out = np.empty(2)
+    >>> p = np.array([[0.0, 0.0], [3.0, 4.0], [6.0, 8.0]])
+    >>> edge_weight_row(WeightCode.PERIMETER, p, 0, 1, out)
+    >>> out.tolist()
+    [5.0, 10.0]
     """
     dims = p.shape[1]
     if dims == 2:  # one loop per dimension: no branch inside

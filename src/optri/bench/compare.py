@@ -32,8 +32,6 @@ from .compiled import Built, build, measure_peak, run_reference
 
 __all__ = ["BenchRow", "convex_polygon", "format_rows", "run_benchmark", "worker"]
 
-_REPEAT_MAX_N = 4000  # larger n: one run (8000 takes seconds)
-
 
 @dataclass
 class BenchRow:
@@ -146,7 +144,7 @@ def _one_size(
         naive = _seconds([sys.executable, "-m", "optri.bench.naive", str(csv)])
     peak = measure_peak(ours.peak, peak_seconds) if ours.peak else None
     shared_peak = measure_peak(theirs.peak, peak_seconds) if theirs and theirs.peak else None
-    mine = _run_worker(csv, repeats if n <= _REPEAT_MAX_N else 1, dtype)
+    mine = _run_worker(csv, repeats, dtype)
     agrees = None if c is None else abs(mine["weight"] - c[0]) <= 1e-9 * abs(c[0])
     return BenchRow(
         n,

@@ -23,7 +23,7 @@ __all__ = ["bench"]
     default=3,
     type=click.IntRange(min=1),
     show_default=True,
-    help="Best of this many runs in one process (n <= 4000; the first also pays for fresh memory).",
+    help="Best of this many runs in one process (the first also pays for fresh memory).",
 )
 @click.option("--float32", is_flag=True, help="float32 table.")
 @click.option("--json", "as_json", is_flag=True, help="Print the rows as JSON.")

@@ -61,7 +61,7 @@ def integer_min(itemsize: int) -> bool:
     bit. Table values of the min-plus path are sums of lengths: never
     negative, never NaN. With AVX-512VL (64-bit) or AVX2 (32-bit) the integer
     minimum is one instruction that runs on vector ports the floating-point
-    minimum cannot use (on AMD Zen 4, 1.25-1.45x the candidates per second
+    minimum cannot use (on AMD Zen 4, 1.2-1.45x the candidates per second
     of the float kernel); elsewhere the float minimum stays.
     """
     features = getattr(numba_config, "CPU_FEATURES", None) or llvm.get_host_cpu_features().flatten()
