@@ -238,25 +238,3 @@ def wait_done(done, idx):
         spins += 1
         if spins >= _SPINS:
             yield_cpu()
-
-
-@intrinsic
-def prefetch(typingctx, T, r, c):
-    """Hint the CPU to bring the cache line of ``T[r, c]`` into L2 (a 2-D C array)."""
-    if not isinstance(T, types.Array) or T.ndim != 2 or T.layout != "C":
-        return None
-    sig = types.none(T, types.intp, types.intp)
-
-    def codegen(context, builder, signature, args):
-        ary = context.make_array(signature.args[0])(context, builder, value=args[0])
-        ld = cgutils.unpack_tuple(builder, ary.shape, 2)[1]
-        ptr = builder.gep(ary.data, [builder.add(builder.mul(args[1], ld), args[2])])
-        i8p = ir.IntType(8).as_pointer()
-        i32 = ir.IntType(32)
-        fnty = ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32])
-        fn = cgutils.get_or_insert_function(builder.module, fnty, "llvm.prefetch.p0i8")
-        args_ = [builder.bitcast(ptr, i8p), i32(0), i32(2), i32(1)]  # read, L2, data
-        builder.call(fn, args_)
-        return context.get_dummy_value()
-
-    return sig, codegen
