@@ -304,8 +304,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "square16-product-too-short",
         "src/optri/engines/_minplus.py",
-        "_outer(T, mask, use_mask, r, c + 8, a + 8, 8, 4, 8)",
-        "_outer(T, mask, use_mask, r, c + 8, a + 8, 7, 4, 8)",
+        "_block(T, mask, use_mask, r, c + 8, a + 8, 8, 8)",
+        "_block(T, mask, use_mask, r, c + 8, a + 8, 7, 8)",
         (MINPLUS, "-k", "python_table"),
         "16 x 16 blocks lose one split row (only blocks of a 128-tile are 16 x 16)",
     ),

@@ -65,6 +65,21 @@ def _any_allowed(mask, use_mask, i0, i1, j0, j1):
     return False
 
 
+@kernel(fastmath=FASTMATH, inline="always")
+def _block(T, mask, use_mask, i, j, k0, kn, cols):
+    """Register block rows ``i..i+3`` x ``cols`` (16, 8 or 4) columns from ``j``, ``kn`` splits.
+
+    Skipped when no cell of it is an allowed chord.
+    """
+    if _any_allowed(mask, use_mask, i, i + 4, j, j + cols):
+        if cols == 16:
+            outer_4x16(T, i, j, T, i, k0, T, k0, j, kn)
+        elif cols == 8:
+            outer_4x8(T, i, j, T, i, k0, T, k0, j, kn)
+        else:
+            outer_4x4(T, i, j, T, i, k0, T, k0, j, kn)
+
+
 @kernel(fastmath=FASTMATH, _nrt=False)
 def _product(T, mask, use_mask, ia, ib, ja, jb, k0, k1):
     """``T[i, j] = min(T[i, j], min over k0 <= k < k1 of T[i, k] + T[k, j])``.
@@ -84,17 +99,12 @@ def _product(T, mask, use_mask, ia, ib, ja, jb, k0, k1):
         while i + 4 <= ib:
             j = ja
             while j + 16 <= jb:
-                if _any_allowed(mask, use_mask, i, i + 4, j, j + 16):
-                    outer_4x16(T, i, j, T, i, kb, T, kb, j, ke - kb)
+                _block(T, mask, use_mask, i, j, kb, ke - kb, 16)
                 j += 16
-            if j + 8 <= jb:
-                if _any_allowed(mask, use_mask, i, i + 4, j, j + 8):
-                    outer_4x8(T, i, j, T, i, kb, T, kb, j, ke - kb)
-                j += 8
-            if j + 4 <= jb:
-                if _any_allowed(mask, use_mask, i, i + 4, j, j + 4):
-                    outer_4x4(T, i, j, T, i, kb, T, kb, j, ke - kb)
-                j += 4
+            for cols in (8, 4):
+                if j + cols <= jb:
+                    _block(T, mask, use_mask, i, j, kb, ke - kb, cols)
+                    j += cols
             for r in range(i, i + 4):
                 for c in range(j, jb):
                     T[r, c] = _rowmin(T[r, c], T[r, kb:ke], T[c, kb:ke])
@@ -195,29 +205,16 @@ def _leaf4(T, ew, mask, use_mask, a, c):
     _final(T, ew, mask, use_mask, i, c3, m)
 
 
-@kernel(fastmath=FASTMATH, inline="always")
-def _outer(T, mask, use_mask, i, j, k0, kn, rows, cols):
-    """A ``rows x cols`` register block (4 x 4 or 4 x 8) over ``kn`` splits from ``k0``.
-
-    Skipped when no cell of it is an allowed chord.
-    """
-    if _any_allowed(mask, use_mask, i, i + rows, j, j + cols):
-        if cols == 4:
-            outer_4x4(T, i, j, T, i, k0, T, k0, j, kn)
-        else:
-            outer_4x8(T, i, j, T, i, k0, T, k0, j, kn)
-
-
 @kernel(fastmath=FASTMATH, _nrt=False)
 def _square8(T, ew, mask, use_mask, a, c):
     """``_square`` of an 8 x 8 block: four leaves, the products between them inline."""
     _leaf4(T, ew, mask, use_mask, a + 4, c)
-    _outer(T, mask, use_mask, a + 4, c + 4, c, 4, 4, 4)
+    _block(T, mask, use_mask, a + 4, c + 4, c, 4, 4)
     _leaf4(T, ew, mask, use_mask, a + 4, c + 4)
-    _outer(T, mask, use_mask, a, c, a + 4, 4, 4, 4)
+    _block(T, mask, use_mask, a, c, a + 4, 4, 4)
     _leaf4(T, ew, mask, use_mask, a, c)
-    _outer(T, mask, use_mask, a, c + 4, a + 4, 4, 4, 4)
-    _outer(T, mask, use_mask, a, c + 4, c, 4, 4, 4)
+    _block(T, mask, use_mask, a, c + 4, a + 4, 4, 4)
+    _block(T, mask, use_mask, a, c + 4, c, 4, 4)
     _leaf4(T, ew, mask, use_mask, a, c + 4)
 
 
@@ -226,14 +223,14 @@ def _square16(T, ew, mask, use_mask, a, c):
     """``_square`` of a 16 x 16 block: four 8 x 8 blocks, the products between them."""
     _square8(T, ew, mask, use_mask, a + 8, c)
     for r in range(a + 8, a + 16, 4):
-        _outer(T, mask, use_mask, r, c + 8, c, 8, 4, 8)
+        _block(T, mask, use_mask, r, c + 8, c, 8, 8)
     _square8(T, ew, mask, use_mask, a + 8, c + 8)
     for r in range(a, a + 8, 4):
-        _outer(T, mask, use_mask, r, c, a + 8, 8, 4, 8)
+        _block(T, mask, use_mask, r, c, a + 8, 8, 8)
     _square8(T, ew, mask, use_mask, a, c)
     for r in range(a, a + 8, 4):
-        _outer(T, mask, use_mask, r, c + 8, a + 8, 8, 4, 8)
-        _outer(T, mask, use_mask, r, c + 8, c, 8, 4, 8)
+        _block(T, mask, use_mask, r, c + 8, a + 8, 8, 8)
+        _block(T, mask, use_mask, r, c + 8, c, 8, 8)
     _square8(T, ew, mask, use_mask, a, c + 8)
 
 
