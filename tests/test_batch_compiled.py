@@ -230,7 +230,7 @@ def test_mode_mirrors_select_engine(method: str) -> None:
 
 
 def test_minplus_flags_are_the_compiled_engines() -> None:
-    from optri.engines import _jit_kernels
+    from optri.engines import _minplus
     from optri.simple import _many_kernels
 
-    assert _many_kernels.MINPLUS_FASTMATH == _jit_kernels._FASTMATH
+    assert _many_kernels.MINPLUS_FASTMATH == _minplus.FASTMATH

@@ -24,7 +24,7 @@ from numba.extending import overload
 from ..objective import lex_better
 from ..weights import WeightCode
 from ._jit_weights import triangle_weight
-from ._minplus import FASTMATH, minplus_split, minplus_tiles, subtract_edges
+from ._minplus import minplus_split, minplus_tiles, subtract_edges
 from .compiled import kernel
 
 __all__ = [
@@ -40,7 +40,6 @@ __all__ = [
 ]
 
 NO_GATE = -2  # codes[2] when the problem has no gate
-_FASTMATH = FASTMATH
 
 
 # --- generic path (any compiled weight, sum / max / lexicographic) -------------------

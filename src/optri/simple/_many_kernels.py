@@ -39,6 +39,7 @@ from numba import prange
 
 from ..engines._jit_kernels import NO_GATE, best_split, trace
 from ..engines._jit_weights import edge_weight
+from ..engines._minplus import FASTMATH as MINPLUS_FASTMATH
 from ..engines.compiled import kernel
 from ..predicates import orient_sign, strictly_between
 from ._kernels import ear_clip, valid_mask, visibility_mask
@@ -196,13 +197,6 @@ def _fill_cells(T, weigh, rule, mask, use_mask, neutral):  # type: ignore[no-unt
             T[j, i] = c
 
 
-# The compiled engine's min-plus kernels compile with these flags, which let LLVM fuse
-# the side lengths' squares (FMA): the E-table is theirs bit for bit only with the same
-# flags (tests hold this set to optri.engines._jit_kernels'). Costs stay non-negative
-# sums and minima, never NaN, so the flags change nothing else.
-MINPLUS_FASTMATH = {"nnan", "nsz", "arcp", "contract", "reassoc"}
-
-
 @kernel()
 def _fill_edge_sums(T, S, pts, code, mask, use_mask):  # type: ignore[no-untyped-def]
     """The Python engines' table for a sum of an edge-decomposable weight, and its splits.
@@ -260,13 +254,9 @@ def _walk(S, tris):  # type: ignore[no-untyped-def]
     return m == n - 2
 
 
-# The compiled engine's min-plus kernels compile with these flags, which let LLVM fuse
-# the side lengths' squares (FMA): the E-table is theirs bit for bit only with the same
-# flags (tests hold this set to optri.engines._jit_kernels'). Costs stay non-negative
-# sums and minima, never NaN, so the flags change nothing else.
-MINPLUS_FASTMATH = {"nnan", "nsz", "arcp", "contract", "reassoc"}
-
-
+# The min-plus E-table below compiles with the compiled engine's own flags, which let
+# LLVM fuse the side lengths' squares (FMA): the table is the engine's bit for bit only
+# with the same flags. Costs stay non-negative sums and minima, never NaN.
 @kernel(fastmath=MINPLUS_FASTMATH)
 def _fill_minplus(E, pts, code, mask, use_mask):  # type: ignore[no-untyped-def]
     """The compiled engine's E-table: ``E(i, j) = min_k E(i, k) + E(k, j) + 2 e(i, j)``.
