@@ -304,3 +304,31 @@ def test_fast_tile_queue_waits_for_its_neighbours(monkeypatch: pytest.MonkeyPatc
             assert got.weight == ref.weight
     finally:
         numba.set_num_threads(old)
+
+
+class _SignalingEmpty:
+    """numpy, except that ``empty`` float32 arrays hold signaling NaNs (as garbage may)."""
+
+    def __getattr__(self, name: str) -> object:
+        return getattr(np, name)
+
+    @staticmethod
+    def empty(shape: object, dtype: object = float) -> np.ndarray:
+        a = np.empty(shape, dtype=dtype)  # type: ignore[call-overload]
+        if a.dtype == np.float32:
+            a.view(np.uint32)[...] = 0x7FA00000
+        return a
+
+
+def test_float32_table_export_ignores_the_unwritten_diagonal(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # the fill never writes T[i, i]; whatever the memory held there (a signaling NaN
+    # warns when cast to float64) must neither warn nor reach the exported table
+    monkeypatch.setattr(jit, "np", _SignalingEmpty())
+    pts = convex_polygon(40, 0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        t = optri.triangulate(pts, method="fast", dtype="float32", keep_table=True)
+    assert np.all(np.isfinite(t.table))
+    assert np.all(np.diag(t.table) == 0.0)

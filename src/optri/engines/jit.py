@@ -373,7 +373,7 @@ def _export(
     minplus: bool,
 ) -> NDArray[np.float64]:
     """The paper's table: costs (primary component) above the diagonal, splits below."""
-    out = np.triu(tables[0].astype(np.float64), 1)
+    out = np.triu(tables[0], 1).astype(np.float64)  # the diagonal is never written
     if minplus:  # the table holds E = cost + e(i, j)
         K.subtract_edges(out, args.pts, problem.weights[0].code)
     out[np.isneginf(out)] = 0.0
