@@ -310,6 +310,14 @@ MUTATIONS: list[Mutation] = [
         "16 x 16 blocks lose one split row (only blocks of a 128-tile are 16 x 16)",
     ),
     M(
+        "final-returns-unrounded",
+        "src/optri/engines/_minplus.py",
+        "return T.dtype.type(v)",
+        "return v",
+        (MINPLUS, "-k", "tiling"),
+        "a leaf carries a float32 cell's unrounded value to its neighbours",
+    ),
+    M(
         "far-packs-one-split-row",
         "src/optri/engines/_minplus.py",
         "P[s * _KBLOCK + t, q] = T[kb + t, j + q]",

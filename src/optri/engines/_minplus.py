@@ -159,7 +159,7 @@ def _final(T, ew, mask, use_mask, i, j, best):
         v = e  # a side: cost 0
     T[i, j] = v
     T[j, i] = v
-    return T[i, j]  # as stored (float32 tables round it)
+    return T.dtype.type(v)  # as stored (float32 rounds it), not reloaded: no store-to-load wait
 
 
 @kernel(fastmath=FASTMATH, inline="always")
