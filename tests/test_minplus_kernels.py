@@ -1,8 +1,9 @@
 """The min-plus path's building blocks, against plain numpy and against each other.
 
 * the register blocks (``optri.engines._llvm``): every entry equals the numpy
-  minimum of the same sums, for float64 and float32, with the minimum taken
-  as integers (this CPU, if it has AVX-512VL) and as floats;
+  minimum of the same sums, for float64 and float32, with 32- and 64-byte
+  vectors and the minimum taken as integers and as floats (LLVM emulates what
+  this CPU lacks), and ``register_plan`` picks them by CPU as documented;
 * ``edge_weight_row``: the same bits as ``edge_weight`` at every point, in
   compiled code with the kernels' flags, including lengths outside the range
   of the plain formula;
@@ -28,7 +29,7 @@ from optri.engines import _llvm  # noqa: E402
 from optri.engines._jit_weights import edge_weight, edge_weight_row  # noqa: E402
 from optri.engines._minplus import FASTMATH  # noqa: E402
 
-SHAPES = [(4, 4), (4, 8), (4, 16)]
+SHAPES = [(4, 4), (4, 8), (4, 16), (8, 16)]
 
 
 def _block_runner(rows: int, cols: int):  # type: ignore[no-untyped-def]
@@ -49,15 +50,18 @@ def _table(rng: np.random.Generator, n: int, dtype: type) -> np.ndarray:
     return T.astype(dtype)
 
 
+@pytest.mark.parametrize("vector_bytes", [32, 64])
 @pytest.mark.parametrize("as_int", [True, False])
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
 @pytest.mark.parametrize("shape", SHAPES)
 def test_register_block_equals_numpy(
-    monkeypatch: pytest.MonkeyPatch, shape: tuple[int, int], dtype: type, as_int: bool
+    monkeypatch: pytest.MonkeyPatch,
+    shape: tuple[int, int],
+    dtype: type,
+    as_int: bool,
+    vector_bytes: int,
 ) -> None:
-    if as_int and not _llvm.integer_min(np.dtype(dtype).itemsize):
-        pytest.skip("this CPU takes the minimum as floats")
-    monkeypatch.setattr(_llvm, "integer_min", lambda itemsize: as_int)
+    monkeypatch.setattr(_llvm, "register_plan", lambda itemsize: (vector_bytes, as_int))
     rows, cols = shape
     run = _block_runner(rows, cols)
     rng = np.random.default_rng(rows * cols)
@@ -73,13 +77,29 @@ def test_register_block_equals_numpy(
         assert np.array_equal(T, want), (i, j, k0, kn)
 
 
-def test_integer_min_follows_the_cpu(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(_llvm.numba_config, "CPU_FEATURES", "+avx2,-avx512vl", raising=False)
-    assert _llvm.integer_min(4) and not _llvm.integer_min(8)
-    monkeypatch.setattr(_llvm.numba_config, "CPU_FEATURES", "+avx2,+avx512vl", raising=False)
-    assert _llvm.integer_min(8)
-    monkeypatch.setattr(_llvm.numba_config, "CPU_FEATURES", "+sse2", raising=False)
-    assert not _llvm.integer_min(4) and not _llvm.integer_min(8)
+@pytest.mark.parametrize(
+    ("name", "features", "plan8", "plan4"),
+    [
+        ("znver4", "+avx2,+avx512f,+avx512vl", (32, True), (32, True)),  # AMD: 256-bit halves
+        ("znver3", "+avx2,-avx512f,-avx512vl", (32, False), (32, True)),
+        ("sapphirerapids", "+avx2,+avx512f,+avx512vl", (64, True), (64, True)),
+        ("rocketlake", "+avx2,+avx512f,+avx512vl", (64, True), (64, True)),
+        ("knl", "+avx2,+avx512f,-avx512vl", (64, False), (64, False)),
+        ("haswell", "+avx2,-avx512f", (32, False), (32, True)),
+        ("x86-64", "+sse2", (32, False), (32, False)),
+    ],
+)
+def test_register_plan_follows_the_cpu(
+    monkeypatch: pytest.MonkeyPatch,
+    name: str,
+    features: str,
+    plan8: tuple[int, bool],
+    plan4: tuple[int, bool],
+) -> None:
+    monkeypatch.setattr(_llvm.numba_config, "CPU_NAME", name, raising=False)
+    monkeypatch.setattr(_llvm.numba_config, "CPU_FEATURES", features, raising=False)
+    assert _llvm.register_plan(8) == plan8 and _llvm.register_plan(4) == plan4
+    assert _llvm.integer_min(8) == plan8[1] and _llvm.wide_vectors() == (plan8[0] == 64)
 
 
 @numba.njit(fastmath=FASTMATH)
@@ -163,3 +183,26 @@ def test_every_cell_equals_the_python_table(
         upper = np.triu_indices(n, 1)
         assert np.allclose(a.table[upper], b.table[upper], rtol=1e-12, atol=0), weight
         assert abs(a.weight - b.weight) <= 1e-9 * abs(b.weight)
+
+
+@pytest.mark.parametrize("rows", [4, 8])
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_far_product_equals_numpy(rows: int, dtype: type) -> None:
+    # the far product reads B from the table's other half and packs it: rows and columns
+    # past whole blocks and strips, and more than one block of splits (> _KBLOCK)
+    from optri.engines import _minplus
+
+    rng = np.random.default_rng(rows)
+    T = _table(rng, 420, dtype)
+    T = np.minimum(T, T.T)  # both halves hold a chord's value, as in the fill
+    ia, ib, ja, jb = 5, 30, 380, 417
+    k0, k1 = ib, ja
+    assert k1 - k0 > _minplus._KBLOCK and (ib - ia) % rows and (jb - ja) % 16
+    want = T.copy()
+    a, b = T[ia:ib, k0:k1], T[k0:k1, ja:jb]
+    sums = (a[:, :, None] + b[None, :, :]).min(axis=1)
+    want[ia:ib, ja:jb] = np.minimum(want[ia:ib, ja:jb], sums)
+    P = np.empty((_minplus._KBLOCK * 128 // 16, 16), dtype=dtype)
+    mask = np.zeros((1, 1), dtype=np.bool_)
+    _minplus._far(T, P, mask, rows, ia, ib, ja, jb, k0, k1)
+    assert np.array_equal(T, want)

@@ -320,9 +320,9 @@ MUTATIONS: list[Mutation] = [
     M(
         "far-packs-one-split-row",
         "src/optri/engines/_minplus.py",
-        "P[s * _KBLOCK + t, q] = T[kb + t, j + q]",
-        "P[s * _KBLOCK + t, q] = T[kb, j + q]",
-        (MINPLUS, "-k", "tiling or python_table"),
+        "P[s * _KBLOCK + t, q] = T[j + q, kb + t]",
+        "P[s * _KBLOCK + t, q] = T[j + q, kb]",
+        (MINPLUS, "-k", "tiling or python_table or far_product"),
         "the packed far product reads the first split's row for every split",
     ),
     M(
@@ -330,7 +330,7 @@ MUTATIONS: list[Mutation] = [
         "src/optri/engines/_minplus.py",
         "_product(T, mask, False, ia, ib, jf, jb, k0, k1)",
         "_product(T, mask, False, ia, ib, jf, jb, k0, k0)",
-        (MINPLUS, "-k", "tiling or python_table"),
+        (MINPLUS, "-k", "tiling or python_table or far_product"),
         "columns past the last whole 16-column strip miss their far splits",
     ),
     M(
@@ -338,8 +338,16 @@ MUTATIONS: list[Mutation] = [
         "src/optri/engines/_minplus.py",
         "_product(T, mask, False, i_f, ib, ja, jf, k0, k1)",
         "_product(T, mask, False, i_f, ib, ja, jf, k0, k0)",
-        (MINPLUS, "-k", "tiling or python_table"),
-        "rows past the last whole 4-row block miss their far splits",
+        (MINPLUS, "-k", "tiling or python_table or far_product"),
+        "rows past the last whole 4- or 8-row block miss their far splits",
+    ),
+    M(
+        "far-8x16-block-runs-as-4x16",
+        "src/optri/engines/_minplus.py",
+        "outer_8x16(T, i, ja + 16 * s, T, i, kb, P, s * _KBLOCK, 0, kn)",
+        "outer_4x16(T, i, ja + 16 * s, T, i, kb, P, s * _KBLOCK, 0, kn)",
+        (MINPLUS, "-k", "far_product"),
+        "the far product's 8-row block (64-byte vectors) updates only its first 4 rows",
     ),
     M(
         "register-block-integer-max",

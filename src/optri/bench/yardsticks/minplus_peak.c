@@ -1,20 +1,24 @@
 /* minplus_peak: how many min-plus candidates (one addition, one minimum) per second this
  * machine can evaluate at best. Every thread repeats C = min(C, A (+) B) on its own three
  * 64 x 64 double tiles, which stay in its core's L1/L2 cache, with a register-blocked
- * kernel: 4 rows x 16 columns of C held in 16 vector registers while k runs (AVX2; a
- * portable scalar-loop version elsewhere, left to the compiler's vectorizer).
- * With AVX-512VL it also times the same kernel taking the minimum as 64-bit integers
- * (vpminsq; for the non-negative values of a min-plus table it is the same value, bit for
- * bit), which runs on vector ports the float minimum cannot use, and reports the faster.
- * No dynamic programme over a real table can go faster, so an engine's "fraction of
- * peak" is (candidates it evaluates / its seconds) / this rate, measured in one run.
+ * kernel: 4 rows x 16 columns of C held in vector registers while k runs (AVX2; a portable
+ * scalar-loop version elsewhere, left to the compiler's vectorizer).
+ * Where the CPU has more, it also times the same product with
+ *   - AVX-512VL: the minimum taken as 64-bit integers (vpminsq; for the non-negative
+ *     values of a min-plus table it is the same value, bit for bit), which runs on vector
+ *     ports the float minimum cannot use on some CPUs (AMD Zen 4);
+ *   - AVX-512F: 512-bit vectors, 4 x 16 and 8 x 16 blocks, float and integer minimum
+ *     (two 512-bit ports do twice the work of 256-bit instructions on Intel CPUs);
+ * and reports the fastest kernel. No dynamic programme over a real table can go faster,
+ * so an engine's "fraction of peak" is (candidates it evaluates / its seconds) / this
+ * rate, measured in one run.
  *
  * Build:  cc -O3 -march=native -pthread -o minplus_peak minplus_peak.c
- * Run:    minplus_peak [SECONDS [THREADS]]     (defaults: 1.0 s, every online CPU)
- * Prints: threads  candidates/s (all threads, wall clock)  per thread  per CPU-second  isa
- *         float-min candidates/s (the AVX2 kernel alone: the first figure when isa is avx2)
- * The last figure divides by the CPU time the threads really got, so it stays meaningful
- * on a machine shared with other work. */
+ * Run:    minplus_peak [SECONDS [THREADS]]  (defaults: 1.0 s per kernel, every online CPU)
+ * Prints: threads  candidates/s (all threads, wall clock)  per thread  per CPU-second
+ *         kernel (of the fastest)  candidates/s of the AVX2 float kernel alone
+ * and, on stderr, one line per kernel. The per-CPU-second figure divides by the CPU time
+ * the threads really got, so it stays meaningful on a machine shared with other work. */
 #define _GNU_SOURCE
 #include <pthread.h>
 #include <stdio.h>
@@ -28,13 +32,8 @@
 #else
 #define ISA "portable"
 #endif
-#if defined(__AVX2__) && defined(__AVX512VL__)
-#define INT_MIN_KERNEL 1
-#else
-#define INT_MIN_KERNEL 0
-#endif
 
-enum { S = 64, ROWS = 4, COLS = 16 };
+enum { S = 64, COLS = 16 };
 
 static double clock_s(clockid_t id) {
     struct timespec ts;
@@ -42,74 +41,87 @@ static double clock_s(clockid_t id) {
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-#ifdef __AVX2__
-/* one 4 x 16 block: 16 accumulators, 4 loads of B's row k, 4 broadcasts of A[., k];
- * MIN is the vector minimum of two __m256d */
-#define BLOCK(NAME, MIN)                                                                  \
+/* one ROWS x 16 block: C's block in registers, per k VECS loads of B's row k and ROWS
+ * broadcasts of A[., k]; MIN is the vector minimum of two VEC */
+#define BLOCK(NAME, ROWS, VEC, LANES, LOAD, STORE, BCAST, ADD, MIN)                       \
     static void NAME(const double *a, const double *b, double *c) {                       \
-        __m256d acc[ROWS][4];                                                             \
+        enum { VECS = COLS / LANES };                                                     \
+        VEC acc[ROWS][VECS];                                                              \
         for (int r = 0; r < ROWS; r++)                                                    \
-            for (int q = 0; q < 4; q++) acc[r][q] = _mm256_load_pd(c + r * S + 4 * q);    \
+            for (int q = 0; q < VECS; q++) acc[r][q] = LOAD(c + r * S + LANES * q);       \
         for (int k = 0; k < S; k++) {                                                     \
-            __m256d bk[4];                                                                \
-            for (int q = 0; q < 4; q++) bk[q] = _mm256_load_pd(b + k * S + 4 * q);        \
+            VEC bk[VECS];                                                                 \
+            for (int q = 0; q < VECS; q++) bk[q] = LOAD(b + k * S + LANES * q);           \
             for (int r = 0; r < ROWS; r++) {                                              \
-                __m256d ar = _mm256_broadcast_sd(a + r * S + k);                          \
-                for (int q = 0; q < 4; q++)                                               \
-                    acc[r][q] = MIN(acc[r][q], _mm256_add_pd(ar, bk[q]));                 \
+                VEC ar = BCAST(a[r * S + k]);                                             \
+                for (int q = 0; q < VECS; q++) acc[r][q] = MIN(acc[r][q], ADD(ar, bk[q])); \
             }                                                                             \
         }                                                                                 \
         for (int r = 0; r < ROWS; r++)                                                    \
-            for (int q = 0; q < 4; q++) _mm256_store_pd(c + r * S + 4 * q, acc[r][q]);    \
+            for (int q = 0; q < VECS; q++) STORE(c + r * S + LANES * q, acc[r][q]);       \
+    }                                                                                     \
+    static void NAME##_tile(const double *a, const double *b, double *c) {                \
+        for (int i = 0; i < S; i += ROWS)                                                 \
+            for (int j = 0; j < S; j += COLS) NAME(a + i * S, b + j, c + i * S + j);      \
     }
-BLOCK(block_float, _mm256_min_pd)
-#if INT_MIN_KERNEL
+
+#ifdef __AVX2__
+BLOCK(avx2_float, 4, __m256d, 4, _mm256_load_pd, _mm256_store_pd, _mm256_set1_pd,
+      _mm256_add_pd, _mm256_min_pd)
+#else
+static inline double scalar_min(double x, double y) { return y < x ? y : x; }
+static inline double scalar_load(const double *p) { return *p; }
+static inline void scalar_store(double *p, double v) { *p = v; }
+static inline double scalar_set(double v) { return v; }
+static inline double scalar_add(double x, double y) { return x + y; }
+BLOCK(portable, 4, double, 1, scalar_load, scalar_store, scalar_set, scalar_add, scalar_min)
+#endif
+#if defined(__AVX2__) && defined(__AVX512VL__)
 static inline __m256d min_as_int(__m256d x, __m256d y) {
     return _mm256_castsi256_pd(_mm256_min_epi64(_mm256_castpd_si256(x), _mm256_castpd_si256(y)));
 }
-BLOCK(block_int, min_as_int)
+BLOCK(avx512vl_intmin, 4, __m256d, 4, _mm256_load_pd, _mm256_store_pd, _mm256_set1_pd,
+      _mm256_add_pd, min_as_int)
 #endif
-static void block(const double *a, const double *b, double *c, int as_int) {
-#if INT_MIN_KERNEL
-    if (as_int) {
-        block_int(a, b, c);
-        return;
-    }
-#endif
-    (void)as_int;
-    block_float(a, b, c);
+#ifdef __AVX512F__
+static inline __m512d min512_as_int(__m512d x, __m512d y) {
+    return _mm512_castsi512_pd(_mm512_min_epi64(_mm512_castpd_si512(x), _mm512_castpd_si512(y)));
 }
-#else
-static void block(const double *a, const double *b, double *c, int as_int) {
-    double acc[ROWS][COLS];
-    (void)as_int;
-    for (int r = 0; r < ROWS; r++) memcpy(acc[r], c + r * S, sizeof acc[r]);
-    for (int k = 0; k < S; k++)
-        for (int r = 0; r < ROWS; r++) {
-            double ar = a[r * S + k];
-            for (int q = 0; q < COLS; q++) {
-                double v = ar + b[k * S + q];
-                acc[r][q] = v < acc[r][q] ? v : acc[r][q];
-            }
-        }
-    for (int r = 0; r < ROWS; r++) memcpy(c + r * S, acc[r], sizeof acc[r]);
-}
+BLOCK(avx512_float, 4, __m512d, 8, _mm512_load_pd, _mm512_store_pd, _mm512_set1_pd,
+      _mm512_add_pd, _mm512_min_pd)
+BLOCK(avx512_intmin, 4, __m512d, 8, _mm512_load_pd, _mm512_store_pd, _mm512_set1_pd,
+      _mm512_add_pd, min512_as_int)
+BLOCK(avx512_float_8x16, 8, __m512d, 8, _mm512_load_pd, _mm512_store_pd, _mm512_set1_pd,
+      _mm512_add_pd, _mm512_min_pd)
+BLOCK(avx512_intmin_8x16, 8, __m512d, 8, _mm512_load_pd, _mm512_store_pd, _mm512_set1_pd,
+      _mm512_add_pd, min512_as_int)
 #endif
 
-/* C = min(C, A (+) B) over whole tiles: S^3 candidates */
-static void tile_product(const double *a, const double *b, double *c, int as_int) {
-    if (as_int) {
-        /* the loop is duplicated so that each version is compiled with a constant flag */
-        for (int i = 0; i < S; i += ROWS)
-            for (int j = 0; j < S; j += COLS) block(a + i * S, b + j, c + i * S + j, 1);
-    } else {
-        for (int i = 0; i < S; i += ROWS)
-            for (int j = 0; j < S; j += COLS) block(a + i * S, b + j, c + i * S + j, 0);
-    }
-}
+/* C = min(C, A (+) B) over whole tiles: S^3 candidates; the first kernel is the AVX2 float
+ * one (or the portable loop) */
+static const struct kernel {
+    const char *name;
+    void (*tile)(const double *, const double *, double *);
+} KERNELS[] = {
+#ifdef __AVX2__
+    {ISA, avx2_float_tile},
+#else
+    {ISA, portable_tile},
+#endif
+#if defined(__AVX2__) && defined(__AVX512VL__)
+    {"avx512vl-intmin", avx512vl_intmin_tile},
+#endif
+#ifdef __AVX512F__
+    {"avx512-float", avx512_float_tile},
+    {"avx512-intmin", avx512_intmin_tile},
+    {"avx512-float-8x16", avx512_float_8x16_tile},
+    {"avx512-intmin-8x16", avx512_intmin_8x16_tile},
+#endif
+};
+enum { NKERNELS = sizeof KERNELS / sizeof KERNELS[0] };
 
 struct job {
-    int as_int;
+    const struct kernel *kernel;
     double seconds, cpu;
     long tiles;
     double check;
@@ -132,7 +144,7 @@ static void *run(void *arg) {
     long tiles = 0;
     while (clock_s(CLOCK_MONOTONIC) - start < job->seconds) {
         for (int rep = 0; rep < 32; rep++, tiles++) {
-            tile_product(a, b, c, job->as_int);
+            job->kernel->tile(a, b, c);
             a[tiles % (S * S)] += 0.5; /* keeps every product live; values stay >= 0 */
         }
     }
@@ -150,15 +162,16 @@ int main(int argc, char **argv) {
         fprintf(stderr, "usage: minplus_peak [SECONDS [THREADS]]\n");
         return 2;
     }
-    double rate[2] = {0, 0}, per_cpu[2] = {0, 0};
+    double rate[NKERNELS], per_cpu[NKERNELS];
     double check = 0;
-    for (int as_int = 0; as_int <= INT_MIN_KERNEL; as_int++) {
+    int best = 0;
+    for (int kk = 0; kk < NKERNELS; kk++) {
         pthread_t *ids = calloc(threads, sizeof *ids);
         struct job *jobs = calloc(threads, sizeof *jobs);
         pthread_barrier_t gate;
         pthread_barrier_init(&gate, NULL, (unsigned)threads + 1);
         for (long t = 0; t < threads; t++) {
-            jobs[t].as_int = as_int;
+            jobs[t].kernel = &KERNELS[kk];
             jobs[t].seconds = seconds;
             jobs[t].gate = &gate;
             pthread_create(&ids[t], NULL, run, &jobs[t]);
@@ -175,14 +188,15 @@ int main(int argc, char **argv) {
         }
         double wall = clock_s(CLOCK_MONOTONIC) - start;
         double cand = (double)tiles * S * S * S;
-        rate[as_int] = cand / wall;
-        per_cpu[as_int] = cand / cpu;
+        rate[kk] = cand / wall;
+        per_cpu[kk] = cand / cpu;
+        fprintf(stderr, "%s %.4g\n", KERNELS[kk].name, rate[kk]);
+        if (rate[kk] > rate[best]) best = kk;
         pthread_barrier_destroy(&gate);
         free(ids);
         free(jobs);
     }
-    int best = rate[1] > rate[0];
     printf("%ld %.4g %.4g %.4g %s %.4g\n", threads, rate[best], rate[best] / threads,
-           per_cpu[best], best ? "avx512vl-intmin" : ISA, rate[0]);
+           per_cpu[best], KERNELS[best].name, rate[0]);
     return check < 0 ? 1 : 0;
 }
