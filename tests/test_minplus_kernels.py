@@ -206,3 +206,36 @@ def test_far_product_equals_numpy(rows: int, dtype: type) -> None:
     mask = np.zeros((1, 1), dtype=np.bool_)
     _minplus._far(T, P, mask, rows, ia, ib, ja, jb, k0, k1)
     assert np.array_equal(T, want)
+
+
+@pytest.mark.parametrize("with_mask", [False, True])
+@pytest.mark.parametrize("rows", [4, 8])
+def test_dense_product_equals_numpy(rows: int, with_mask: bool) -> None:
+    # the near part's products, in 8 x 16 blocks (64-byte vectors) or 4 x 16 ones, on any
+    # CPU: rows and columns past whole blocks, and a chord mask that skips blocks
+    from optri.engines import _minplus
+
+    rng = np.random.default_rng(rows + 10 * with_mask)
+    T = _table(rng, 120, np.float64)
+    T = np.minimum(T, T.T)  # both halves hold a chord's value: cells at the edges read B's
+    ia, ib, ja, jb, k0, k1 = 3, 30, 60, 97, 30, 60
+    assert (ib - ia) % rows and (jb - ja) % 16
+    mask = rng.random((120, 120)) < 0.05 if with_mask else np.zeros((1, 1), dtype=np.bool_)
+    if with_mask:  # a block whose only allowed chord lies in its lower four rows
+        mask[ia : ia + 8, ja : ja + 16] = False
+        mask[ia + 6, ja + 2] = True
+        T[ia + 6, ja + 2] = 1e6
+    want = T.copy()
+    sums = (T[ia:ib, k0:k1, None] + T[None, k0:k1, ja:jb]).min(axis=1)
+    block = np.minimum(want[ia:ib, ja:jb], sums)
+    _minplus._product(T, mask, with_mask, rows, ia, ib, ja, jb, k0, k1)
+    got = T[ia:ib, ja:jb]
+    if with_mask:  # blocks with no allowed cell are skipped: only allowed cells are checked
+        allowed = mask[ia:ib, ja:jb]
+        assert allowed.any() and not allowed.all()
+        assert np.array_equal(got[allowed], block[allowed])
+    else:
+        assert np.array_equal(got, block)
+    outside = np.ones(T.shape, dtype=bool)
+    outside[ia:ib, ja:jb] = False
+    assert np.array_equal(T[outside], want[outside])

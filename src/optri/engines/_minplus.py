@@ -8,8 +8,9 @@ pure min-plus product (as in ``ref_mwt.c``). ``T[i, j]`` (``i < j``) holds
 Every split is evaluated by one register block, ``outer_4x16`` of
 :mod:`optri.engines._llvm` (4 rows x 16 columns of cells held in vector
 registers while the split ``k`` runs; operands ``T[i, k]`` and row
-``T[k, j:j + 16]``), in an order that makes almost all of the work a dense
-product of finished cells:
+``T[k, j:j + 16]``), or ``outer_8x16`` where vectors are 64 bytes wide
+(``_ROWS``), in an order that makes almost all of the work a dense product of
+finished cells:
 
 * tiles of ``tile x tile`` cells, taken from a queue by each thread; a tile
   starts when the tiles left of it and below it are done;
@@ -52,9 +53,9 @@ __all__ = ["FASTMATH", "minplus_split", "minplus_tiles", "subtract_edges"]
 FASTMATH = {"nnan", "nsz", "arcp", "contract", "reassoc"}
 _KBLOCK = 256  # splits per pass of a register block over a far product
 _LEAF = 4  # blocks this small (rows or columns) are solved cell by cell
-# rows of the far product's register block: 8 x 16 cells fill the 32 vector registers of
+# rows of the dense products' register block: 8 x 16 cells fill the 32 vector registers of
 # AVX-512 (64-byte vectors); with 32-byte vectors 4 x 16 fill the 16 of AVX2
-_FAR_ROWS = 8 if wide_vectors() else 4
+_ROWS = 8 if wide_vectors() else 4
 
 
 @kernel(fastmath=FASTMATH, inline="always")
@@ -95,16 +96,37 @@ def _block(T, mask, use_mask, i, j, k0, kn, cols):
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
-def _product(T, mask, use_mask, ia, ib, ja, jb, k0, k1):
+def _product(T, mask, use_mask, rows, ia, ib, ja, jb, k0, k1):
     """``T[i, j] = min(T[i, j], min over k0 <= k < k1 of T[i, k] + T[k, j])``.
 
     For rows ``ia <= i < ib``, columns ``ja <= j < jb``; every operand cell
-    must be final. In 4 x 16 register blocks (4 x 8, then cell by cell, at
-    the edges), ``_KBLOCK`` splits at a time so that a block's rows stay in
-    L1. With a chord mask, blocks whose cells are all disallowed are skipped:
-    a simple polygon has few valid diagonals, so most of the product is never
-    needed (disallowed cells end up +inf either way).
+    must be final. With ``rows`` = 8 (``_ROWS`` where vectors are 64 bytes
+    wide), the whole 8 x 16 blocks first; the rest in 4 x 16 register blocks
+    (4 x 8, then cell by cell, at the edges), ``_KBLOCK`` splits at a time so
+    that a block's rows stay in L1. With a chord mask, blocks whose cells are all
+    disallowed are skipped: a simple polygon has few valid diagonals, so most
+    of the product is never needed (disallowed cells end up +inf either way).
     """
+    if k1 <= k0 or ib <= ia or jb <= ja:
+        return
+    if rows == 8:
+        i8 = ia + (ib - ia) // 8 * 8
+        jf = ja + (jb - ja) // 16 * 16
+        for kb in range(k0, k1, _KBLOCK):
+            kn = min(k1, kb + _KBLOCK) - kb
+            for i in range(ia, i8, 8):
+                for j in range(ja, jf, 16):
+                    if _any_allowed(mask, use_mask, i, i + 8, j, j + 16):
+                        outer_8x16(T, i, j, T, i, kb, T, kb, j, kn)
+        _product4(T, mask, use_mask, ia, i8, jf, jb, k0, k1)
+        _product4(T, mask, use_mask, i8, ib, ja, jb, k0, k1)
+    else:
+        _product4(T, mask, use_mask, ia, ib, ja, jb, k0, k1)
+
+
+@kernel(fastmath=FASTMATH, _nrt=False)
+def _product4(T, mask, use_mask, ia, ib, ja, jb, k0, k1):
+    """``_product`` in 4-row register blocks."""
     if k1 <= k0 or ib <= ia or jb <= ja:
         return
     for kb in range(k0, k1, _KBLOCK):
@@ -138,7 +160,7 @@ def _far(T, P, mask, rows, ia, ib, ja, jb, k0, k1):
     runs of the table rather than one short piece per table row, which the
     hardware prefetches (on the Xeon below, copying the strips from
     ``T[k, j:j + 16]`` took a quarter of the far product's time). The
-    register block, ``rows`` x 16 (``_FAR_ROWS``), then reads its ``B``
+    register block, ``rows`` x 16 (``_ROWS``), then reads its ``B``
     operand as one contiguous run. Columns and rows beyond whole strips and
     blocks go through ``_product``. The candidates are the same sums, so the
     result is the same, bit for bit.
@@ -158,8 +180,8 @@ def _far(T, P, mask, rows, ia, ib, ja, jb, k0, k1):
                     outer_8x16(T, i, ja + 16 * s, T, i, kb, P, s * _KBLOCK, 0, kn)
                 else:
                     outer_4x16(T, i, ja + 16 * s, T, i, kb, P, s * _KBLOCK, 0, kn)
-    _product(T, mask, False, ia, ib, jf, jb, k0, k1)
-    _product(T, mask, False, i_f, ib, ja, jf, k0, k1)
+    _product(T, mask, False, rows, ia, ib, jf, jb, k0, k1)
+    _product(T, mask, False, rows, i_f, ib, ja, jf, k0, k1)
 
 
 @kernel(fastmath=FASTMATH, inline="always")
@@ -305,12 +327,12 @@ def _square(T, ew, mask, use_mask, a, b, c, e):
     m = b - _half(b - a, 4)  # bottom rows [m, b), top rows [a, m)
     m2 = c + _half(e - c, 16)  # left columns [c, m2), right columns [m2, e)
     _square(T, ew, mask, use_mask, m, b, c, m2)
-    _product(T, mask, use_mask, m, b, m2, e, c, m2)
+    _product(T, mask, use_mask, _ROWS, m, b, m2, e, c, m2)
     _square(T, ew, mask, use_mask, m, b, m2, e)
-    _product(T, mask, use_mask, a, m, c, m2, m, b)
+    _product(T, mask, use_mask, _ROWS, a, m, c, m2, m, b)
     _square(T, ew, mask, use_mask, a, m, c, m2)
-    _product(T, mask, use_mask, a, m, m2, e, m, b)
-    _product(T, mask, use_mask, a, m, m2, e, c, m2)
+    _product(T, mask, use_mask, _ROWS, a, m, m2, e, m, b)
+    _product(T, mask, use_mask, _ROWS, a, m, m2, e, c, m2)
     _square(T, ew, mask, use_mask, a, m, m2, e)
 
 
@@ -355,9 +377,9 @@ def _tile(T, pts, code, W, P, mask, use_mask, tile, ti, tj):
         for j in range(j0, j1):
             T[i, j] = np.inf
     if use_mask:
-        _product(T, mask, use_mask, i0, i1, j0, j1, i1, j0)
+        _product(T, mask, use_mask, _ROWS, i0, i1, j0, j1, i1, j0)
     else:
-        _far(T, P, mask, _FAR_ROWS, i0, i1, j0, j1, i1, j0)
+        _far(T, P, mask, _ROWS, i0, i1, j0, j1, i1, j0)
     _square(T, ew, mask, use_mask, i0, i1, j0, j1)
 
 
