@@ -239,3 +239,20 @@ def test_dense_product_equals_numpy(rows: int, with_mask: bool) -> None:
     outside = np.ones(T.shape, dtype=bool)
     outside[ia:ib, ja:jb] = False
     assert np.array_equal(T[outside], want[outside])
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_transpose_8x8_equals_numpy(dtype: type) -> None:
+    # the far product's copy of B: 8 row loads, 24 shuffles, 8 row stores
+    @numba.njit
+    def run(S, si, sj, D, di, dj):  # type: ignore[no-untyped-def]
+        _llvm.transpose_8x8(S, si, sj, D, di, dj)
+
+    rng = np.random.default_rng(8)
+    S = rng.uniform(0, 1, (20, 21)).astype(dtype)
+    for si, sj, di, dj in [(0, 0, 0, 0), (3, 5, 7, 2), (12, 13, 22, 9)]:
+        D = np.full((30, 17), -1.0, dtype=dtype)
+        want = D.copy()
+        want[di : di + 8, dj : dj + 8] = S[si : si + 8, sj : sj + 8].T
+        run(S, si, sj, D, di, dj)
+        assert np.array_equal(D, want), (si, sj, di, dj)

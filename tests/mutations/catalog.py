@@ -320,10 +320,10 @@ MUTATIONS: list[Mutation] = [
     M(
         "far-packs-one-split-row",
         "src/optri/engines/_minplus.py",
-        "P[s * _KBLOCK + t, q] = T[j + q, kb + t]",
-        "P[s * _KBLOCK + t, q] = T[j + q, kb]",
+        "transpose_8x8(T, j, kb + t, P, p + t, 0)",
+        "transpose_8x8(T, j, kb, P, p + t, 0)",
         (MINPLUS, "-k", "tiling or python_table or far_product"),
-        "the packed far product reads the first split's row for every split",
+        "the packed far product copies the first 8 splits' rows for every 8 (first 8 columns)",
     ),
     M(
         "far-forgets-columns-past-strips",
@@ -348,6 +348,22 @@ MUTATIONS: list[Mutation] = [
         "outer_4x16(T, i, ja + 16 * s, T, i, kb, P, s * _KBLOCK, 0, kn)",
         (MINPLUS, "-k", "far_product"),
         "the far product's 8-row block (64-byte vectors) updates only its first 4 rows",
+    ),
+    M(
+        "transpose-swaps-two-rows",
+        "src/optri/engines/_llvm.py",
+        "quad_lo, quad_hi = [0, 1, 2, 3, 8, 9, 10, 11], [4, 5, 6, 7, 12, 13, 14, 15]",
+        "quad_lo, quad_hi = [0, 1, 2, 3, 8, 9, 11, 10], [4, 5, 6, 7, 12, 13, 14, 15]",
+        (MINPLUS, "-k", "transpose or far_product"),
+        "the 8 x 8 transpose puts rows 6 and 7 of the input in each other's place",
+    ),
+    M(
+        "far-pack-forgets-the-tail",
+        "src/optri/engines/_minplus.py",
+        "for t in range(k8, kn):",
+        "for t in range(k8, k8):",
+        (MINPLUS, "-k", "far_product or tiling"),
+        "splits past the last whole 8 of a block are never copied into the packed B",
     ),
     M(
         "product-8-rows-forgets-columns-past-strips",

@@ -34,6 +34,7 @@ __all__ = [
     "outer_8x16",
     "register_plan",
     "store_release",
+    "transpose_8x8",
     "wait_done",
     "wide_vectors",
     "yield_cpu",
@@ -198,6 +199,70 @@ def _outer(rows: int, cols: int):  # type: ignore[no-untyped-def]
         return sig, codegen
 
     return outer
+
+
+def _transpose_masks() -> list[list[tuple[int, int, list[int]]]]:
+    """Shuffles of an 8 x 8 transpose: per stage, ``(a, b, mask)`` building each output.
+
+    Stage 1 interleaves single elements of row pairs, stage 2 pairs of
+    elements, stage 3 halves: after it, vector ``t`` holds element ``t`` of
+    every input row.
+    """
+    lo, hi = [0, 8, 2, 10, 4, 12, 6, 14], [1, 9, 3, 11, 5, 13, 7, 15]
+    stage1 = [(2 * (v // 2), 2 * (v // 2) + 1, lo if v % 2 == 0 else hi) for v in range(8)]
+    pair_lo, pair_hi = [0, 1, 8, 9, 4, 5, 12, 13], [2, 3, 10, 11, 6, 7, 14, 15]
+    stage2 = []
+    for half in (0, 4):  # rows 0-3, rows 4-7
+        for v in range(4):  # element (mod 4) v
+            a = half + v % 2
+            stage2.append((a, a + 2, pair_lo if v < 2 else pair_hi))
+    quad_lo, quad_hi = [0, 1, 2, 3, 8, 9, 10, 11], [4, 5, 6, 7, 12, 13, 14, 15]
+    stage3 = [(t % 4, t % 4 + 4, quad_lo if t < 4 else quad_hi) for t in range(8)]
+    return [stage1, stage2, stage3]
+
+
+@intrinsic
+def transpose_8x8(typingctx, src, si, sj, dst, di, dj):
+    """``dst[di + t, dj + q] = src[si + q, sj + t]`` for ``q, t < 8``: an 8 x 8 transpose.
+
+    Eight row loads, 24 vector shuffles and eight row stores (on C-contiguous
+    2-D arrays of one float type) instead of 64 scalar loads and stores.
+    """
+    for arr in (src, dst):
+        if not isinstance(arr, types.Array) or arr.ndim != 2 or arr.layout != "C":
+            return None
+    if src.dtype != dst.dtype:
+        return None
+    i = types.intp
+    sig = types.none(src, i, i, dst, i, i)
+
+    def codegen(context, builder, signature, args):
+        def rows(k, r0, c0):  # pointers to the 8 rows' first elements
+            ty = signature.args[k]
+            ary = context.make_array(ty)(context, builder, value=args[k])
+            ld = cgutils.unpack_tuple(builder, ary.shape, 2)[1]
+            out = []
+            for r in range(8):
+                row = builder.add(r0, ir.Constant(r0.type, r))
+                ptr = builder.gep(ary.data, [builder.add(builder.mul(row, ld), c0)], inbounds=True)
+                out.append(builder.bitcast(ptr, vty.as_pointer()))
+            return out
+
+        elt = context.get_data_type(signature.args[0].dtype)
+        size = context.get_abi_sizeof(elt)
+        vty = ir.VectorType(elt, 8)
+        mty = ir.VectorType(ir.IntType(32), 8)
+        vecs = [builder.load(p, align=size) for p in rows(0, args[1], args[2])]
+        for stage in _transpose_masks():
+            vecs = [
+                builder.shuffle_vector(vecs[a], vecs[b], ir.Constant(mty, mask))
+                for a, b, mask in stage
+            ]
+        for p, v in zip(rows(3, args[4], args[5]), vecs):
+            builder.store(v, p, align=size)
+        return context.get_dummy_value()
+
+    return sig, codegen
 
 
 outer_4x16 = _outer(4, 16)

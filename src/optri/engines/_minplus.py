@@ -41,6 +41,7 @@ from ._llvm import (
     outer_4x16,
     outer_8x16,
     store_release,
+    transpose_8x8,
     wait_done,
     wide_vectors,
 )
@@ -158,8 +159,9 @@ def _far(T, P, mask, rows, ia, ib, ja, jb, k0, k1):
     16-column strip are first copied into ``P`` one after another, read from
     the table's other half (``T[j + q, k]``, the same value): 16 contiguous
     runs of the table rather than one short piece per table row, which the
-    hardware prefetches (on the Xeon below, copying the strips from
-    ``T[k, j:j + 16]`` took a quarter of the far product's time). The
+    hardware prefetches (on the Xeon of ``docs/fast-engine.md``, copying the
+    strips from ``T[k, j:j + 16]`` took a quarter of the far product's time),
+    eight splits at a time as two 8 x 8 transposes in vector registers. The
     register block, ``rows`` x 16 (``_ROWS``), then reads its ``B``
     operand as one contiguous run. Columns and rows beyond whole strips and
     blocks go through ``_product``. The candidates are the same sums, so the
@@ -170,10 +172,14 @@ def _far(T, P, mask, rows, ia, ib, ja, jb, k0, k1):
     for kb in range(k0, k1, _KBLOCK):
         kn = min(k1, kb + _KBLOCK) - kb
         for s in range((jf - ja) // 16):
-            j = ja + 16 * s
-            for t in range(kn):
+            j, p = ja + 16 * s, s * _KBLOCK
+            k8 = kn // 8 * 8
+            for t in range(0, k8, 8):  # two 8 x 8 transposes in vector registers
+                transpose_8x8(T, j, kb + t, P, p + t, 0)
+                transpose_8x8(T, j + 8, kb + t, P, p + t, 8)
+            for t in range(k8, kn):
                 for q in range(16):
-                    P[s * _KBLOCK + t, q] = T[j + q, kb + t]
+                    P[p + t, q] = T[j + q, kb + t]
         for i in range(ia, i_f, rows):
             for s in range((jf - ja) // 16):
                 if rows == 8:
