@@ -2,6 +2,8 @@
 
 import json
 import math
+import os
+import signal
 
 import numpy as np
 import pytest
@@ -168,3 +170,49 @@ def test_atomic_write_failure_keeps_old_file(tmp_path):
             raise RuntimeError("interrupted")
     assert out.read_text() == "old"
     assert [p.name for p in tmp_path.iterdir()] == ["x.txt"]
+
+
+def test_atomic_write_interrupted_before_writing_leaves_no_temporary(tmp_path, monkeypatch):
+    # an interruption while the fresh temporary file gets its mode (between creating it and
+    # writing) must remove it like one during the write
+    from optri.io import atomic as atomic_mod
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt("signal 15")
+
+    monkeypatch.setattr(atomic_mod.os, "chmod", interrupted)
+    out = tmp_path / "x.txt"
+    with pytest.raises(KeyboardInterrupt):
+        with atomic_mod.atomic_write(out) as fh:
+            fh.write("never")
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.skipif(not hasattr(signal, "pthread_sigmask"), reason="POSIX signal masks")
+def test_atomic_write_holds_a_signal_that_comes_while_the_temporary_is_made(tmp_path, monkeypatch):
+    # SIGTERM delivered inside mkstemp, just after the file exists: its handler (which raises,
+    # as the CLI's does) must run only once the guard that removes the file is in place
+    import tempfile
+
+    from optri.io import atomic as atomic_mod
+
+    real = tempfile.mkstemp
+
+    def mkstemp_then_signal(*args, **kwargs):
+        made = real(*args, **kwargs)
+        os.kill(os.getpid(), signal.SIGTERM)
+        return made
+
+    def terminate(signum, frame):
+        raise KeyboardInterrupt("terminated")
+
+    old = signal.signal(signal.SIGTERM, terminate)
+    try:
+        monkeypatch.setattr(atomic_mod.tempfile, "mkstemp", mkstemp_then_signal)
+        out = tmp_path / "x.txt"
+        with pytest.raises(KeyboardInterrupt):
+            with atomic_mod.atomic_write(out) as fh:
+                fh.write("never")
+    finally:
+        signal.signal(signal.SIGTERM, old)
+    assert list(tmp_path.iterdir()) == []
