@@ -173,14 +173,13 @@ def test_atomic_write_failure_keeps_old_file(tmp_path):
 
 
 def test_atomic_write_interrupted_before_writing_leaves_no_temporary(tmp_path, monkeypatch):
-    # an interruption while the fresh temporary file gets its mode (between creating it and
-    # writing) must remove it like one during the write
+    # an interruption between making the temporary file and writing to it removes it too
     from optri.io import atomic as atomic_mod
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt("signal 15")
 
-    monkeypatch.setattr(atomic_mod.os, "chmod", interrupted)
+    monkeypatch.setattr(atomic_mod.os, "fdopen", interrupted)
     out = tmp_path / "x.txt"
     with pytest.raises(KeyboardInterrupt):
         with atomic_mod.atomic_write(out) as fh:
@@ -188,31 +187,35 @@ def test_atomic_write_interrupted_before_writing_leaves_no_temporary(tmp_path, m
     assert list(tmp_path.iterdir()) == []
 
 
-@pytest.mark.skipif(not hasattr(signal, "pthread_sigmask"), reason="POSIX signal masks")
-def test_atomic_write_holds_a_signal_that_comes_while_the_temporary_is_made(tmp_path, monkeypatch):
-    # SIGTERM delivered inside mkstemp, just after the file exists: its handler (which raises,
-    # as the CLI's does) must run only once the guard that removes the file is in place
-    import tempfile
+def test_atomic_write_signal_as_the_temporary_comes_into_being_leaves_nothing(
+    tmp_path, monkeypatch
+):
+    # SIGTERM delivered the moment the temporary file exists, to whichever thread the kernel
+    # picks: its handler (which raises, as the CLI's does) runs before the file could be
+    # handed back, so only a name chosen in advance, inside the guard, finds it again
+    real_open = os.open
 
-    from optri.io import atomic as atomic_mod
-
-    real = tempfile.mkstemp
-
-    def mkstemp_then_signal(*args, **kwargs):
-        made = real(*args, **kwargs)
-        os.kill(os.getpid(), signal.SIGTERM)
-        return made
+    def open_then_signal(path, *args, **kwargs):
+        fd = real_open(path, *args, **kwargs)
+        if ".x.txt." in os.fspath(path):
+            os.kill(os.getpid(), signal.SIGTERM)
+            for _ in range(1000):  # give the handler its bytecode boundaries
+                pass
+        return fd
 
     def terminate(signum, frame):
         raise KeyboardInterrupt("terminated")
 
+    from optri.io import atomic as atomic_mod
+
     old = signal.signal(signal.SIGTERM, terminate)
     try:
-        monkeypatch.setattr(atomic_mod.tempfile, "mkstemp", mkstemp_then_signal)
+        monkeypatch.setattr(os, "open", open_then_signal)
         out = tmp_path / "x.txt"
         with pytest.raises(KeyboardInterrupt):
             with atomic_mod.atomic_write(out) as fh:
                 fh.write("never")
     finally:
+        monkeypatch.undo()
         signal.signal(signal.SIGTERM, old)
     assert list(tmp_path.iterdir()) == []
