@@ -7,6 +7,8 @@
   vector code so that its accumulators stay in registers (the shape of the
   peak microbenchmark's kernels, ``optri/bench/yardsticks/minplus_peak.c``);
   ``register_plan`` picks its vector width and minimum for this CPU.
+* ``transpose_8x8``: an 8 x 8 transpose in vector registers, with which the
+  far product copies its ``B`` operand into a contiguous buffer.
 * atomics and ``yield_cpu`` for the tile queue of the min-plus fill.
 """
 
