@@ -157,7 +157,7 @@ def test_every_tiling_gives_the_same_table(
     monkeypatch: pytest.MonkeyPatch, pts: np.ndarray, weight: str, dtype: str
 ) -> None:
     results = []
-    for tile in (128, 64, 50, 48, 16, 8, 4):  # 50: rows and columns past whole blocks
+    for tile in (256, 128, 64, 50, 48, 16, 8, 4):  # 50: rows and columns past whole blocks
         monkeypatch.setattr(config, "FAST_TILE", tile)
         t = optri.triangulate(pts, weight, method="fast", dtype=dtype, keep_table=True)
         results.append((tile, t))

@@ -203,18 +203,19 @@ def _threads(numba: Any, problem: Problem, minplus: bool) -> int:
 
 
 def minplus_tile(n: int) -> int:
-    """Tile side of the min-plus fill: ``config.FAST_TILE``, else 64 below 3000 vertices, else 128.
+    """Tile side of the min-plus fill: ``config.FAST_TILE``, else 64, 128 or 256 by n.
 
-    Larger tiles read twice the work per byte from memory (the far products,
-    which dominate at large n), smaller ones leave less work to the
-    cell-by-cell leaves (the near splits, a larger share at small n).
+    64 below 3000 vertices, 128 below 5000, 256 from there. Larger tiles do
+    more work per byte read from memory and per value of the far products'
+    copied operand (the far products dominate at large n); smaller ones leave
+    less work to the near splits (a larger share at small n).
 
-    >>> minplus_tile(1000), minplus_tile(4000)
-    (64, 128)
+    >>> minplus_tile(1000), minplus_tile(4000), minplus_tile(8000)
+    (64, 128, 256)
     """
     if config.FAST_TILE is not None:
         return int(config.FAST_TILE)
-    return 64 if n < 3000 else 128
+    return 64 if n < 3000 else 128 if n < 5000 else 256
 
 
 def _is_minplus(problem: Problem) -> bool:
