@@ -173,6 +173,24 @@ def test_fast_float32_gate_admits_the_bottleneck() -> None:
     assert np.array_equal(single.triangles, exact.triangles)
 
 
+def test_fast_memory_check_counts_each_threads_buffers(monkeypatch: pytest.MonkeyPatch) -> None:
+    # n = 5000: 256-tiles, 1 MB of buffers a thread; a limit with room for the table and
+    # one thread's buffers, not two, is refused on two threads
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("needs two numba threads")
+    n = 5000
+    per_thread = jit._worker_bytes(n, np.float64)
+    assert per_thread == 1 << 20
+    monkeypatch.setattr(config, "MEMORY_LIMIT_BYTES", jit.estimate_bytes(n) + 3 * per_thread // 2)
+    old = numba.get_num_threads()
+    numba.set_num_threads(2)
+    try:
+        with pytest.raises(TableTooLargeError, match="5000 x 5000"):
+            optri.triangulate(convex_polygon(n, 1), method="fast")
+    finally:
+        numba.set_num_threads(old)
+
+
 def test_fast_memory_estimator_refuses(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(config, "MEMORY_LIMIT_BYTES", 50 << 20)
     with pytest.raises(TableTooLargeError, match="float32"):

@@ -128,13 +128,14 @@ def solve(problem: Problem) -> Solution:
     n, lex = problem.n, problem.objective.is_lex
     dtype = np.dtype(problem.dtype)
     minplus = _is_minplus(problem)
+    threads = _threads(numba, problem, minplus)
     require_memory(
         estimate_bytes(n, dtype, lex, bool(problem.keep_table))
-        + (n * n if problem.allowed is not None else 0),  # a possible copy of the mask
+        + (n * n if problem.allowed is not None else 0)  # a possible copy of the mask
+        + (threads * _worker_bytes(n, dtype) if minplus else 0),
         f"the fast engine's {n} x {n} {dtype} table{'s' if lex else ''}",
         "use dtype=float32 (half the memory) or method='gpu'",
     )
-    threads = _threads(numba, problem, minplus)
     previous = numba.get_num_threads()
     numba.set_num_threads(threads)
     try:
@@ -200,6 +201,18 @@ def _threads(numba: Any, problem: Problem, minplus: bool) -> int:
         small = config.FAST_PARALLEL_MIN_N if minplus else config.FAST_GENERIC_PARALLEL_MIN_N
         wanted = numba.get_num_threads() if problem.n >= small else 1
     return max(1, min(int(wanted), numba.config.NUMBA_NUM_THREADS))
+
+
+def _worker_bytes(n: int, dtype: Any) -> int:
+    """Each thread's buffers in the min-plus fill: a tile of edge weights, the copied operand.
+
+    >>> _worker_bytes(1000, np.float64), _worker_bytes(8000, np.float64)
+    (163840, 1048576)
+    """
+    from ._minplus import _KBLOCK  # the kernels' module (imports numba)
+
+    tile = minplus_tile(n)
+    return tile * tile * 8 + _KBLOCK * tile * np.dtype(dtype).itemsize
 
 
 def minplus_tile(n: int) -> int:
