@@ -47,7 +47,7 @@ from ._llvm import (
 )
 from .compiled import kernel
 
-__all__ = ["FASTMATH", "minplus_split", "minplus_tiles", "subtract_edges"]
+__all__ = ["FASTMATH", "minplus_split", "minplus_tiles", "subtract_edges", "worker_bytes"]
 
 # Table values are never NaN (weights are checked) but may be +inf (unusable chord),
 # so "ninf" must stay off.
@@ -387,6 +387,15 @@ def _tile(T, pts, code, W, P, mask, use_mask, tile, ti, tj):
     else:
         _far(T, P, mask, _ROWS, i0, i1, j0, j1, i1, j0)
     _square(T, ew, mask, use_mask, i0, i1, j0, j1)
+
+
+def worker_bytes(tile: int, itemsize: int) -> int:
+    """Bytes of one thread's buffers in ``minplus_tiles``: edge weights, the copied operand.
+
+    A ``tile x tile`` float64 tile of edge weights and ``_far``'s packed rows
+    (``_KBLOCK`` splits x the tile's whole 16-column strips).
+    """
+    return tile * tile * 8 + _KBLOCK * (tile // 16) * 16 * itemsize
 
 
 @kernel(parallel=True, fastmath=FASTMATH)

@@ -209,10 +209,9 @@ def _worker_bytes(n: int, dtype: Any) -> int:
     >>> _worker_bytes(1000, np.float64), _worker_bytes(8000, np.float64)
     (163840, 1048576)
     """
-    from ._minplus import _KBLOCK  # the kernels' module (imports numba)
+    from ._minplus import worker_bytes  # the kernels' module (imports numba)
 
-    tile = minplus_tile(n)
-    return tile * tile * 8 + _KBLOCK * tile * np.dtype(dtype).itemsize
+    return int(worker_bytes(minplus_tile(n), np.dtype(dtype).itemsize))
 
 
 def minplus_tile(n: int) -> int:
