@@ -28,7 +28,6 @@ from .compiled import kernel
 __all__ = [
     "fetch_add",
     "fmin",
-    "integer_min",
     "load_acquire",
     "outer_4x4",
     "outer_4x8",
@@ -96,11 +95,6 @@ def register_plan(itemsize: int) -> tuple[int, bool]:
     if "+avx512f" in features and not name.startswith(_AMD):
         return 64, "+avx512vl" in features
     return 32, ("+avx512vl" if itemsize == 8 else "+avx2") in features
-
-
-def integer_min(itemsize: int) -> bool:
-    """Whether the register block takes minima as integers on this CPU (``register_plan``)."""
-    return register_plan(itemsize)[1]
 
 
 def wide_vectors() -> bool:

@@ -108,8 +108,6 @@ def _product(T, mask, use_mask, rows, ia, ib, ja, jb, k0, k1):
     disallowed are skipped: a simple polygon has few valid diagonals, so most
     of the product is never needed (disallowed cells end up +inf either way).
     """
-    if k1 <= k0 or ib <= ia or jb <= ja:
-        return
     if rows == 8:
         i8 = ia + (ib - ia) // 8 * 8
         jf = ja + (jb - ja) // 16 * 16
@@ -423,7 +421,8 @@ def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers):
             done[ti * nt + tj] = 1
     taken = np.zeros(1, dtype=np.int64)
     scratch = np.empty((workers, tile, tile))  # e(i, j) of the tile a worker is on
-    packed = np.empty((workers, _KBLOCK * (tile // 16), 16), dtype=T.dtype)  # _far's rows
+    # _far's rows (the chord-mask path multiplies from the table itself)
+    packed = np.empty((workers, 0 if use_mask else _KBLOCK * (tile // 16), 16), dtype=T.dtype)
     columns = np.asfortranarray(pts)  # each coordinate contiguous: edge rows vectorize
     for w in prange(workers):
         while True:

@@ -211,7 +211,7 @@ def _worker_bytes(n: int, dtype: Any) -> int:
     """
     from ._minplus import worker_bytes  # the kernels' module (imports numba)
 
-    return int(worker_bytes(minplus_tile(n), np.dtype(dtype).itemsize))
+    return worker_bytes(minplus_tile(n), np.dtype(dtype).itemsize)
 
 
 def minplus_tile(n: int) -> int:
