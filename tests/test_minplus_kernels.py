@@ -241,6 +241,34 @@ def test_dense_product_equals_numpy(rows: int, with_mask: bool) -> None:
     assert np.array_equal(T[outside], want[outside])
 
 
+@pytest.mark.parametrize(
+    "n, tile, use_mask",
+    [(203, 64, False), (203, 50, True), (100, 12, False), (131, 16, False), (45, 8, True)],
+)
+def test_fill_writes_both_halves(n: int, tile: int, use_mask: bool) -> None:
+    # in 8 x 8 blocks the leaves store above the diagonal only, and the finished block is
+    # copied to the other half, which products at the edges, the far products and the
+    # trace read
+    from optri.engines import _jit_kernels
+    from optri.weights import WeightCode
+
+    pts = np.asfortranarray(_star(n, n) if use_mask else convex_polygon(n, tile))
+    rng = np.random.default_rng(n)
+    mask = rng.random((n, n)) < 0.7 if use_mask else np.ones((1, 1), dtype=np.bool_)
+    if use_mask:
+        mask |= mask.T
+    T = np.full((n, n), np.nan)
+    code = int(WeightCode.PERIMETER)
+    _jit_kernels.minplus_tiles(T, pts, code, (mask, use_mask), tile, 0, n, 2)
+    upper = np.triu_indices(n, 1)
+    assert not np.isnan(T[upper]).any()
+    assert np.array_equal(T[upper], T.T[upper])
+    # and the same upper half as with 4 x 4 tiles, all leaves
+    T4 = np.full((n, n), np.nan)
+    _jit_kernels.minplus_tiles(T4, pts, code, (mask, use_mask), 4, 0, n, 1)
+    assert np.array_equal(T[upper], T4[upper])
+
+
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
 def test_transpose_8x8_equals_numpy(dtype: type) -> None:
     # the far product's copy of B: 8 row loads, 24 shuffles, 8 row stores
