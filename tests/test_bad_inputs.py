@@ -311,6 +311,8 @@ def test_numba_weight_raising_in_compiled_engine_is_a_weight_error():
 
 LIMIT_ROWS = [
     ("triangulate-big-convex", lambda: optri.triangulate(_circle(20000), method="table")),
+    # a convex polygon skips the floor check: the engine "auto" picks refuses
+    ("triangulate-big-convex-auto", lambda: optri.triangulate(_circle(20000))),
     ("triangulate-big-mask", lambda: optri.triangulate(_star(20000))),
     ("mask", lambda: optri.valid_diagonals(_star(20000))),
     ("count-mask", lambda: optri.count_triangulations(_star(4000))),
@@ -356,6 +358,19 @@ def test_memory_ceiling_reads_cgroup_limits(monkeypatch, tmp_path):
     assert memory.available_memory_bytes() == 350000
     (v2 / "memory.max").write_text("max\n")
     assert memory.cgroup_room() is None
+
+
+def test_memory_ceiling_reads_meminfo(monkeypatch):
+    from optri.engines import memory
+
+    meminfo = b"MemTotal:       16000000 kB\nMemFree:  100 kB\nMemAvailable:   2500000 kB\n"
+    monkeypatch.setattr(memory, "_read", lambda path: meminfo if path == "/proc/meminfo" else None)
+    assert memory._meminfo_available() == 2500000 * 1024
+    assert memory.cgroup_room() is None  # no cgroup file could be read
+    monkeypatch.setattr(config, "MEMORY_FRACTION", 0.5)
+    assert memory.available_memory_bytes() == 1250000 * 1024
+    monkeypatch.setattr(memory, "_read", lambda path: b"MemTotal: 1 kB\n")
+    assert memory._meminfo_available() is None
 
 
 def test_cgroup_files_found_from_proc_self_cgroup(monkeypatch, tmp_path):

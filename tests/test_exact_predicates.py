@@ -20,11 +20,13 @@ from exact_oracle import between_q, ccw, exact_count, exact_mask, sign_q
 from optri import as_polygon, count_triangulations
 from optri.polygon import find_self_intersection
 from optri.predicates import (
+    following,
     on_open_segment,
     orient,
     orient_bigint,
     orient_exact,
     orient_sign,
+    preceding,
     segment_pair_fault,
     strictly_between,
     turn_signs,
@@ -227,3 +229,14 @@ def test_a_vertex_off_the_line_by_1e16(d, count):
     pts = [[0, 0], [1, -d], [2, 0], [2, 2], [0, 2]]
     assert count_triangulations(pts) == count
     assert as_polygon(pts).convex == (d > 0)
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.integers(1, 40), st.integers(1, 3), st.integers(0, 2**32 - 1))
+def test_following_and_preceding_are_np_roll(n: int, cols: int, seed: int) -> None:
+    # the cheap successor and predecessor of every vertex (validation runs them on each
+    # call) are np.roll by -1 and +1, for rings of vertices and for 1-D columns
+    a = np.random.default_rng(seed).integers(0, 9, (n, cols))
+    for x in (a, a[:, 0]):
+        assert np.array_equal(following(x), np.roll(x, -1, axis=0))
+        assert np.array_equal(preceding(x), np.roll(x, 1, axis=0))

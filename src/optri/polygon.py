@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import config
 from .errors import InvalidPolygonError
-from .predicates import segment_pair_fault, turn_signs
+from .predicates import following, segment_pair_fault, turn_signs
 
 __all__ = [
     "Polygon",
@@ -310,14 +310,14 @@ def signed_area(points: NDArray[np.float64]) -> float:
     s = -math.frexp(big)[1]  # exact scaling: |q| < 1 while summing
     q = np.ldexp(q, s)
     x, y = q[:, 0], q[:, 1]
-    cross = x * np.roll(y, -1) - np.roll(x, -1) * y
+    cross = x * following(y) - following(x) * y
     return math.ldexp(0.5 * math.fsum(cross.tolist()), -2 * s)
 
 
 def newell_normal(points: NDArray[np.float64]) -> NDArray[np.float64]:
     """Newell's area vector of a 3-D polygon (twice its vector area), on centred points."""
     centred = points - points.mean(axis=0)
-    nxt = np.roll(centred, -1, axis=0)
+    nxt = following(centred)
     return np.cross(centred, nxt).sum(axis=0)
 
 
@@ -336,9 +336,9 @@ def _is_strictly_convex(ccw_points: NDArray[np.float64], signs: NDArray[np.int64
     if np.any(signs <= 0):
         return False
     x, y = ccw_points[:, 0], ccw_points[:, 1]
-    nx, ny = np.roll(x, -1), np.roll(y, -1)
+    nx, ny = following(x), following(y)
     upper = (ny > y) | ((ny == y) & (nx > x))
-    return int(np.count_nonzero(~upper & np.roll(upper, -1))) == 1
+    return int(np.count_nonzero(~upper & following(upper))) == 1
 
 
 def _refuse_folded(points: NDArray[np.float64]) -> None:
@@ -359,7 +359,7 @@ def _require_finite(arr: NDArray[np.float64]) -> None:
 
 
 def _require_distinct(arr: NDArray[np.float64]) -> None:
-    nxt = np.roll(arr, -1, axis=0)
+    nxt = following(arr)
     same = np.all(arr == nxt, axis=1)
     if same.any():
         i = int(np.flatnonzero(same)[0])
@@ -390,7 +390,7 @@ def _plane_basis(points: NDArray[np.float64]) -> tuple[Any, Any, Any, Any]:
     if big == 0.0:
         return centred, None, None, None
     centred = np.ldexp(centred, -math.frexp(big)[1])  # exact: no overflow in products
-    normal = np.cross(centred, np.roll(centred, -1, axis=0)).sum(axis=0)
+    normal = np.cross(centred, following(centred)).sum(axis=0)
     norm = float(np.linalg.norm(normal))
     if norm <= 1e-12:
         normal = np.linalg.svd(centred)[2][-1]
@@ -477,7 +477,7 @@ def find_self_intersection(points: NDArray[np.float64]) -> tuple[int, int, str] 
     """
     p = np.asarray(points, dtype=np.float64)
     n = p.shape[0]
-    q = np.roll(p, -1, axis=0)
+    q = following(p)
     lo, hi = np.minimum(p, q), np.maximum(p, q)
     lox, loy, hix, hiy = lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1]
     for start in range(0, n, _BLOCK):

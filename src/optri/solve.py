@@ -195,18 +195,22 @@ def require_table_floor(n: int, method: str, dtype: Any, convex: bool) -> None:
 
     Every CPU engine keeps at least one ``n x n`` table of ``dtype`` (float32: 4 bytes a
     cell) beside the ``n x n`` bool chord mask of a non-convex polygon; the engines
-    check their full needs later. ``method="gpu"`` keeps its table on the device.
+    check their full needs later. ``method="gpu"`` keeps its table on the device. A
+    convex polygon has no mask to build: the engine's own check comes first, and one
+    reading of the memory counters is saved on every call.
 
-    >>> require_table_floor(10**6, "auto", "float64", True)
+    >>> require_table_floor(10**6, "auto", "float64", False)
     Traceback (most recent call last):
     ...
-    optri.errors.TableTooLargeError: the DP table for n = 1000000 needs ...
+    optri.errors.TableTooLargeError: the DP table for n = 1000000 and its chord mask needs ...
     """
-    mask = 0 if convex else n * n
+    if convex:
+        return
+    mask = n * n
     table = 0 if method == "gpu" else n * n * np.dtype(dtype).itemsize
     require_memory(
         mask + table,
-        f"the DP table for n = {n}" + ("" if convex else " and its chord mask"),
+        f"the DP table for n = {n} and its chord mask",
         "use dtype=float32 (half the memory), method='gpu', or split the polygon",
     )
 

@@ -6,7 +6,10 @@ take: the least of the container's room (cgroup v2 ``memory.max`` minus
 ``memory.usage_in_bytes``, less reclaimable page cache, over the process's
 cgroup and its ancestors) and the machine's ``MemAvailable`` (``/proc/meminfo``);
 ``config.MEMORY_LIMIT_BYTES`` overrides it all. Where the cgroup files are is
-found once and cached; their values are read on every check (a few small files).
+found once and cached; their values are read on every check, with plain
+``os.read`` calls (a few small files: about 10 us a check, where ``pathlib``
+took 55 us, a third of a 20-vertex polygon's solve), and a cgroup's usage only
+where it has a limit.
 """
 
 from __future__ import annotations
@@ -77,10 +80,11 @@ def cgroup_room() -> int | None:
     """Bytes the process's cgroups (v2 or v1, every ancestor) still allow; None: no limit."""
     best: int | None = None
     for limit_file, usage_file in _cgroup_files():
-        limit, usage = _read_int(limit_file), _read_int(usage_file)
+        limit = _read_int(limit_file)
         if limit is None or limit >= _NO_LIMIT:
             continue
-        room = limit - max((usage or 0) - _inactive_file(limit_file.parent), 0)
+        usage = _read_int(usage_file) or 0
+        room = limit - max(usage - _inactive_file(limit_file.parent), 0)
         best = room if best is None else min(best, room)
     return best
 
@@ -125,24 +129,47 @@ def _chain(base: Path, path: str, limit: str, usage: str) -> list[tuple[Path, Pa
     return out
 
 
+def _read(path: str | Path) -> bytes | None:
+    """The whole of a small file (a /proc or /sys file), or None if it cannot be read."""
+    try:
+        fd = os.open(path, os.O_RDONLY)
+    except OSError:
+        return None
+    try:
+        parts = []
+        while chunk := os.read(fd, 65536):
+            parts.append(chunk)
+        return b"".join(parts)
+    except OSError:
+        return None
+    finally:
+        os.close(fd)
+
+
+def _field(data: bytes | None, keys: tuple[bytes, ...]) -> int | None:
+    """The integer after the first of ``keys`` that starts a line of ``data``."""
+    for line in (data or b"").splitlines():
+        key, _, rest = line.partition(b" ")
+        if key in keys:
+            try:
+                return int(rest.split()[0])
+            except (ValueError, IndexError):
+                return None
+    return None
+
+
 def _inactive_file(folder: Path) -> int:
     """Page cache the kernel reclaims before it refuses memory (counted in the usage)."""
-    try:
-        for line in (folder / "memory.stat").read_text().splitlines():
-            key, _, value = line.partition(" ")
-            if key in ("inactive_file", "total_inactive_file"):
-                return int(value)
-    except (OSError, ValueError):
-        pass
-    return 0
+    value = _field(_read(folder / "memory.stat"), (b"inactive_file", b"total_inactive_file"))
+    return value or 0
 
 
 def _read_int(path: Path) -> int | None:
-    try:
-        text = path.read_text().strip()
-    except OSError:
+    data = _read(path)
+    if data is None:
         return None
-    if text == "max":
+    text = data.strip()
+    if text == b"max":
         return _NO_LIMIT
     try:
         return int(text)
@@ -151,14 +178,8 @@ def _read_int(path: Path) -> int | None:
 
 
 def _meminfo_available() -> int | None:
-    try:
-        with open("/proc/meminfo") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        return None
-    return None
+    kib = _field(_read("/proc/meminfo"), (b"MemAvailable:",))
+    return None if kib is None else kib * 1024
 
 
 def _physical() -> int:
