@@ -14,14 +14,10 @@ after / before.
 from __future__ import annotations
 
 import argparse
-import json
-import os
-import subprocess
-import sys
 import tempfile
 from pathlib import Path
 
-from bench_exact import ROOT, export
+from bench_exact import ROOT, export, run_child
 
 CHILD = r"""
 import json, sys, time
@@ -46,12 +42,7 @@ print(json.dumps(out))
 
 
 def run(src: Path, cache: Path, sizes: list[int], calls: int) -> dict[str, list[float]]:
-    env = dict(os.environ, PYTHONPATH=str(src), NUMBA_CACHE_DIR=str(cache))
-    proc = subprocess.run(
-        [sys.executable, "-c", CHILD, ",".join(map(str, sizes)), str(calls)],
-        env=env, check=True, capture_output=True, text=True,
-    )  # fmt: skip
-    return json.loads(proc.stdout.strip().splitlines()[-1])
+    return run_child(CHILD, src, cache, ",".join(map(str, sizes)), calls)
 
 
 def main() -> None:

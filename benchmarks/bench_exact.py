@@ -67,13 +67,18 @@ def export(rev: str, dest: Path) -> Path:
     return dest / "src"
 
 
-def run(src: Path, cache: Path, n: int, repeat: int) -> dict:
+def run_child(code: str, src: Path, cache: Path, *args: object) -> dict:
+    """Run ``code`` with ``src`` first on the path and its own numba cache; its JSON line."""
     env = dict(os.environ, PYTHONPATH=str(src), NUMBA_CACHE_DIR=str(cache))
     proc = subprocess.run(
-        [sys.executable, "-c", CHILD, str(n), str(repeat)],
+        [sys.executable, "-c", code, *map(str, args)],
         env=env, check=True, capture_output=True, text=True,
     )  # fmt: skip
     return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def run(src: Path, cache: Path, n: int, repeat: int) -> dict:
+    return run_child(CHILD, src, cache, n, repeat)
 
 
 def main() -> None:
