@@ -875,4 +875,28 @@ MUTATIONS: list[Mutation] = [
         (BATCH_HOLES, "tests/test_batch_gis.py", "-k", "ring_pairs or holes or project"),
         "a projected polygon with holes is solved as one ring of all its vertices",
     ),
+    M(
+        "final-forgets-the-mirror",
+        "src/optri/engines/_minplus.py",
+        "    T[i, j] = v\n    T[j, i] = v\n",
+        "    T[i, j] = v\n",
+        (MINPLUS, "-k", "both_halves"),
+        "a cell is not stored below the diagonal, where the far products and the trace read it",
+    ),
+    M(
+        "meminfo-read-as-bytes",
+        "src/optri/engines/memory.py",
+        "return None if kib is None else kib * 1024",
+        "return kib",
+        ("tests/test_bad_inputs.py", "-k", "meminfo"),
+        "MemAvailable taken in bytes where /proc/meminfo gives kB: a 1024x smaller ceiling",
+    ),
+    M(
+        "following-wraps-the-wrong-end",
+        "src/optri/predicates.py",
+        "    return np.concatenate((a[1:], a[:1]))",
+        "    return np.concatenate((a[1:], a[-1:]))",
+        (PREDICATES, "-k", "following"),
+        "the last vertex's successor is itself, not the first vertex",
+    ),
 ]
