@@ -246,9 +246,8 @@ def test_dense_product_equals_numpy(rows: int, with_mask: bool) -> None:
     [(203, 64, False), (203, 50, True), (100, 12, False), (131, 16, False), (45, 8, True)],
 )
 def test_fill_writes_both_halves(n: int, tile: int, use_mask: bool) -> None:
-    # in 8 x 8 blocks the leaves store above the diagonal only, and the finished block is
-    # copied to the other half, which products at the edges, the far products and the
-    # trace read
+    # every finished cell is stored in both halves: the far products copy their operand
+    # from the lower half, and products at the edges and the trace read it there too
     from optri.engines import _jit_kernels
     from optri.weights import WeightCode
 

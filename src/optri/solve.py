@@ -172,7 +172,8 @@ def triangulate(
         )
     check_method(method)
     polygon = as_polygon(source)
-    require_table_floor(polygon.n, method, dtype, polygon.convex)
+    if not polygon.convex:  # a convex polygon has no mask: the engine's own check is first
+        require_table_floor(polygon.n, method, dtype)
     problem = build_problem(
         polygon, weight, objective, progress=progress, keep_table=keep_table, dtype=dtype
     )
@@ -190,26 +191,23 @@ def triangulate(
     )
 
 
-def require_table_floor(n: int, method: str, dtype: Any, convex: bool) -> None:
+def require_table_floor(n: int, method: str, dtype: Any) -> None:
     """Refuse, before the chord mask is built, a polygon whose table cannot fit anyway.
 
     Every CPU engine keeps at least one ``n x n`` table of ``dtype`` (float32: 4 bytes a
     cell) beside the ``n x n`` bool chord mask of a non-convex polygon; the engines
-    check their full needs later. ``method="gpu"`` keeps its table on the device. A
-    convex polygon has no mask to build: the engine's own check comes first, and one
-    reading of the memory counters is saved on every call.
+    check their full needs later. ``method="gpu"`` keeps its table on the device. Only
+    for a non-convex polygon: a convex one has no mask to build, so the engine's own
+    check comes first (one reading of the memory counters less per call).
 
-    >>> require_table_floor(10**6, "auto", "float64", False)
+    >>> require_table_floor(10**6, "auto", "float64")
     Traceback (most recent call last):
     ...
     optri.errors.TableTooLargeError: the DP table for n = 1000000 and its chord mask needs ...
     """
-    if convex:
-        return
-    mask = n * n
     table = 0 if method == "gpu" else n * n * np.dtype(dtype).itemsize
     require_memory(
-        mask + table,
+        n * n + table,
         f"the DP table for n = {n} and its chord mask",
         "use dtype=float32 (half the memory), method='gpu', or split the polygon",
     )
