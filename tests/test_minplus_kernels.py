@@ -246,8 +246,8 @@ def test_dense_product_equals_numpy(rows: int, with_mask: bool) -> None:
     [(203, 64, False), (203, 50, True), (100, 12, False), (131, 16, False), (45, 8, True)],
 )
 def test_fill_writes_both_halves(n: int, tile: int, use_mask: bool) -> None:
-    # every finished cell is stored in both halves: the far products copy their operand
-    # from the lower half, and products at the edges and the trace read it there too
+    # every finished tile is copied to the lower half, where later tiles' far products
+    # copy their operand from and the trace reads; the fill itself reads only the upper
     from optri.engines import _jit_kernels
     from optri.weights import WeightCode
 
@@ -266,6 +266,27 @@ def test_fill_writes_both_halves(n: int, tile: int, use_mask: bool) -> None:
     T4 = np.full((n, n), np.nan)
     _jit_kernels.minplus_tiles(T4, pts, code, (mask, use_mask), 4, 0, n, 1)
     assert np.array_equal(T[upper], T4[upper])
+
+
+@pytest.mark.parametrize("n, tile", [(203, 8), (150, 12), (300, 16)])
+def test_fill_one_tile_diagonal_per_call(n: int, tile: int) -> None:
+    # a tile on an even tile-diagonal applies most of the far splits of the tile above
+    # it, which lies on the next diagonal and may belong to the next kernel call (the
+    # engine fills in calls of a few diagonals, for progress and Ctrl-C): one call per
+    # diagonal must give the same table, both halves, as one call for all
+    from optri.engines import _jit_kernels
+    from optri.weights import WeightCode
+
+    pts = np.asfortranarray(convex_polygon(n, tile))
+    chords = (np.ones((1, 1), dtype=np.bool_), False)
+    code = int(WeightCode.PERIMETER)
+    whole = np.full((n, n), np.nan)
+    _jit_kernels.minplus_tiles(whole, pts, code, chords, tile, 0, n, 2)
+    calls = np.full((n, n), np.nan)
+    for d in range(-(-n // tile)):
+        _jit_kernels.minplus_tiles(calls, pts, code, chords, tile, d, d + 1, 2)
+    assert np.array_equal(calls, whole, equal_nan=True)  # the diagonal is never written
+    assert np.isnan(np.diag(whole)).all() and not np.isnan(whole[np.triu_indices(n, 1)]).any()
 
 
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])

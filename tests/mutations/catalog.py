@@ -876,12 +876,67 @@ MUTATIONS: list[Mutation] = [
         "a projected polygon with holes is solved as one ring of all its vertices",
     ),
     M(
-        "final-forgets-the-mirror",
+        "tile-not-mirrored",
         "src/optri/engines/_minplus.py",
-        "    T[i, j] = v\n    T[j, i] = v\n",
-        "    T[i, j] = v\n",
+        "        _far(T, P, mask, _ROWS, i0, i1, j0, j1, i1, j0)\n    if d > 0:\n"
+        "        _square(T, ew, mask, use_mask, i0, i1, j0, j1)\n    _mirror(T, i0, i1, j0, j1)\n",
+        "        _far(T, P, mask, _ROWS, i0, i1, j0, j1, i1, j0)\n    if d > 0:\n"
+        "        _square(T, ew, mask, use_mask, i0, i1, j0, j1)\n",
         (MINPLUS, "-k", "both_halves"),
-        "a cell is not stored below the diagonal, where the far products and the trace read it",
+        "a finished tile is not copied below the diagonal, where the far products and the "
+        "trace read it",
+    ),
+    M(
+        "mirror-skips-the-sides",
+        "src/optri/engines/_minplus.py",
+        "for c in range(max(j, r + 1), min(j + 8, j1)):",
+        "for c in range(max(j, r + 2), min(j + 8, j1)):",
+        (MINPLUS, "-k", "both_halves"),
+        "cells next to the diagonal (the polygon's sides) are not copied below it",
+    ),
+    M(
+        "edge-cell-reads-the-mirror",
+        "src/optri/engines/_minplus.py",
+        "best = fmin(best, T[i, k] + T[k, j])",
+        "best = fmin(best, T[i, k] + T[j, k])",
+        (MINPLUS, "-k", "both_halves"),
+        "cells at the edges of blocks read the lower half before their tile is copied there",
+    ),
+    M(
+        "paired-tile-forgets-the-lower-rows",
+        "src/optri/engines/_minplus.py",
+        "        _far(T, P, mask, _ROWS, i0, i1, j0, j1, i1, i1 + tile)\n",
+        "",
+        (MINPLUS, "-k", "python_table"),
+        "the upper tile of a pair skips the splits through the lower tile's rows",
+    ),
+    M(
+        "paired-tile-forgets-the-last-column-tile",
+        "src/optri/engines/_minplus.py",
+        "i1, i1 + tile)\n        _far(T, P, mask, _ROWS, i0, i1, j0, j1, j0 - tile, j0)\n",
+        "i1, i1 + tile)\n",
+        (MINPLUS, "-k", "python_table"),
+        "the upper tile of a pair skips the splits its partner could not share",
+    ),
+    M(
+        "call-reinitializes-its-first-diagonal",
+        "src/optri/engines/_minplus.py",
+        "    taken = np.zeros(1, dtype=np.int64)\n",
+        "    taken = np.zeros(1, dtype=np.int64)\n"
+        "    for t in range(nt - d0):\n"
+        "        if d0 > 0:\n"
+        "            _fill_inf(T, t * tile, min(T.shape[0], t * tile + tile), (t + d0) * tile,"
+        " min(T.shape[0], (t + d0) * tile + tile))\n",
+        (MINPLUS, "-k", "one_tile_diagonal"),
+        "a kernel call wipes the far splits its first diagonal got from the previous call",
+    ),
+    M(
+        "pairs-start-a-diagonal-early",
+        "src/optri/engines/_minplus.py",
+        "elif d % 2 == 1 and d >= 5:",
+        "elif d % 2 == 1 and d >= 3:",
+        (MINPLUS, "-k", "python_table"),
+        "a tile on diagonal 3 assumes a partner that applied no splits for it",
     ),
     M(
         "meminfo-read-as-bytes",

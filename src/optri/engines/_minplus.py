@@ -3,7 +3,7 @@
 With ``w(i, k, j) = e(i, k) + e(k, j) + e(i, j)`` the table holds
 ``E = cost + e`` and ``E(i, j) = 2 e(i, j) + min_k E(i, k) + E(k, j)``: a
 pure min-plus product (as in ``ref_mwt.c``). ``T[i, j]`` (``i < j``) holds
-``E(i, j)`` and ``T[j, i]`` the same value.
+``E(i, j)`` and, once its tile is finished, ``T[j, i]`` the same value.
 
 Every split is evaluated by one register block, ``outer_4x16`` of
 :mod:`optri.engines._llvm` (4 rows x 16 columns of cells held in vector
@@ -16,11 +16,16 @@ finished cells:
   starts when the tiles left of it and below it are done;
 * in a tile, the "far" splits (between its rows and its columns) first: one
   dense product, whose ``B`` rows are first copied into a contiguous buffer
-  (``_far``; 8 x 16 register blocks where vectors are 64 bytes wide);
+  (``_far``; 8 x 16 register blocks where vectors are 64 bytes wide). A tile
+  on an even tile-diagonal applies most of the far splits of the tile above
+  it too, from the same copy (``_tile``);
 * then the "near" splits, by recursive halving of the tile (bottom-left,
   bottom-right, top-left, top-right): before a quarter is solved, the splits
   through quarters already finished are applied to it as dense products;
-  only blocks of at most ``_LEAF`` rows or columns go cell by cell.
+  only blocks of at most ``_LEAF`` rows or columns go cell by cell;
+* last, the finished tile is copied to the other half of the table
+  (``_mirror``), where later tiles' far products and the trace read it. The
+  fill itself reads only above the diagonal.
 
 A diagonal tile (a triangle) halves into two triangles and the square
 between them. The minimum of a set of sums does not depend on the order they
@@ -66,6 +71,18 @@ def _rowmin(best, a, b):
     # numba's negative-index wraparound turns the vector loads into gathers.
     for k in range(a.shape[0]):
         best = fmin(best, a[k] + b[k])
+    return best
+
+
+@kernel(fastmath=FASTMATH, inline="always")
+def _colmin(best, T, i, j, k0, k1):
+    """``min(best, min over k0 <= k < k1 of T[i, k] + T[k, j])``: column ``j``, not its mirror.
+
+    For the few cells at the edges of blocks; the mirror ``T[j, k0:k1]`` is
+    written only when the tile is finished (``_mirror``).
+    """
+    for k in range(k0, k1):
+        best = fmin(best, T[i, k] + T[k, j])
     return best
 
 
@@ -142,11 +159,11 @@ def _product4(T, mask, use_mask, ia, ib, ja, jb, k0, k1):
                     j += cols
             for r in range(i, i + 4):
                 for c in range(j, jb):
-                    T[r, c] = _rowmin(T[r, c], T[r, kb:ke], T[c, kb:ke])
+                    T[r, c] = _colmin(T[r, c], T, r, c, kb, ke)
             i += 4
         for r in range(i, ib):
             for c in range(ja, jb):
-                T[r, c] = _rowmin(T[r, c], T[r, kb:ke], T[c, kb:ke])
+                T[r, c] = _colmin(T[r, c], T, r, c, kb, ke)
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
@@ -192,8 +209,8 @@ def _far(T, P, mask, rows, ia, ib, ja, jb, k0, k1):
 def _final(T, ew, mask, use_mask, i, j, best):
     """Store and return ``E(i, j) = best + 2 e(i, j)`` (a side: ``e``; disallowed: +inf).
 
-    ``ew = (W, i0, j0)``: ``e(i, j)`` is ``W[i - i0, j - j0]``. Both halves of
-    the table are written.
+    ``ew = (W, i0, j0)``: ``e(i, j)`` is ``W[i - i0, j - j0]``. Only
+    ``T[i, j]`` is written: ``_mirror`` copies the finished tile to ``T[j, i]``.
     """
     W, wi, wj = ew
     e = W[i - wi, j - wj]
@@ -203,7 +220,6 @@ def _final(T, ew, mask, use_mask, i, j, best):
     if j == i + 1:
         v = e  # a side: cost 0
     T[i, j] = v
-    T[j, i] = v
     return T.dtype.type(v)  # as stored (float32 rounds it), not reloaded: no store-to-load wait
 
 
@@ -213,9 +229,8 @@ def _cell(T, ew, mask, use_mask, i, j, b, c):
 
     Every other split must be applied already.
     """
-    lo = min(b, j)
-    best = _rowmin(T[i, j], T[i, i + 1 : lo], T[j, i + 1 : lo])
-    best = _rowmin(best, T[i, c:j], T[j, c:j])
+    best = _colmin(T[i, j], T, i, j, i + 1, min(b, j))
+    best = _colmin(best, T, i, j, c, j)
     _final(T, ew, mask, use_mask, i, j, best)
 
 
@@ -364,27 +379,75 @@ def _triangle(T, ew, mask, use_mask, a, e):
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
-def _tile(T, pts, code, W, P, mask, use_mask, tile, ti, tj):
+def _mirror(T, i0, i1, j0, j1):
+    """``T[j, i] = T[i, j]`` for ``i < j`` in rows [i0, i1) x columns [j0, j1): a finished tile.
+
+    By 8 x 8 transposes in vector registers, cell by cell where a block
+    reaches the diagonal or the tile's edge. On the Xeon of
+    ``docs/fast-engine.md``, storing ``T[j, i]`` as each cell was finished
+    took a third of the near splits' time at n = 4000 (one thread): every
+    such store went to a different cache line of the other half.
+    """
+    for j in range(j0, j1, 8):  # eight rows of the other half at a time, left to right
+        for i in range(i0, i1, 8):
+            if i + 8 <= i1 and j + 8 <= j1 and i + 8 <= j:
+                transpose_8x8(T, i, j, T, j, i)
+            else:
+                for r in range(i, min(i + 8, i1)):
+                    for c in range(max(j, r + 1), min(j + 8, j1)):
+                        T[c, r] = T[r, c]
+
+
+@kernel(fastmath=FASTMATH, _nrt=False)
+def _fill_inf(T, ia, ib, ja, jb):
+    for i in range(ia, ib):
+        for j in range(ja, jb):
+            T[i, j] = np.inf
+
+
+@kernel(fastmath=FASTMATH, _nrt=False)
+def _tile(T, pts, code, W, P, mask, use_mask, tile, ti, tj, done, nt):
+    """Solve tile (ti, tj); ``done[a * nt + b]`` says whether tile (a, b) is finished.
+
+    The far splits of two tiles of one column, (ti, tj) with ``tj - ti``
+    even and the tile above it, are mostly the same products with the same
+    ``B`` rows: the lower tile applies both, ``k`` in ``[i1, j0 - tile)``,
+    from one copy of ``B``: half the copying, which took 8 % of the fill at
+    n = 4000 on the Xeon of ``docs/fast-engine.md``. The tile above then
+    applies only what is left: ``k`` in the lower tile's rows (not finished
+    before) and in the last column tile (its left neighbour, not finished
+    before either). The shared splits read the upper tile's rows left of
+    ``j0 - tile``, which are final once tile (ti - 1, tj - 2) is done.
+    """
     n = T.shape[0]
     i0, i1 = ti * tile, min(n, ti * tile + tile)
     j0, j1 = tj * tile, min(n, tj * tile + tile)
     for i in range(i0, i1):
         edge_weight_row(code, pts, i, j0, W[i - i0, : j1 - j0])
     ew = (W, i0, j0)
-    if ti == tj:
+    d = tj - ti
+    if d == 0:
         for i in range(i0, i1):
             for j in range(i + 2, j1):
                 T[i, j] = np.inf
         _triangle(T, ew, mask, use_mask, i0, i1)
-        return
-    for i in range(i0, i1):
-        for j in range(j0, j1):
-            T[i, j] = np.inf
-    if use_mask:
+    elif use_mask:
+        _fill_inf(T, i0, i1, j0, j1)
         _product(T, mask, use_mask, _ROWS, i0, i1, j0, j1, i1, j0)
+    elif d % 2 == 1 and d >= 5:  # the tile below applied the shared far splits
+        _far(T, P, mask, _ROWS, i0, i1, j0, j1, i1, i1 + tile)
+        _far(T, P, mask, _ROWS, i0, i1, j0, j1, j0 - tile, j0)
+    elif d % 2 == 0 and d >= 4 and ti >= 1:  # also the shared far splits of the tile above
+        _fill_inf(T, i0 - tile, i1, j0, j1)
+        wait_done(done, (ti - 1) * nt + tj - 2)
+        _far(T, P, mask, _ROWS, i0 - tile, i1, j0, j1, i1, j0 - tile)
+        _far(T, P, mask, _ROWS, i0, i1, j0, j1, j0 - tile, j0)
     else:
+        _fill_inf(T, i0, i1, j0, j1)
         _far(T, P, mask, _ROWS, i0, i1, j0, j1, i1, j0)
-    _square(T, ew, mask, use_mask, i0, i1, j0, j1)
+    if d > 0:
+        _square(T, ew, mask, use_mask, i0, i1, j0, j1)
+    _mirror(T, i0, i1, j0, j1)
 
 
 def worker_bytes(tile: int, itemsize: int) -> int:
@@ -403,8 +466,11 @@ def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers):
     ``chords = (mask, use_mask)``: with ``use_mask``, cells where ``mask`` is
     False get +inf. Each of ``workers`` threads takes the next tile (diagonal
     by diagonal) from a shared counter and starts it once the two tiles it
-    reads last, left of it and below it, are done: no barrier between
-    tile-diagonals, so no thread idles at the end of one.
+    reads last, left of it and below it, are done (a tile that applies far
+    splits of the tile above it also waits for the tile that finishes those
+    rows; see ``_tile``): no barrier between tile-diagonals, so no thread
+    idles at the end of one. Every wait is for a tile taken earlier, so the
+    earliest unfinished tile never waits.
     """
     mask, use_mask = chords
     nt = (T.shape[0] + tile - 1) // tile
@@ -433,7 +499,7 @@ def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers):
             if d > 0:
                 wait_done(done, t * nt + t + d - 1)
                 wait_done(done, (t + 1) * nt + t + d)
-            _tile(T, columns, code, scratch[w], packed[w], mask, use_mask, tile, t, t + d)
+            _tile(T, columns, code, scratch[w], packed[w], mask, use_mask, tile, t, t + d, done, nt)
             store_release(done, t * nt + t + d, 1)
 
 
