@@ -124,10 +124,10 @@ FAST_PARALLEL_MIN_N = 1000
 #: The same for the generic kernel (any weight), whose splits cost ~20x more each.
 FAST_GENERIC_PARALLEL_MIN_N = 250
 #: Compiled engine: side of the square tiles of cells of the min-plus kernel; None: 64
-#: below 3000 vertices, 128 below 5000, 256 from there (a tile's far splits read and copy
+#: below 800 vertices, 128 below 4000, 256 from there (a tile's far splits read and copy
 #: 2 x tile rows per split block: a larger tile does more work per byte from memory and per
-#: value copied, but leaves more of the work to the near splits; on a 2-core Xeon, 256
-#: against 128: the same at n = 4000, 4 % faster at 6000, 3-5 % at 8000).
+#: value copied, but leaves more of the work to the near splits; measurements in
+#: ``optri.engines.jit.minplus_tile``).
 FAST_TILE: int | None = None
 #: Compiled engine: tile side of the generic kernel (any weight): compute-bound, so small
 #: tiles that keep each kernel call short (progress, Ctrl-C) cost nothing.

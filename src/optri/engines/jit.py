@@ -223,7 +223,7 @@ def _threads(numba: Any, problem: Problem, minplus: bool) -> int:
 def _worker_bytes(n: int, dtype: Any) -> int:
     """Each thread's buffers in the min-plus fill: a tile of edge weights, the copied operand.
 
-    >>> _worker_bytes(1000, np.float64), _worker_bytes(8000, np.float64)
+    >>> _worker_bytes(500, np.float64), _worker_bytes(8000, np.float64)
     (163840, 1048576)
     """
     from ._minplus import worker_bytes  # the kernels' module (imports numba)
@@ -234,17 +234,20 @@ def _worker_bytes(n: int, dtype: Any) -> int:
 def minplus_tile(n: int) -> int:
     """Tile side of the min-plus fill: ``config.FAST_TILE``, else 64, 128 or 256 by n.
 
-    64 below 3000 vertices, 128 below 5000, 256 from there. Larger tiles do
+    64 below 800 vertices, 128 below 4000, 256 from there. Larger tiles do
     more work per byte read from memory and per value of the far products'
     copied operand (the far products dominate at large n); smaller ones leave
-    less work to the near splits (a larger share at small n).
+    less work to the near splits (a larger share at small n). Measured on the
+    Xeon of ``docs/fast-engine.md``, whole calls: 128 against 64 is 5 % faster
+    at n = 900, 2-3 % at 1000, 4-9 % at 1500-2000, the same at 700; 256
+    against 128 is 2-5 % faster at 4000-5000, 2-3 % slower at 3000-3500.
 
-    >>> minplus_tile(1000), minplus_tile(4000), minplus_tile(8000)
+    >>> minplus_tile(500), minplus_tile(1000), minplus_tile(4000)
     (64, 128, 256)
     """
     if config.FAST_TILE is not None:
         return int(config.FAST_TILE)
-    return 64 if n < 3000 else 128 if n < 5000 else 256
+    return 64 if n < 800 else 128 if n < 4000 else 256
 
 
 def _is_minplus(problem: Problem) -> bool:
