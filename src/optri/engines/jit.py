@@ -155,8 +155,8 @@ def _aligned_table(n: int, dtype: np.dtype[Any]) -> NDArray[Any]:
 
     numpy starts a large block 16 bytes into a page, so the kernels' 64-byte
     vector loads and stores of table rows would each span two cache lines
-    (1-3 % of the min-plus fill at n = 1000 and 4000, where every row starts
-    a line).
+    (1-6 % of the min-plus fill at n = 1000 and 4000, where every row starts
+    a line, in interleaved runs).
 
     >>> int(_aligned_table(100, np.dtype(np.float64)).ctypes.data % 64)
     0
