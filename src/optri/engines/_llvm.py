@@ -9,6 +9,8 @@
   ``register_plan`` picks its vector width and minimum for this CPU.
 * ``transpose_8x8``: an 8 x 8 transpose in vector registers, with which the
   far product copies its ``B`` operand into a contiguous buffer.
+* ``load_at`` / ``store_at``: a cell of a 2-D table without numba's
+  negative-index wraparound, for the near splits' straight-line leaves.
 * atomics and ``yield_cpu`` for the tile queue of the min-plus fill.
 """
 
@@ -29,11 +31,13 @@ __all__ = [
     "fetch_add",
     "fmin",
     "load_acquire",
+    "load_at",
     "outer_4x4",
     "outer_4x8",
     "outer_4x16",
     "outer_8x16",
     "register_plan",
+    "store_at",
     "store_release",
     "transpose_8x8",
     "wait_done",
@@ -56,6 +60,11 @@ def fmin(typingctx, a, b):
         return builder.call(fn, args, fastmath=_MIN_FLAGS)
 
     return sig, codegen
+
+
+def _c_table(arr) -> bool:  # type: ignore[no-untyped-def]
+    """Whether a numba type is a C-contiguous 2-D array: a table the intrinsics address."""
+    return isinstance(arr, types.Array) and arr.ndim == 2 and arr.layout == "C"
 
 
 def _cpu() -> tuple[str, list[str]]:
@@ -117,9 +126,8 @@ def _outer(rows: int, cols: int):  # type: ignore[no-untyped-def]
 
     @intrinsic
     def outer(typingctx, C, ci, cj, A, ai, ak, B, bk, bj, kn):
-        for arr in (C, A, B):
-            if not isinstance(arr, types.Array) or arr.ndim != 2 or arr.layout != "C":
-                return None
+        if not all(_c_table(arr) for arr in (C, A, B)):
+            return None
         if not (C.dtype == A.dtype == B.dtype):
             return None
         i = types.intp
@@ -224,9 +232,8 @@ def transpose_8x8(typingctx, src, si, sj, dst, di, dj):
     Eight row loads, 24 vector shuffles and eight row stores (on C-contiguous
     2-D arrays of one float type) instead of 64 scalar loads and stores.
     """
-    for arr in (src, dst):
-        if not isinstance(arr, types.Array) or arr.ndim != 2 or arr.layout != "C":
-            return None
+    if not (_c_table(src) and _c_table(dst)):
+        return None
     if src.dtype != dst.dtype:
         return None
     i = types.intp
@@ -259,6 +266,44 @@ def transpose_8x8(typingctx, src, si, sj, dst, di, dj):
         return context.get_dummy_value()
 
     return sig, codegen
+
+
+def _cell_pointer(context, builder, ty, arr, i, j):  # type: ignore[no-untyped-def]
+    ary = context.make_array(ty)(context, builder, value=arr)
+    ld = cgutils.unpack_tuple(builder, ary.shape, 2)[1]
+    return builder.gep(ary.data, [builder.add(builder.mul(i, ld), j)], inbounds=True)
+
+
+@intrinsic
+def load_at(typingctx, arr, i, j):
+    """``arr[i, j]`` of a C-contiguous 2-D array; ``0 <= i, j`` (no wraparound, no check).
+
+    numba indexes with a signed integer it cannot prove non-negative through
+    a wraparound (``i + n`` where ``i < 0``): in the leaves of the near
+    splits, whose cells are all indices computed at run time, that took a
+    third of their instructions (on the Xeon of ``docs/fast-engine.md``).
+    """
+    if not _c_table(arr):
+        return None
+
+    def codegen(context, builder, signature, args):
+        return builder.load(_cell_pointer(context, builder, signature.args[0], *args))
+
+    return arr.dtype(arr, types.intp, types.intp), codegen
+
+
+@intrinsic
+def store_at(typingctx, arr, i, j, value):
+    """``arr[i, j] = value`` (of ``arr``'s type) with the bounds of ``load_at``."""
+    if not _c_table(arr) or value != arr.dtype:
+        return None
+
+    def codegen(context, builder, signature, args):
+        arr, i, j, value = args
+        builder.store(value, _cell_pointer(context, builder, signature.args[0], arr, i, j))
+        return context.get_dummy_value()
+
+    return types.none(arr, types.intp, types.intp, arr.dtype), codegen
 
 
 outer_4x16 = _outer(4, 16)

@@ -41,10 +41,12 @@ from ._jit_weights import edge_weight, edge_weight_row
 from ._llvm import (
     fetch_add,
     fmin,
+    load_at,
     outer_4x4,
     outer_4x8,
     outer_4x16,
     outer_8x16,
+    store_at,
     store_release,
     transpose_8x8,
     wait_done,
@@ -212,15 +214,24 @@ def _final(T, ew, mask, use_mask, i, j, best):
     ``ew = (W, i0, j0)``: ``e(i, j)`` is ``W[i - i0, j - j0]``. Only
     ``T[i, j]`` is written: ``_mirror`` copies the finished tile to ``T[j, i]``.
     """
+    if j == i + 1:  # a side: cost 0
+        W, wi, wj = ew
+        v = T.dtype.type(load_at(W, i - wi, j - wj))
+        store_at(T, i, j, v)
+        return v
+    return _final_chord(T, ew, mask, use_mask, i, j, best)
+
+
+@kernel(fastmath=FASTMATH, inline="always")
+def _final_chord(T, ew, mask, use_mask, i, j, best):
+    """``_final`` of a cell that is not a side (``j > i + 1``)."""
     W, wi, wj = ew
-    e = W[i - wi, j - wj]
-    v = best + 2.0 * e
+    v = best + 2.0 * load_at(W, i - wi, j - wj)
     if use_mask and not mask[i, j]:
         v = np.inf  # not a diagonal: never used
-    if j == i + 1:
-        v = e  # a side: cost 0
-    T[i, j] = v
-    return T.dtype.type(v)  # as stored (float32 rounds it), not reloaded: no store-to-load wait
+    v = T.dtype.type(v)
+    store_at(T, i, j, v)
+    return v  # as stored (float32 rounds it), not reloaded: no store-to-load wait
 
 
 @kernel(fastmath=FASTMATH, inline="always")
@@ -244,6 +255,25 @@ def _min4(w, x, y, z):
     return fmin(fmin(w, x), fmin(y, z))
 
 
+@kernel(fastmath=FASTMATH, inline="always")
+def _row4(T, i, c):
+    """Cells (i, c) to (i, c + 3)."""
+    return load_at(T, i, c), load_at(T, i, c + 1), load_at(T, i, c + 2), load_at(T, i, c + 3)
+
+
+@kernel(fastmath=FASTMATH, inline="always")
+def _upper4(T, a):
+    """The six chords inside vertices a..a + 3: (a, a + 1), (a, a + 2), ..., (a + 2, a + 3)."""
+    return (
+        load_at(T, a, a + 1),
+        load_at(T, a, a + 2),
+        load_at(T, a, a + 3),
+        load_at(T, a + 1, a + 2),
+        load_at(T, a + 1, a + 3),
+        load_at(T, a + 2, a + 3),
+    )
+
+
 @kernel(fastmath=FASTMATH, _nrt=False)
 def _leaf4(T, ew, mask, use_mask, a, c):
     """Block rows [a, a + 4) x columns [c, c + 4), ``a + 4 <= c``, in straight-line code.
@@ -252,46 +282,49 @@ def _leaf4(T, ew, mask, use_mask, a, c):
     (``arr'``, final) and the cells below it (``xr'q``), and through the cells
     left of it (``xrq'``) and the columns' triangle (``bq'q``, final). The
     values stay in registers; each cell takes its left neighbour last, so the
-    chain from cell to cell is one addition and one minimum.
+    chain from cell to cell is one addition and one minimum. Only cell
+    (a + 3, c) can be a polygon side (where ``c = a + 4``). The cells are read
+    with ``load_at``: every index here is non-negative, and numba's
+    wraparound of them took a third of the leaf's instructions.
     """
-    a01, a02, a03 = T[a, a + 1], T[a, a + 2], T[a, a + 3]
-    a12, a13, a23 = T[a + 1, a + 2], T[a + 1, a + 3], T[a + 2, a + 3]
-    b01, b02, b03 = T[c, c + 1], T[c, c + 2], T[c, c + 3]
-    b12, b13, b23 = T[c + 1, c + 2], T[c + 1, c + 3], T[c + 2, c + 3]
+    a01, a02, a03, a12, a13, a23 = _upper4(T, a)
+    b01, b02, b03, b12, b13, b23 = _upper4(T, c)
     c1, c2, c3 = c + 1, c + 2, c + 3
     i = a + 3
-    x30 = _final(T, ew, mask, use_mask, i, c, T[i, c])
-    x31 = _final(T, ew, mask, use_mask, i, c1, fmin(T[i, c1], x30 + b01))
-    x32 = _final(T, ew, mask, use_mask, i, c2, _min3(T[i, c2], x30 + b02, x31 + b12))
-    m = _min3(T[i, c3], x30 + b03, x31 + b13)
-    x33 = _final(T, ew, mask, use_mask, i, c3, fmin(m, x32 + b23))
+    t0, t1, t2, t3 = _row4(T, i, c)
+    x30 = _final(T, ew, mask, use_mask, i, c, t0)
+    x31 = _final_chord(T, ew, mask, use_mask, i, c1, fmin(t1, x30 + b01))
+    x32 = _final_chord(T, ew, mask, use_mask, i, c2, _min3(t2, x30 + b02, x31 + b12))
+    m = _min3(t3, x30 + b03, x31 + b13)
+    x33 = _final_chord(T, ew, mask, use_mask, i, c3, fmin(m, x32 + b23))
     i = a + 2
-    x20 = _final(T, ew, mask, use_mask, i, c, fmin(T[i, c], a23 + x30))
-    m = fmin(T[i, c1], a23 + x31)
-    x21 = _final(T, ew, mask, use_mask, i, c1, fmin(m, x20 + b01))
-    m = _min3(T[i, c2], a23 + x32, x20 + b02)
-    x22 = _final(T, ew, mask, use_mask, i, c2, fmin(m, x21 + b12))
-    m = _min4(T[i, c3], a23 + x33, x20 + b03, x21 + b13)
-    x23 = _final(T, ew, mask, use_mask, i, c3, fmin(m, x22 + b23))
+    t0, t1, t2, t3 = _row4(T, i, c)
+    x20 = _final_chord(T, ew, mask, use_mask, i, c, fmin(t0, a23 + x30))
+    m = fmin(t1, a23 + x31)
+    x21 = _final_chord(T, ew, mask, use_mask, i, c1, fmin(m, x20 + b01))
+    m = _min3(t2, a23 + x32, x20 + b02)
+    x22 = _final_chord(T, ew, mask, use_mask, i, c2, fmin(m, x21 + b12))
+    m = _min4(t3, a23 + x33, x20 + b03, x21 + b13)
+    x23 = _final_chord(T, ew, mask, use_mask, i, c3, fmin(m, x22 + b23))
     i = a + 1
-    x10 = _final(T, ew, mask, use_mask, i, c, _min3(T[i, c], a12 + x20, a13 + x30))
-    m = _min3(T[i, c1], a12 + x21, a13 + x31)
-    x11 = _final(T, ew, mask, use_mask, i, c1, fmin(m, x10 + b01))
-    m = _min4(T[i, c2], a12 + x22, a13 + x32, x10 + b02)
-    x12 = _final(T, ew, mask, use_mask, i, c2, fmin(m, x11 + b12))
-    m = fmin(_min3(T[i, c3], a12 + x23, a13 + x33), _min3(x10 + b03, x11 + b13, x12 + b23))
-    x13 = _final(T, ew, mask, use_mask, i, c3, m)
+    t0, t1, t2, t3 = _row4(T, i, c)
+    x10 = _final_chord(T, ew, mask, use_mask, i, c, _min3(t0, a12 + x20, a13 + x30))
+    m = _min3(t1, a12 + x21, a13 + x31)
+    x11 = _final_chord(T, ew, mask, use_mask, i, c1, fmin(m, x10 + b01))
+    m = _min4(t2, a12 + x22, a13 + x32, x10 + b02)
+    x12 = _final_chord(T, ew, mask, use_mask, i, c2, fmin(m, x11 + b12))
+    m = fmin(_min3(t3, a12 + x23, a13 + x33), _min3(x10 + b03, x11 + b13, x12 + b23))
+    x13 = _final_chord(T, ew, mask, use_mask, i, c3, m)
     i = a
-    m = _min4(T[i, c], a01 + x10, a02 + x20, a03 + x30)
-    x00 = _final(T, ew, mask, use_mask, i, c, m)
-    m = _min4(T[i, c1], a01 + x11, a02 + x21, a03 + x31)
-    x01 = _final(T, ew, mask, use_mask, i, c1, fmin(m, x00 + b01))
-    m = fmin(_min4(T[i, c2], a01 + x12, a02 + x22, a03 + x32), x00 + b02)
-    x02 = _final(T, ew, mask, use_mask, i, c2, fmin(m, x01 + b12))
-    m = fmin(
-        _min4(T[i, c3], a01 + x13, a02 + x23, a03 + x33), _min3(x00 + b03, x01 + b13, x02 + b23)
-    )
-    _final(T, ew, mask, use_mask, i, c3, m)
+    t0, t1, t2, t3 = _row4(T, i, c)
+    m = _min4(t0, a01 + x10, a02 + x20, a03 + x30)
+    x00 = _final_chord(T, ew, mask, use_mask, i, c, m)
+    m = _min4(t1, a01 + x11, a02 + x21, a03 + x31)
+    x01 = _final_chord(T, ew, mask, use_mask, i, c1, fmin(m, x00 + b01))
+    m = fmin(_min4(t2, a01 + x12, a02 + x22, a03 + x32), x00 + b02)
+    x02 = _final_chord(T, ew, mask, use_mask, i, c2, fmin(m, x01 + b12))
+    m = fmin(_min4(t3, a01 + x13, a02 + x23, a03 + x33), _min3(x00 + b03, x01 + b13, x02 + b23))
+    _final_chord(T, ew, mask, use_mask, i, c3, m)
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
