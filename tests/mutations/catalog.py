@@ -281,8 +281,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "minplus-edge-counted-once",
         "src/optri/engines/_minplus.py",
-        "v = best + 2.0 * load_at(W, i - wi, j - wj)",
-        "v = best + load_at(W, i - wi, j - wj)",
+        "v = best + 2.0 * _edge(ew, i, j)",
+        "v = best + _edge(ew, i, j)",
         (FAST, "-k", "brute or square"),
     ),
     M(
