@@ -462,7 +462,7 @@ def chord_clear(p: Array, i: NDArray[np.int64], j: NDArray[np.int64]) -> NDArray
     """No vertex on the open chord and no proper edge crossing, for chords (i, j) of ``p``."""
     n = p.shape[0]
     a, b = p[i][:, None], p[j][:, None]  # (C, 1, 2)
-    v, w = p[None, :], np.roll(p, -1, axis=0)[None, :]  # (1, n, 2)
+    v, w = p[None, :], following(p)[None, :]  # (1, n, 2)
     sv = orient(a, b, v)
     sw = np.roll(sv, -1, axis=1)
     through = (sv == 0) & on_open_segment(a, b, v)

@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InvalidPolygonError
 from ..polygon import find_self_intersection, normalize_vertices
-from ..predicates import orient, segment_pair_fault
+from ..predicates import following, orient, segment_pair_fault
 
 __all__ = ["Domain", "as_domain", "ring_names", "winding"]
 
@@ -239,7 +239,7 @@ def winding(ring: NDArray[np.float64], at: NDArray[np.float64]) -> NDArray[np.in
     """
     shape = (len(at), len(ring), 2)
     a = np.broadcast_to(ring[None, :, :], shape)
-    b = np.broadcast_to(np.roll(ring, -1, axis=0)[None, :, :], shape)
+    b = np.broadcast_to(following(ring)[None, :, :], shape)
     q = np.broadcast_to(at[:, None, :], shape)
     side = orient(a, b, q)
     up = (a[..., 1] <= q[..., 1]) & (b[..., 1] > q[..., 1]) & (side > 0)
