@@ -120,7 +120,8 @@ def test_sigterm_leaves_no_temporary_file(tmp_path):
     while len(list(parts.glob("part-*"))) < 3 and time.monotonic() < deadline:
         time.sleep(0.01)
     proc.send_signal(signal.SIGTERM)
-    assert proc.wait(60) == 130
+    assert proc.wait(60) == 143
+    assert proc.stderr.read().splitlines()[-1] == "optri: terminated"
     assert [
         p.name for p in tmp_path.rglob("*") if ".tmp" in p.name or p.name.endswith(".lock")
     ] == []

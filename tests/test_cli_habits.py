@@ -233,6 +233,7 @@ main(sys.argv[1:], prog_name="optri")
 
 
 @pytest.mark.parametrize("sig,code,word", [(signal.SIGTERM, 143, "terminated"),
+                                           (signal.SIGHUP, 129, "hung up"),
                                            (signal.SIGINT, 130, "interrupted")])  # fmt: skip
 def test_signals_end_cleanly_and_leave_no_temporary_file(tmp_path, sig, code, word):
     out = tmp_path / "o.png"

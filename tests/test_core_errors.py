@@ -4,6 +4,7 @@ import json
 import math
 import os
 import signal
+import threading
 
 import numpy as np
 import pytest
@@ -11,6 +12,8 @@ import pytest
 import optri
 from cli_run import run_optri
 from optri import config
+from optri.engines.interrupts import interruptible, stop_signals_unwind
+from optri.errors import Terminated
 
 SQUARE = [[0, 0], [1, 0], [1, 1], [0, 1]]
 
@@ -219,3 +222,43 @@ def test_atomic_write_signal_as_the_temporary_comes_into_being_leaves_nothing(
         monkeypatch.undo()
         signal.signal(signal.SIGTERM, old)
     assert list(tmp_path.iterdir()) == []
+
+
+# --- stop signals: SIGTERM and SIGHUP unwind like Ctrl-C, and say which they were --------
+
+
+def test_a_stop_signal_is_raised_as_terminated_and_the_old_handler_comes_back():
+    before = signal.getsignal(signal.SIGTERM)
+    with pytest.raises(Terminated) as info:
+        with stop_signals_unwind():
+            os.kill(os.getpid(), signal.SIGHUP)
+            for _ in range(1000):  # give the handler its bytecode boundaries
+                pass
+    assert (info.value.signum, str(info.value)) == (signal.SIGHUP, "SIGHUP")
+    assert isinstance(info.value, KeyboardInterrupt)  # what catches Ctrl-C catches it too
+    assert signal.getsignal(signal.SIGTERM) is before
+
+
+def test_stop_signals_are_left_alone_outside_the_main_thread():
+    seen = []
+
+    def worker():
+        with stop_signals_unwind():
+            seen.append(signal.getsignal(signal.SIGTERM))
+
+    before = signal.getsignal(signal.SIGTERM)
+    t = threading.Thread(target=worker)
+    t.start()
+    t.join()
+    assert seen == [before]  # signal.signal would raise ValueError there
+
+
+def test_interruptible_keeps_a_stop_signal_what_it_is():
+    # a SIGTERM noticed as a compiled kernel returned: still Terminated (the CLI exits 143)
+    with pytest.raises(Terminated) as info:
+        with interruptible():
+            try:
+                raise Terminated(signal.SIGTERM)
+            except KeyboardInterrupt as exc:
+                raise SystemError("returned a result with an exception set") from exc
+    assert info.value.signum == signal.SIGTERM

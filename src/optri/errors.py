@@ -15,6 +15,7 @@ InvalidPolygonError
 
 from __future__ import annotations
 
+import signal
 from typing import Any
 
 __all__ = [
@@ -33,6 +34,7 @@ __all__ = [
     "OptriError",
     "ParameterTypeError",
     "TableTooLargeError",
+    "Terminated",
     "UnknownSampleError",
     "WeightError",
 ]
@@ -112,6 +114,31 @@ class BatchFailedError(OptriError):
 
 class UnknownSampleError(OptriError, LookupError):
     """No bundled sample file has that name (:mod:`optri.data`); the message lists them."""
+
+
+class Terminated(KeyboardInterrupt):
+    """A stop signal (SIGTERM, SIGHUP) raised as an exception, so that it unwinds like Ctrl-C.
+
+    Raised in the main thread while the CLI or :func:`optri.batch` runs
+    (:func:`optri.engines.interrupts.stop_signals_unwind`): ``finally`` blocks
+    remove temporary files as they do on Ctrl-C. A ``KeyboardInterrupt``, so
+    code that catches Ctrl-C catches it too; ``signum`` is the signal's number,
+    and the CLI exits with status ``128 + signum`` (143 for SIGTERM, 129 for
+    SIGHUP), as a shell reports a process that signal ended.
+
+    >>> import signal
+    >>> exc = Terminated(signal.SIGTERM)
+    >>> isinstance(exc, KeyboardInterrupt), exc.signum, str(exc)
+    (True, 15, 'SIGTERM')
+    """
+
+    def __init__(self, signum: int) -> None:
+        self.signum = int(signum)
+        try:
+            name = signal.Signals(self.signum).name
+        except ValueError:
+            name = f"signal {self.signum}"
+        super().__init__(name)
 
 
 class HoleSkippedWarning(UserWarning):

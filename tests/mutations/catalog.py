@@ -216,9 +216,31 @@ MUTATIONS: list[Mutation] = [
     M(
         "cli-interrupt-exit-1",
         "src/optri/cli/app.py",
-        "sys.exit(143 if terminated else 130)",
-        "sys.exit(143 if terminated else 1)",
+        '    click.echo("optri: interrupted", err=True)\n    return 130',
+        '    click.echo("optri: interrupted", err=True)\n    return 1',
         (RESUME,),
+    ),
+    M(
+        "stop-signal-as-ctrl-c",
+        "src/optri/engines/interrupts.py",
+        "raise Terminated(signum)",
+        "raise KeyboardInterrupt",
+        (RESUME,),
+        "a batch killed by SIGTERM says 'interrupted' and exits 130, not 143",
+    ),
+    M(
+        "interruptible-loses-the-signal",
+        "src/optri/engines/interrupts.py",
+        "raise cause.with_traceback(None) from None",
+        "raise KeyboardInterrupt from None",
+        (ERRORS, "-k", "signal"),
+    ),
+    M(
+        "stop-handlers-not-restored",
+        "src/optri/engines/interrupts.py",
+        "            signal.signal(sig, handler)",
+        "            pass",
+        (ERRORS, "-k", "signal"),
     ),
     M(
         "holes-exact-limit-exclusive",

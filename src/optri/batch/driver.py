@@ -7,17 +7,15 @@ import json
 import os
 import pickle
 import shutil
-import signal
-import threading
 import time
 from collections.abc import Callable, Iterable, Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from .. import config
 from .._version import __version__
+from ..engines.interrupts import stop_signals_unwind
 from ..errors import BatchFailedError, BatchInputError
 from ..io.atomic import write_json
 from .layer import Layer, warn_geographic
@@ -149,7 +147,7 @@ def batch(
     settings = _Settings(
         options, workers, chunk_size, scheduler, resume, overwrite, progress, fmt, out_fmt, project
     )
-    with _interrupts_as_keyboard():
+    with stop_signals_unwind():  # kill and hang-up also remove half-written parts
         summary = _run(Path(inp), out, settings)
     if strict and summary.errors:
         raise BatchFailedError(f"{summary.errors} of {summary.total} polygons failed", summary)
@@ -334,22 +332,3 @@ def _summary_of_existing(layout: Layout, start: float) -> BatchSummary:
     counter = Counter(None, 0)
     counter.add(read_part(layout.target, layout.fmt), reused=True)
     return counter.summary(layout.target, time.perf_counter() - start)
-
-
-@contextmanager
-def _interrupts_as_keyboard() -> Iterator[None]:
-    """Make SIGTERM and SIGHUP behave like Ctrl-C, so ``kill`` also removes half-written parts."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-
-    def interrupt(signum: int, frame: Any) -> None:
-        raise KeyboardInterrupt(f"signal {signum}")
-
-    names = [getattr(signal, n) for n in ("SIGTERM", "SIGHUP") if hasattr(signal, n)]
-    old = {sig: signal.signal(sig, interrupt) for sig in names}
-    try:
-        yield
-    finally:
-        for sig, handler in old.items():
-            signal.signal(sig, handler)

@@ -2,32 +2,32 @@
 
 Every failure, a click usage error included, ends as one ``optri: error: ...``
 line on stderr and exit status 2; Ctrl-C ends with ``optri: interrupted`` and
-130, SIGTERM with ``optri: terminated`` and 143 (both unwind, so temporary
-files are removed); a reader that closes the pipe early (``| head -1``) ends
-the run quietly with status 0. Status 1 is left to ``--strict``. Each command
-lives in its own module and registers itself on :data:`main`.
+130, SIGTERM with ``optri: terminated`` and 143, SIGHUP with ``optri: hung up``
+and 129 (all unwind, so temporary files are removed); a reader that closes the
+pipe early (``| head -1``) ends the run quietly with status 0. Status 1 is
+left to ``--strict``. Each command lives in its own module and registers
+itself on :data:`main`.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
-import signal
 import sys
-import threading
-from collections.abc import Iterator
 from typing import Any
 
 import click
 
 from .._version import __version__
-from ..errors import OptriError
+from ..engines.interrupts import kernel_cause, stop_signals_unwind
+from ..errors import OptriError, Terminated
 
 __all__ = ["main"]
 
 #: Environment variable that lets unexpected exceptions through with their traceback.
 DEBUG_ENV = "OPTRI_DEBUG"
-_TERMINATED = {"flag": False}
+#: What the CLI says when a stop signal ends it (:class:`~optri.errors.Terminated`).
+_STOP_WORDS = {"SIGTERM": "terminated", "SIGHUP": "hung up"}
 
 
 class _Group(click.Group):
@@ -41,7 +41,7 @@ class _Group(click.Group):
         standalone_mode: bool = True,
         **extra: Any,
     ) -> Any:
-        with _process_settings():
+        with stop_signals_unwind():
             try:
                 code = super().main(args, prog_name, complete_var, False, **extra)
                 _flush_stdout()
@@ -50,9 +50,9 @@ class _Group(click.Group):
                 code = 0
             except click.ClickException as exc:
                 code = _usage_line(exc)
-            except click.exceptions.Abort:
-                click.echo("optri: interrupted", err=True)
-                code = 130
+            except click.exceptions.Abort as exc:  # Ctrl-C outside a command (click's)
+                cause = exc.__cause__ or exc.__context__
+                code = _stop_status(cause if isinstance(cause, KeyboardInterrupt) else None)
             except SystemExit as exc:
                 code = exc.code
         code = code if isinstance(code, int) else 0
@@ -73,18 +73,14 @@ class _Group(click.Group):
         except OSError as exc:
             name = getattr(exc, "filename", None) or ""
             _fail(f"{name}: {exc.strerror or exc}".lstrip(": "))
-        except KeyboardInterrupt:
-            terminated = _TERMINATED["flag"]
-            click.echo(f"optri: {'terminated' if terminated else 'interrupted'}", err=True)
-            sys.exit(143 if terminated else 130)
+        except KeyboardInterrupt as exc:
+            sys.exit(_stop_status(exc))
         except MemoryError:
             _fail("out of memory; try a smaller input")
         except Exception as exc:
-            if isinstance(exc, SystemError) and isinstance(
-                exc.__cause__ or exc.__context__, KeyboardInterrupt
-            ):  # a Ctrl-C noticed as a compiled kernel returned
-                click.echo("optri: interrupted", err=True)
-                sys.exit(130)
+            cause = kernel_cause(exc)
+            if isinstance(cause, KeyboardInterrupt):  # noticed as a compiled kernel returned
+                sys.exit(_stop_status(cause))
             if os.environ.get(DEBUG_ENV):
                 raise
             _fail(
@@ -108,6 +104,15 @@ def summary(command: click.Command) -> str:
     """The command's one-line summary: its short help, else its docstring's first paragraph."""
     text = command.short_help or (command.help or "").split("\n\n")[0]
     return " ".join(text.split())
+
+
+def _stop_status(exc: KeyboardInterrupt | None) -> int:
+    """Say in one line why the run stopped; its exit status: 130 on Ctrl-C, else 128 + signum."""
+    if isinstance(exc, Terminated):
+        click.echo(f"optri: {_STOP_WORDS.get(str(exc), 'terminated')}", err=True)
+        return 128 + exc.signum
+    click.echo("optri: interrupted", err=True)
+    return 130
 
 
 def _fail(message: str) -> None:
@@ -143,25 +148,6 @@ def _flush_stdout() -> None:
         pass
 
 
-@contextlib.contextmanager
-def _process_settings() -> Iterator[None]:
-    """SIGTERM unwinds like Ctrl-C, so temporary files are removed."""
-    old_term = None
-    _TERMINATED["flag"] = False
-    if threading.current_thread() is threading.main_thread():
-
-        def terminate(signum: int, frame: Any) -> None:
-            _TERMINATED["flag"] = True
-            raise KeyboardInterrupt("terminated")
-
-        old_term = signal.signal(signal.SIGTERM, terminate)
-    try:
-        yield
-    finally:
-        if old_term is not None:
-            signal.signal(signal.SIGTERM, old_term)
-
-
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, "--version", prog_name="optri")
 def main() -> None:
@@ -169,5 +155,5 @@ def main() -> None:
 
     Every command reads "-" as standard input wherever it reads a file, and
     -o/--output is the path it writes. Errors are one "optri: error:" line
-    and exit status 2 (130 on Ctrl-C; 1 only for --strict).
+    and exit status 2 (130 on Ctrl-C, 143 on SIGTERM; 1 only for --strict).
     """
