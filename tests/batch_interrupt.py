@@ -53,5 +53,8 @@ def interrupt_part(part: int, sig: int) -> None:
 if __name__ == "__main__":
     name, part, dashes, *args = sys.argv[1:]
     assert dashes == "--", __doc__
+    # Python's own Ctrl-C handler even where this process started with SIGINT ignored (a
+    # background job of a shell without job control): else SIGINT would not stop the run
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     interrupt_part(int(part), getattr(signal, "SIG" + name))
     main(args, prog_name="optri")

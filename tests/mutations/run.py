@@ -33,6 +33,7 @@ import argparse
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -68,6 +69,9 @@ PYTEST = ("-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "--hypothesis-se
 
 def main(argv: list[str] | None = None) -> int:
     args = _parse(argv)
+    # started with Ctrl-C ignored (a background job), the tests' children would inherit it
+    # and the Ctrl-C tests could not pass: a handler of our own resets it for them on exec
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     chosen = [m for m in MUTATIONS if not args.names or m.name in args.names]
     unknown = set(args.names) - {m.name for m in MUTATIONS}
     if unknown:
