@@ -1,5 +1,6 @@
 """Bad input: a clear optri error from the API, one line and exit 2 from the CLI."""
 
+import errno
 import json
 import math
 import os
@@ -123,6 +124,28 @@ def test_cli_unwritable_output_is_one_line(tmp_path):
     assert res.exit_code == 2, res.output
     assert res.stderr.startswith("optri: error:") and res.stderr.count("\n") == 1
     assert "sq.csv" in res.stderr and "Traceback" not in res.output
+    # the system's reason, as an expected failure, not as "unexpected ... a bug in optri"
+    assert os.strerror(errno.ENOTDIR) in res.stderr and "bug" not in res.stderr
+
+
+def test_cli_disk_full_mid_run_is_one_line_naming_the_file(tmp_path, monkeypatch):
+    # an OSError raised while a command runs (not caught by an option's check up front)
+    from click.testing import CliRunner
+
+    import optri.cli.solve_cmd as solve_cmd
+    from optri.cli import main
+
+    out = tmp_path / "plot.png"
+
+    def full(figure, path):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
+
+    monkeypatch.setattr(solve_cmd, "save_figure", full)
+    f = tmp_path / "sq.csv"
+    f.write_text("0,0\n1,0\n1,1\n0,1\n")
+    res = CliRunner().invoke(main, ["solve", str(f), "--plot", str(out)])
+    assert res.exit_code == 2, res.output
+    assert res.stderr == f"optri: error: {out}: {os.strerror(errno.ENOSPC)}\n"
 
 
 def test_cli_missing_file_and_bad_weight(tmp_path):

@@ -98,6 +98,38 @@ def test_time_limited_max_is_labelled_and_bounded(monkeypatch):
     assert math.isfinite(tri.bound) and tri.bound <= exact.weight <= tri.weight
 
 
+def _spiked(n, h, seed):
+    """``random_domain`` with its first hull vertex replaced by a long thin spike.
+
+    The spike's tip sees only its two neighbours, so the chord across the spike's base
+    crosses no diagonal: forced, it cuts the domain into a triangle (a DP block) and the
+    rest (with the holes).
+    """
+    from scipy.spatial import ConvexHull
+
+    ext, holes = random_domain(n, h, seed=seed)
+    ext = np.asarray(ext, dtype=float)
+    i = int(ConvexHull(ext).vertices[0])
+    p, prev, nxt = ext[i], ext[i - 1], ext[(i + 1) % len(ext)]
+    out = (p - ext.mean(axis=0)) / np.linalg.norm(p - ext.mean(axis=0))
+    tip = p + 0.5 * np.ptp(ext, axis=0).max() * out
+    spike = [p + 0.05 * (prev - p), tip, p + 0.05 * (nxt - p)]
+    return np.concatenate([ext[:i], spike, ext[i + 1 :]]), holes
+
+
+def test_time_limit_with_a_proven_block_beside_an_unproven_one_stays_heuristic(monkeypatch):
+    # one block proven (the spike, by DP) does not make the whole proven
+    ext, holes = _spiked(60, 10, seed=2)
+    exact = optri.triangulate((ext, holes), weight="perimeter")
+    monkeypatch.setattr(config, "DOMAIN_MIN_SOLVER_SECONDS", 1e-6)
+    tri = optri.triangulate((ext, holes), weight="perimeter", time_limit=1e-9)
+    tri.check()
+    st = tri.stats
+    assert st["forced_diagonals"] >= 1 and st["dp_blocks"] >= 1 and st["ip_blocks"] >= 1, st
+    assert tri.optimality == "heuristic" and tri.gap > 0
+    assert tri.bound <= exact.weight + 1e-9 <= tri.weight + 2e-9
+
+
 def test_geometry_inputs_agree():
     ext = [[0, 0], [6, 0], [6, 5], [0, 5]]
     holes = [[[1, 1], [2, 1], [2, 2], [1, 2]], [[4, 3], [5, 3], [4.5, 4]]]

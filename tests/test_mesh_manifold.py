@@ -111,6 +111,21 @@ def test_loops_sharing_two_vertices_do_not_both_take_their_chord(weight):
     assert sorted(map(sorted, added.tolist())) == [[0, 1, 2], [0, 1, 3], [0, 5, 6], [1, 5, 6]]
 
 
+def test_loops_pinched_at_two_vertices_are_the_holes_in_any_face_order():
+    # the two tents' holes 0-2-1-3 and 0-5-1-6 meet at 0 and at 1: leaving either, the
+    # boundary edge to follow is the one of the same fan of faces, whatever the order the
+    # faces come in (the first leaving edge would pair 0-2-1 with 1-6-0 in some orders)
+    f = np.array(
+        [[4, 0, 2], [4, 2, 1], [4, 1, 3], [4, 3, 0], [7, 0, 5], [7, 5, 1], [7, 1, 6], [7, 6, 0]]
+    )
+    rng = np.random.default_rng(3)
+    for _ in range(40):
+        g = f[rng.permutation(len(f))]
+        g = np.array([np.roll(t, int(r)) for t, r in zip(g, rng.integers(0, 3, len(g)))])
+        loops = boundary_loops(g)
+        assert sorted(sorted(lp.tolist()) for lp, _ in loops) == [[0, 1, 2, 3], [0, 1, 5, 6]]
+
+
 def _icosphere_holes():
     sphere = trimesh.creation.icosphere(subdivisions=2)
     c = sphere.triangles_center

@@ -320,6 +320,22 @@ def test_flat_sheet_optimum_is_the_best_patch_without_zero_area_triangles():
     assert got[0] == best[0] and math.isclose(got[1], best[1], rel_tol=1e-12)
 
 
+@pytest.mark.parametrize("method", ["liepa", "exact", "delaunay"])
+def test_l_shaped_sheet_border_takes_the_least_area_among_equal_folds(method):
+    # the border of a flat L-shaped sheet, collinear runs included: every patch folds back
+    # over the sheet at its sides (pi), so the area alone decides between patches, and
+    # those through the notch (outside the L, wound the other way) cover more than 6
+    xy = np.array([[0, 0], [4, 0], [4, 1], [3, 1], [2, 1], [1, 1], [1, 3], [0, 3], [0, 2], [0, 1]])
+    pts = np.column_stack((xy, np.zeros(len(xy)))).astype(float)
+    side = np.roll(pts, -1, axis=0) - pts
+    inward = np.column_stack((-side[:, 1], side[:, 0], np.zeros(len(pts))))
+    third = (pts + np.roll(pts, -1, axis=0)) / 2 + 0.2 * inward  # the sheet's triangles
+    t = fill_polyline(pts, "liepa", method, third)
+    t.check()
+    assert t.weight[0] == math.pi and t.stats["degenerate"] == 0
+    assert math.isclose(t.weight[1], 6.0, rel_tol=1e-12)
+
+
 def test_zero_area_triangle_only_when_every_patch_needs_one():
     # 0, 1, 2 collinear; with chord (1, 3) forbidden the only patch has (0, 1, 2)
     pts = [[0, 0, 0], [1, 0, 0], [2, 0, 0], [1, 1, 0.5]]
