@@ -77,23 +77,27 @@ def test_bridged_heuristic_is_labelled_and_bounded(weight, objective):
         assert heur.optimality == "heuristic" and heur.gap > 0.05
 
 
-def test_time_limit_gives_a_labelled_heuristic_with_a_valid_bound(monkeypatch):
-    ext, holes = random_domain(60, 10, seed=5)
-    exact = optri.triangulate((ext, holes), weight="perimeter")
+def _exact_and_time_limited(domain, monkeypatch, **options):
+    """The domain's optimum, and its search cut short at once (checked valid)."""
+    exact = optri.triangulate(domain, **options)
     monkeypatch.setattr(config, "DOMAIN_MIN_SOLVER_SECONDS", 1e-6)
-    tri = optri.triangulate((ext, holes), weight="perimeter", time_limit=1e-9)
+    tri = optri.triangulate(domain, time_limit=1e-9, **options)
     tri.check()
+    return exact, tri
+
+
+def test_time_limit_gives_a_labelled_heuristic_with_a_valid_bound(monkeypatch):
+    domain = random_domain(60, 10, seed=5)
+    exact, tri = _exact_and_time_limited(domain, monkeypatch, weight="perimeter")
     assert tri.optimality == "heuristic" and 0 < tri.gap < 1
     assert math.isfinite(tri.bound) and tri.bound <= exact.weight + 1e-9 <= tri.weight + 2e-9
     assert tri.gap == pytest.approx((tri.weight - tri.bound) / tri.weight)
 
 
 def test_time_limited_max_is_labelled_and_bounded(monkeypatch):
-    ext, holes = random_domain(60, 3, seed=6)
-    exact = optri.triangulate((ext, holes), weight="max_angle", objective="max")
-    monkeypatch.setattr(config, "DOMAIN_MIN_SOLVER_SECONDS", 1e-6)
-    tri = optri.triangulate((ext, holes), weight="max_angle", objective="max", time_limit=1e-9)
-    tri.check()
+    domain = random_domain(60, 3, seed=6)
+    options = {"weight": "max_angle", "objective": "max"}
+    exact, tri = _exact_and_time_limited(domain, monkeypatch, **options)
     assert tri.optimality == "heuristic"
     assert math.isfinite(tri.bound) and tri.bound <= exact.weight <= tri.weight
 
@@ -119,11 +123,7 @@ def _spiked(n, h, seed):
 
 def test_time_limit_with_a_proven_block_beside_an_unproven_one_stays_heuristic(monkeypatch):
     # one block proven (the spike, by DP) does not make the whole proven
-    ext, holes = _spiked(60, 10, seed=2)
-    exact = optri.triangulate((ext, holes), weight="perimeter")
-    monkeypatch.setattr(config, "DOMAIN_MIN_SOLVER_SECONDS", 1e-6)
-    tri = optri.triangulate((ext, holes), weight="perimeter", time_limit=1e-9)
-    tri.check()
+    exact, tri = _exact_and_time_limited(_spiked(60, 10, seed=2), monkeypatch, weight="perimeter")
     st = tri.stats
     assert st["forced_diagonals"] >= 1 and st["dp_blocks"] >= 1 and st["ip_blocks"] >= 1, st
     assert tri.optimality == "heuristic" and tri.gap > 0
