@@ -191,3 +191,20 @@ def test_wheel_holds_the_sample_data_and_licence(tmp_path):
     assert "License-Expression: MIT" in metadata
     assert f"Version: {optri.__version__}" in metadata
     assert f"Project-URL: Paper, https://doi.org/{DOI}" in metadata
+
+
+@pytest.mark.parametrize("script", sorted(p.stem for p in (REPO / "benchmarks").glob("*.py")))
+def test_every_benchmark_script_imports(script):
+    # scripts run by hand only: an import the code moved away from breaks them unnoticed
+    # (bench_simple.py imported require_simple from a package that no longer had it)
+    code = (
+        "import sys; sys.path.insert(0, sys.argv[1]); import importlib; "
+        "importlib.import_module(sys.argv[2])"
+    )
+    res = subprocess.run(
+        [sys.executable, "-c", code, str(REPO / "benchmarks"), script],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert res.returncode == 0, res.stderr.strip().splitlines()[-1:]

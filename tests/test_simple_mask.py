@@ -96,6 +96,53 @@ def test_compiled_paths_agree(kind, seed):
     assert np.array_equal(scan | sides, ref)  # the scan kernel leaves sides unset
 
 
+def _arc_and_chord():
+    # 50 consecutive vertices of a wavy star, closed by the chord back to the first:
+    # the waves cross that chord. Ear clipping succeeds on it; the walk then stops.
+    rng = np.random.default_rng(0)
+    ang = np.linspace(0, 2 * np.pi, 2000, endpoint=False)[:50]
+    r = 1 + 0.3 * rng.random(2000)[:50]
+    return np.column_stack((r * np.cos(ang), r * np.sin(ang)))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 6), st.integers(0, 6)), min_size=4, max_size=10))
+def test_valid_diagonals_of_a_boundary_that_is_not_simple_is_an_error(coords):
+    try:
+        poly = as_polygon(np.array(coords, dtype=float))
+    except InvalidPolygonError:
+        assume(False)
+    assume(not is_simple_polygon(poly.data))
+    with pytest.raises(InvalidPolygonError, match="not simple: edges"):
+        valid_diagonals(poly)
+
+
+def test_waves_across_the_closing_chord_are_named_not_an_internal_error():
+    # 50 consecutive vertices of a wavy star, closed by the chord back to the first: the
+    # waves cross that chord. Ear clipping succeeds on it, and the walk then stopped with
+    # "internal error ... please report"; the compiled mask alone (which does not check)
+    # now falls back to the direct scan
+    rng = np.random.default_rng(0)
+    ang = np.linspace(0, 2 * np.pi, 2000, endpoint=False)[:50]
+    r = 1 + 0.3 * rng.random(2000)[:50]
+    poly = as_polygon(np.column_stack((r * np.cos(ang), r * np.sin(ang))))
+    with pytest.raises(InvalidPolygonError, match="edges 45-46 and 49-0 cross"):
+        valid_diagonals(poly)
+    x, y = poly.data[:, 0].copy(), poly.data[:, 1].copy()
+    off = ~np.eye(poly.n, dtype=bool)
+    assert np.array_equal(
+        valid_diagonals_compiled(poly.data) & off & ~_sides(poly.n),
+        valid_mask(x, y) & ~_sides(poly.n),
+    )
+
+
+def _sides(n):
+    s = np.zeros((n, n), dtype=bool)
+    i = np.arange(n)
+    s[i, (i + 1) % n] = s[(i + 1) % n, i] = True
+    return s
+
+
 def test_convex_needs_no_mask_but_straight_vertex_does():
     assert allowed_chords(as_polygon([[0, 0], [2, 0], [2, 2], [0, 2]])) is None
     ok = allowed_chords(as_polygon([[0, 0], [1, 0], [2, 0], [2, 2], [0, 2]]))

@@ -243,6 +243,21 @@ MUTATIONS: list[Mutation] = [
         (ERRORS, "-k", "signal"),
     ),
     M(
+        "valid-diagonals-skips-simplicity",
+        "src/optri/simple/mask.py",
+        "    require_simple(poly)\n    return _diagonals(poly)",
+        "    return _diagonals(poly)",
+        (MASK, "-k", "not_simple or waves"),
+        "a self-crossing boundary gets a mask (or an internal error) instead of its edges named",
+    ),
+    M(
+        "mask-walk-stop-always-internal",
+        "src/optri/simple/mask.py",
+        "if find_self_intersection(points) is None:",
+        "if True:",
+        (MASK, "-k", "waves"),
+    ),
+    M(
         "holes-exact-limit-exclusive",
         "src/optri/holes/modes.py",
         "n <= config.HOLES_EXACT_MAX_N",
