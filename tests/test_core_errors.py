@@ -4,6 +4,7 @@ import errno
 import json
 import math
 import os
+import pickle
 import signal
 import threading
 
@@ -258,6 +259,8 @@ def test_a_stop_signal_is_raised_as_terminated_and_the_old_handler_comes_back():
             for _ in range(1000):  # give the handler its bytecode boundaries
                 pass
     assert (info.value.signum, str(info.value)) == (signal.SIGHUP, "SIGHUP")
+    again = pickle.loads(pickle.dumps(info.value))
+    assert (type(again), again.signum, str(again)) == (Terminated, signal.SIGHUP, "SIGHUP")
     assert isinstance(info.value, KeyboardInterrupt)  # what catches Ctrl-C catches it too
     assert signal.getsignal(signal.SIGTERM) is before
 

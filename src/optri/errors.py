@@ -140,6 +140,9 @@ class Terminated(KeyboardInterrupt):
             name = f"signal {self.signum}"
         super().__init__(name)
 
+    def __reduce__(self) -> tuple[type[Terminated], tuple[int]]:
+        return (type(self), (self.signum,))  # pickles (a process pool's result) as itself
+
 
 class HoleSkippedWarning(UserWarning):
     """A mesh hole was left open (over ``max_hole_edges``, or it cannot be filled)."""
