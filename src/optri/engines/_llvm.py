@@ -67,6 +67,17 @@ def _c_table(arr) -> bool:  # type: ignore[no-untyped-def]
     return isinstance(arr, types.Array) and arr.ndim == 2 and arr.layout == "C"
 
 
+def _table(context, builder, ty, value):  # type: ignore[no-untyped-def]
+    """Data pointer and row length of a C-contiguous 2-D array argument of type ``ty``."""
+    ary = context.make_array(ty)(context, builder, value=value)
+    return ary.data, cgutils.unpack_tuple(builder, ary.shape, 2)[1]
+
+
+def _cell(builder, data, ld, i, j):  # type: ignore[no-untyped-def]
+    """Pointer to cell ``(i, j)`` of a table (``data``, row length ``ld``); no wraparound."""
+    return builder.gep(data, [builder.add(builder.mul(i, ld), j)], inbounds=True)
+
+
 def _cpu() -> tuple[str, list[str]]:
     """The CPU numba compiles for: its LLVM name and feature flags."""
     name = getattr(numba_config, "CPU_NAME", None) or "host"
@@ -135,9 +146,7 @@ def _outer(rows: int, cols: int):  # type: ignore[no-untyped-def]
 
         def codegen(context, builder, signature, args):
             def table(k):  # data pointer and row length of argument k
-                ty = signature.args[k]
-                ary = context.make_array(ty)(context, builder, value=args[k])
-                return ary.data, cgutils.unpack_tuple(builder, ary.shape, 2)[1]
+                return _table(context, builder, signature.args[k], args[k])
 
             (c_data, c_ld), (a_data, a_ld), (b_data, b_ld) = table(0), table(3), table(6)
             ci, cj, ai, ak, bk, bj, kn = (args[k] for k in (1, 2, 4, 5, 7, 8, 9))
@@ -159,11 +168,8 @@ def _outer(rows: int, cols: int):  # type: ignore[no-untyped-def]
             def const(v):
                 return ir.Constant(intp, v)
 
-            def at(data, ld, r, c):  # pointer to table[r, c]
-                return builder.gep(data, [builder.add(builder.mul(r, ld), c)], inbounds=True)
-
             def vec_at(data, ld, r, c, v):  # pointer to the v-th vector from table[r, c]
-                p = at(data, ld, r, builder.add(c, const(v * lanes)))
+                p = _cell(builder, data, ld, r, builder.add(c, const(v * lanes)))
                 return builder.bitcast(p, vty.as_pointer())
 
             vecs = cols // lanes
@@ -185,7 +191,7 @@ def _outer(rows: int, cols: int):  # type: ignore[no-untyped-def]
                     builder.load(vec_at(b_data, b_ld, brow, bj, v), align=size) for v in range(vecs)
                 ]
                 for r in range(rows):
-                    a = builder.load(at(a_data, a_ld, a_rows[r], builder.add(ak, t)))
+                    a = builder.load(_cell(builder, a_data, a_ld, a_rows[r], builder.add(ak, t)))
                     a = builder.insert_element(undef, a, ir.Constant(ir.IntType(32), 0))
                     a = builder.shuffle_vector(a, undef, splat)
                     for v in range(vecs):
@@ -241,13 +247,11 @@ def transpose_8x8(typingctx, src, si, sj, dst, di, dj):
 
     def codegen(context, builder, signature, args):
         def rows(k, r0, c0):  # pointers to the 8 rows' first elements
-            ty = signature.args[k]
-            ary = context.make_array(ty)(context, builder, value=args[k])
-            ld = cgutils.unpack_tuple(builder, ary.shape, 2)[1]
+            data, ld = _table(context, builder, signature.args[k], args[k])
             out = []
             for r in range(8):
                 row = builder.add(r0, ir.Constant(r0.type, r))
-                ptr = builder.gep(ary.data, [builder.add(builder.mul(row, ld), c0)], inbounds=True)
+                ptr = _cell(builder, data, ld, row, c0)
                 out.append(builder.bitcast(ptr, vty.as_pointer()))
             return out
 
@@ -268,12 +272,6 @@ def transpose_8x8(typingctx, src, si, sj, dst, di, dj):
     return sig, codegen
 
 
-def _cell_pointer(context, builder, ty, arr, i, j):  # type: ignore[no-untyped-def]
-    ary = context.make_array(ty)(context, builder, value=arr)
-    ld = cgutils.unpack_tuple(builder, ary.shape, 2)[1]
-    return builder.gep(ary.data, [builder.add(builder.mul(i, ld), j)], inbounds=True)
-
-
 @intrinsic
 def load_at(typingctx, arr, i, j):
     """``arr[i, j]`` of a C-contiguous 2-D array; ``0 <= i, j`` (no wraparound, no check).
@@ -288,7 +286,8 @@ def load_at(typingctx, arr, i, j):
         return None
 
     def codegen(context, builder, signature, args):
-        return builder.load(_cell_pointer(context, builder, signature.args[0], *args))
+        arr, i, j = args
+        return builder.load(_cell(builder, *_table(context, builder, signature.args[0], arr), i, j))
 
     return arr.dtype(arr, types.intp, types.intp), codegen
 
@@ -301,7 +300,8 @@ def store_at(typingctx, arr, i, j, value):
 
     def codegen(context, builder, signature, args):
         arr, i, j, value = args
-        builder.store(value, _cell_pointer(context, builder, signature.args[0], arr, i, j))
+        data, ld = _table(context, builder, signature.args[0], arr)
+        builder.store(value, _cell(builder, data, ld, i, j))
         return context.get_dummy_value()
 
     return types.none(arr, types.intp, types.intp, arr.dtype), codegen
