@@ -14,7 +14,7 @@ from optri.enumeration.counting import count_table
 from optri.polygon import require_simple
 from optri.simple import allowed_chords, valid_diagonals
 from optri.simple._kernels import valid_mask
-from optri.simple.mask import valid_diagonals_compiled, valid_diagonals_numpy
+from optri.simple.mask import _set_sides, valid_diagonals_compiled, valid_diagonals_numpy
 from simple_polys import (
     ccw_of,
     is_simple_polygon,
@@ -128,19 +128,9 @@ def test_waves_across_the_closing_chord_are_named_not_an_internal_error():
     poly = as_polygon(np.column_stack((r * np.cos(ang), r * np.sin(ang))))
     with pytest.raises(InvalidPolygonError, match="edges 45-46 and 49-0 cross"):
         valid_diagonals(poly)
-    x, y = poly.data[:, 0].copy(), poly.data[:, 1].copy()
-    off = ~np.eye(poly.n, dtype=bool)
-    assert np.array_equal(
-        valid_diagonals_compiled(poly.data) & off & ~_sides(poly.n),
-        valid_mask(x, y) & ~_sides(poly.n),
-    )
-
-
-def _sides(n):
-    s = np.zeros((n, n), dtype=bool)
-    i = np.arange(n)
-    s[i, (i + 1) % n] = s[(i + 1) % n, i] = True
-    return s
+    scan = valid_mask(poly.data[:, 0].copy(), poly.data[:, 1].copy())
+    _set_sides(scan)  # as the compiled path completes the scan's mask
+    assert np.array_equal(valid_diagonals_compiled(poly.data), scan)
 
 
 def test_convex_needs_no_mask_but_straight_vertex_does():
