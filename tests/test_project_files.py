@@ -7,6 +7,7 @@ and no setuptools deprecation warning while building.
 
 from __future__ import annotations
 
+import importlib
 import re
 import shutil
 import subprocess
@@ -208,3 +209,18 @@ def test_every_benchmark_script_imports(script):
         timeout=300,
     )
     assert res.returncode == 0, res.stderr.strip().splitlines()[-1:]
+
+
+@pytest.mark.parametrize(("n", "tile"), [(3, 4), (9, 4), (13, 4), (17, 8), (40, 16), (41, 16)])
+def test_bench_parts_counts_near_splits_exactly(n, tile, monkeypatch):
+    # bench_parts divides each part's candidates by its seconds: the counts must be exact
+    monkeypatch.syspath_prepend(str(REPO / "benchmarks"))
+    bench_parts = importlib.import_module("bench_parts")
+    near = sum(
+        1
+        for i in range(n)
+        for j in range(i + 2, n)
+        for k in range(i + 1, j)
+        if k // tile in (i // tile, j // tile)
+    )
+    assert bench_parts.near_candidates(n, tile) == near
