@@ -93,7 +93,7 @@ def peak_rate(rounds: int) -> float:
 
     64 rows x 64 columns x 256 splits, as ``_far`` runs it (its ``B`` packed, 256
     splits a pass): the shape of the C peak microbenchmark's kernels, which it matches
-    on the Xeon of ``docs/fast-engine.md`` (2.8-3.0e10 against 2.8-2.9e10). A
+    on the Xeon of ``docs/fast-engine.md`` (2.7-3.0e10 against 2.7-2.9e10). A
     yardstick reading ``B`` from rows of a larger table would understate it.
     """
     rng = np.random.default_rng(0)
