@@ -373,6 +373,9 @@ def _square(T, ew, mask, use_mask, a, b, c, e):
     if b - a == 16 and e - c == 16:
         _square16(T, ew, mask, use_mask, a, c)
         return
+    if b - a == 8 and e - c == 8:
+        _square8(T, ew, mask, use_mask, a, c)
+        return
     if b - a == 4 and e - c == 4:
         _leaf4(T, ew, mask, use_mask, a, c)
         return
@@ -395,10 +398,21 @@ def _square(T, ew, mask, use_mask, a, b, c, e):
 
 @kernel(inline="always")
 def _half(size, unit):
-    """About half of ``size``, a multiple of ``unit`` when that leaves both parts non-empty."""
+    """Where to halve ``size``: the largest ``unit`` times a power of two below it.
+
+    A tile of 128 halves into 64 and 64; the last tile of n = 1000 (104
+    vertices) into 64 and 40, then 32 and 8, so that the halving ends in
+    16 x 16 and 8 x 8 blocks, which have straight-line code, and 4 x 4
+    leaves. Cutting at the middle rounded to ``unit`` (104 into 48 and 56,
+    56 into 16 and 40, 24 into 12 and 12, ...) ended in blocks of 12, 6 and 3
+    cells solved cell by cell: at n = 1000 the fill took 4-5 % longer. Below
+    ``2 unit``, about half.
+    """
     h = size // 2
     if h >= unit:
-        h -= h % unit
+        h = unit
+        while 2 * h < size:
+            h *= 2
     return h
 
 
