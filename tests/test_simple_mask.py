@@ -118,14 +118,9 @@ def test_valid_diagonals_of_a_boundary_that_is_not_simple_is_an_error(coords):
 
 
 def test_waves_across_the_closing_chord_are_named_not_an_internal_error():
-    # 50 consecutive vertices of a wavy star, closed by the chord back to the first: the
-    # waves cross that chord. Ear clipping succeeds on it, and the walk then stopped with
-    # "internal error ... please report"; the compiled mask alone (which does not check)
-    # now falls back to the direct scan
-    rng = np.random.default_rng(0)
-    ang = np.linspace(0, 2 * np.pi, 2000, endpoint=False)[:50]
-    r = 1 + 0.3 * rng.random(2000)[:50]
-    poly = as_polygon(np.column_stack((r * np.cos(ang), r * np.sin(ang))))
+    # the walk then stopped with "internal error ... please report"; the compiled mask
+    # alone (which does not check) now falls back to the direct scan
+    poly = as_polygon(_arc_and_chord())
     with pytest.raises(InvalidPolygonError, match="edges 45-46 and 49-0 cross"):
         valid_diagonals(poly)
     scan = valid_mask(poly.data[:, 0].copy(), poly.data[:, 1].copy())
