@@ -28,7 +28,6 @@ from numba import njit
 
 from optri.bench.compare import convex_polygon
 from optri.engines import _minplus as K
-from optri.engines._jit_weights import edge_weight_row
 from optri.engines._llvm import outer_4x16, outer_8x16
 from optri.engines.jit import _aligned_table, minplus_tile
 
@@ -48,8 +47,7 @@ def _parts(T, pts, W, P, mask, tile, done, part):  # type: ignore[no-untyped-def
             j0, j1 = tj * tile, min(n, tj * tile + tile)
             ew = (W, i0, j0)
             if part == 1:
-                for i in range(i0, i1):
-                    edge_weight_row(0, pts, i, j0, W[i - i0, : j1 - j0])
+                K.tile_edges(W, pts, 0, i0, i1, j0, j1)
             elif part == 2 and d > 0:
                 K._far(T, P, mask, K._ROWS, i0, i1, j0, j1, i1, j0)
             elif part == 3:

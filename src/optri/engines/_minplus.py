@@ -54,7 +54,14 @@ from ._llvm import (
 )
 from .compiled import kernel
 
-__all__ = ["FASTMATH", "minplus_split", "minplus_tiles", "subtract_edges", "worker_bytes"]
+__all__ = [
+    "FASTMATH",
+    "minplus_split",
+    "minplus_tiles",
+    "subtract_edges",
+    "tile_edges",
+    "worker_bytes",
+]
 
 # Table values are never NaN (weights are checked) but may be +inf (unusable chord),
 # so "ninf" must stay off.
@@ -459,6 +466,13 @@ def _fill_inf(T, ia, ib, ja, jb):
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
+def tile_edges(W, pts, code, i0, i1, j0, j1):
+    """``W[i - i0, j - j0] = e(i, j)`` for rows [i0, i1) x columns [j0, j1): a tile's edges."""
+    for i in range(i0, i1):
+        edge_weight_row(code, pts, i, j0, W[i - i0, : j1 - j0])
+
+
+@kernel(fastmath=FASTMATH, _nrt=False)
 def _tile(T, pts, code, W, P, mask, use_mask, tile, ti, tj, done, nt):
     """Solve tile (ti, tj); ``done[a * nt + b]`` says whether tile (a, b) is finished.
 
@@ -475,8 +489,7 @@ def _tile(T, pts, code, W, P, mask, use_mask, tile, ti, tj, done, nt):
     n = T.shape[0]
     i0, i1 = ti * tile, min(n, ti * tile + tile)
     j0, j1 = tj * tile, min(n, tj * tile + tile)
-    for i in range(i0, i1):
-        edge_weight_row(code, pts, i, j0, W[i - i0, : j1 - j0])
+    tile_edges(W, pts, code, i0, i1, j0, j1)
     ew = (W, i0, j0)
     d = tj - ti
     if d == 0:
