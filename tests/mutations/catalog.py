@@ -355,6 +355,14 @@ MUTATIONS: list[Mutation] = [
         "the top-right quarter of a block never sees the splits through its bottom-left",
     ),
     M(
+        "square8-one-leaf",
+        "src/optri/engines/_minplus.py",
+        "        _square8(T, ew, mask, use_mask, a, c)\n        return",
+        "        _leaf4(T, ew, mask, use_mask, a, c)\n        return",
+        (MINPLUS, "-k", "both_halves or python_table"),
+        "an 8 x 8 block of the halving (n = 1000's last tile has them) solves one leaf of four",
+    ),
+    M(
         "square16-product-too-short",
         "src/optri/engines/_minplus.py",
         "_block(T, mask, use_mask, r, c + 8, a + 8, 8, 8)",
