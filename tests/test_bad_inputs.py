@@ -373,6 +373,29 @@ def test_memory_ceiling_reads_meminfo(monkeypatch):
     assert memory._meminfo_available() is None
 
 
+def test_memory_check_reads_the_os_only_for_large_requests(monkeypatch):
+    """Below ``MEMORY_CHECK_MIN_BYTES`` no counter is read; from it, the OS's room decides."""
+    from optri.engines import memory
+
+    reads = []
+    meminfo = b"MemAvailable:   1000 kB\n"  # 1 MB left: anything checked is refused
+
+    def read(path):
+        reads.append(path)
+        return meminfo if path == "/proc/meminfo" else None
+
+    monkeypatch.setattr(memory, "_read", read)
+    floor = config.MEMORY_CHECK_MIN_BYTES
+    memory.require_memory(floor - 1, "a small table")
+    assert reads == []
+    with pytest.raises(TableTooLargeError, match="a large table needs 33.6 MB but only 0.8 MB"):
+        memory.require_memory(floor, "a large table")
+    assert "/proc/meminfo" in reads
+    monkeypatch.setattr(config, "MEMORY_LIMIT_BYTES", 1000)  # an explicit ceiling: every size
+    with pytest.raises(TableTooLargeError, match="MEMORY_LIMIT_BYTES"):
+        memory.require_memory(2000, "a tiny table")
+
+
 def test_cgroup_files_found_from_proc_self_cgroup(monkeypatch, tmp_path):
     from optri.engines import memory
 

@@ -29,6 +29,8 @@ SQUARE = [[0, 0], [1, 0], [1, 1], [0, 1]]
         ([[0, 0], [1, np.inf], [1, 1]], "non-finite"),
         ([[0, 0], [1, 0], [1, 0], [0, 1]], "repeats"),
         ([[0, 0], [1, 0], [1, 1], [0, 1], [1, 0], [2, 2]], "repeats"),
+        # every turn strictly left, but around twice: not convex, so searched for repeats
+        ([[0, 0], [1, 0], [1, 1], [0, 1]] * 2, "vertex 4 repeats vertex 0"),
         ([[0, 0], [1, 1], [2, 2]], "collinear"),
         ([[0, 0, 0, 0]], "shape"),
         ([["a", "b"], ["c", "d"], ["e", "f"]], "numbers"),

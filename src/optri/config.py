@@ -18,6 +18,10 @@ __all__ = ["reset"]
 MEMORY_FRACTION = 0.8
 #: Hard override of the memory ceiling in bytes (None: ask the OS).
 MEMORY_LIMIT_BYTES: int | None = None
+#: Allocations smaller than this are not checked against the OS's counters (reading them
+#: costs 20-80 us, a tenth of a small polygon's solve): Python, numpy and numba already
+#: take several times as much. ``MEMORY_LIMIT_BYTES``, when set, is checked at every size.
+MEMORY_CHECK_MIN_BYTES = 32 << 20
 #: Largest n the brute-force oracle accepts (Catalan(n-2) triangulations).
 BRUTE_MAX_N = 13
 #: 3-D input counts as planar (then triangulated as a simple polygon in its own plane) when

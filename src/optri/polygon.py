@@ -119,6 +119,14 @@ def normalize_vertices(data: ArrayLike, *, values: bool = True) -> NDArray[np.fl
     >>> normalize_vertices([[0, 0], [1, 0], [0, 1], [0, 0], [0, 0]]).tolist()
     [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
     """
+    arr = _checked_array(data, values)
+    if arr.ndim == 2:
+        _require_distinct(arr)
+    return arr
+
+
+def _checked_array(data: ArrayLike, values: bool) -> NDArray[np.float64]:
+    """:func:`normalize_vertices` but for its check of repeated vertices."""
     arr = _as_float_array(data)
     shape_ok = (arr.ndim == 2 and arr.shape[1] in (2, 3)) or (arr.ndim == 1 and values)
     if not shape_ok:
@@ -132,8 +140,6 @@ def normalize_vertices(data: ArrayLike, *, values: bool = True) -> NDArray[np.fl
     n = arr.shape[0]
     if n < 3:
         raise InvalidPolygonError(f"a polygon needs at least 3 vertices, got {n}")
-    if arr.ndim == 2:
-        _require_distinct(arr)
     return arr
 
 
@@ -229,12 +235,13 @@ def as_polygon(data: ArrayLike | Polygon) -> Polygon:
     """
     if isinstance(data, Polygon):
         return data
-    arr = normalize_vertices(data)
+    arr = _checked_array(data, True)
     n = arr.shape[0]
     identity = np.arange(n, dtype=np.int64)
     if arr.ndim == 1:
         return Polygon(arr, arr, identity, None, True, _integer_values(data))
     if arr.shape[1] == 3:
+        _require_distinct(arr)
         planar = _planar_or_none(arr)
         if planar is None:  # a skew 3-D polygon: every index triangulation is valid
             return Polygon(arr, arr, identity, None, True)
@@ -243,17 +250,18 @@ def as_polygon(data: ArrayLike | Polygon) -> Polygon:
             raise InvalidPolygonError("all vertices are collinear: the polygon has no area")
         return Polygon(arr, arr, identity, None, _is_strictly_convex(planar, signs))
     signs = turn_signs(arr)
+    convex = _is_strictly_convex(arr, signs)
+    if not convex:  # a strictly convex ring's vertices are all distinct: no search needed
+        _require_distinct(arr)
     if not signs.any():
         raise InvalidPolygonError("all vertices are collinear: the polygon has no area")
-    turn = int(signs[_lowest(arr)])
+    turn = int(signs[0] if convex else signs[_lowest(arr)])
     if turn == 0:
         _refuse_folded(arr)
     order = identity
     if turn < 0:
         order = np.concatenate(([0], np.arange(n - 1, 0, -1))).astype(np.int64)
-    internal = arr[order]
-    convex = _is_strictly_convex(internal, signs[order] * turn)
-    return Polygon(arr, internal, order, "ccw" if turn > 0 else "cw", convex)
+    return Polygon(arr, arr[order], order, "ccw" if turn > 0 else "cw", convex)
 
 
 def _integer_values(data: ArrayLike) -> tuple[int, ...] | None:
@@ -322,20 +330,37 @@ def newell_normal(points: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def _lowest(points: NDArray[np.float64]) -> int:
-    """Index of the lowest vertex, the leftmost among equals (exact comparisons)."""
-    return int(np.lexsort((points[:, 0], points[:, 1]))[0])
+    """Index of the lowest vertex, the leftmost among equals, the first among repeats.
 
+    Exact comparisons, O(n) (a lexicographic sort took 15 us at n = 1000).
 
-def _is_strictly_convex(ccw_points: NDArray[np.float64], signs: NDArray[np.int64]) -> bool:
-    """Every turn strictly left and the boundary winding once (a pentagram winds twice).
-
-    With every turn left, the edge direction turns monotonically, by less than pi
-    a step, so it passes the direction "east" once per winding: counted from the
-    exact half-plane of each edge direction (up, or horizontal eastwards).
+    >>> _lowest(np.array([[2., 0.], [1., 1.], [1., 0.], [1., 0.]]))
+    2
     """
-    if np.any(signs <= 0):
+    y = points[:, 1]
+    low = np.flatnonzero(y == y.min())
+    return int(low[np.argmin(points[low, 0])])
+
+
+def _is_strictly_convex(points: NDArray[np.float64], signs: NDArray[np.int64]) -> bool:
+    """Every turn strictly one way and the boundary winding once (a pentagram winds twice).
+
+    With every turn the same way, the edge direction turns monotonically, by less
+    than pi a step, so it enters the half-plane of directions "up, or horizontal
+    eastwards" once per winding, in either orientation: counted exactly.
+    Such a ring bounds a convex polygon of which every vertex is a corner, so
+    its vertices are distinct.
+
+    >>> square = np.array([[0., 0.], [1., 0.], [1., 1.], [0., 1.]])
+    >>> _is_strictly_convex(square, turn_signs(square))
+    True
+    >>> twice = np.concatenate((square, square))      # around the square twice
+    >>> _is_strictly_convex(twice, turn_signs(twice))
+    False
+    """
+    if not (np.all(signs > 0) or np.all(signs < 0)):
         return False
-    x, y = ccw_points[:, 0], ccw_points[:, 1]
+    x, y = points[:, 0], points[:, 1]
     nx, ny = following(x), following(y)
     upper = (ny > y) | ((ny == y) & (nx > x))
     return int(np.count_nonzero(~upper & following(upper))) == 1

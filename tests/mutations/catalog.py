@@ -522,9 +522,24 @@ MUTATIONS: list[Mutation] = [
     M(
         "straight-vertex-is-convex",
         "src/optri/polygon.py",
-        "if np.any(signs <= 0):",
-        "if np.any(signs < 0):",
+        "if not (np.all(signs > 0) or np.all(signs < 0)):",
+        "if not (np.all(signs >= 0) or np.all(signs <= 0)):",
         (ERRORS, SIMPLE, "-k", "straight"),
+    ),
+    M(
+        "convex-winding-unchecked",
+        "src/optri/polygon.py",
+        "return int(np.count_nonzero(~upper & following(upper))) == 1",
+        "return True",
+        (ERRORS, "-k", "invalid_polygons or pentagram"),
+        "a ring around twice taken as convex, so never searched for repeated vertices",
+    ),
+    M(
+        "lowest-takes-rightmost",
+        "src/optri/polygon.py",
+        "return int(low[np.argmin(points[low, 0])])",
+        "return int(low[np.argmax(points[low, 0])])",
+        ("src/optri/polygon.py", ERRORS, SIMPLE),
     ),
     M(
         "clockwise-order-wrong",
@@ -1006,6 +1021,14 @@ MUTATIONS: list[Mutation] = [
         "return kib",
         ("tests/test_bad_inputs.py", "-k", "meminfo"),
         "MemAvailable taken in bytes where /proc/meminfo gives kB: a 1024x smaller ceiling",
+    ),
+    M(
+        "memory-check-floor-ignores-limit",
+        "src/optri/engines/memory.py",
+        "if nbytes < config.MEMORY_CHECK_MIN_BYTES and config.MEMORY_LIMIT_BYTES is None:",
+        "if nbytes < config.MEMORY_CHECK_MIN_BYTES:",
+        ("tests/test_bad_inputs.py", "-k", "memory"),
+        "an explicit MEMORY_LIMIT_BYTES not applied to small requests",
     ),
     M(
         "following-wraps-the-wrong-end",

@@ -6,10 +6,12 @@ take: the least of the container's room (cgroup v2 ``memory.max`` minus
 ``memory.usage_in_bytes``, less reclaimable page cache, over the process's
 cgroup and its ancestors) and the machine's ``MemAvailable`` (``/proc/meminfo``);
 ``config.MEMORY_LIMIT_BYTES`` overrides it all. Where the cgroup files are is
-found once and cached; their values are read on every check, with plain
-``os.read`` calls (a few small files: about 10 us a check, where ``pathlib``
-took 55 us, a third of a 20-vertex polygon's solve), and a cgroup's usage only
-where it has a limit.
+found once and cached; their values are read on every check of at least
+``config.MEMORY_CHECK_MIN_BYTES`` (32 MiB), with plain ``os.read`` calls, and a
+cgroup's usage only where it has a limit. That takes 18 us with the files in
+cache and 70-80 us right after a solve at n = 1000 (whose table has pushed them
+out of the CPU's caches): a tenth of a small polygon's solve, for a table far
+smaller than the interpreter itself, so smaller requests are let through.
 """
 
 from __future__ import annotations
@@ -47,6 +49,8 @@ def require_memory(nbytes: int, what: str, hint: str = "") -> None:
     ...
     optri.errors.TableTooLargeError: a 2^60-byte table needs 1152921504606.8 MB ...
     """
+    if nbytes < config.MEMORY_CHECK_MIN_BYTES and config.MEMORY_LIMIT_BYTES is None:
+        return
     limit = available_memory_bytes()
     if nbytes > limit:
         source = (
