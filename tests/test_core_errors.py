@@ -10,9 +10,12 @@ import threading
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 import optri
 from cli_run import run_optri
+from exact_oracle import sign_q
 from optri import config
 from optri.engines.interrupts import interruptible, stop_signals_unwind
 from optri.errors import Terminated
@@ -51,6 +54,32 @@ def test_pentagram_is_not_convex():
     ang = np.pi / 2 + 2 * np.pi * np.arange(5) / 5
     star = np.column_stack((np.cos(ang), np.sin(ang)))[[0, 2, 4, 1, 3]]
     assert not optri.as_polygon(star).convex
+
+
+def _strictly_convex_q(pts: list[tuple[int, int]]) -> bool:
+    """Oracle: every other vertex strictly on one and the same side of every edge."""
+    n = len(pts)
+    sides = {
+        sign_q(*pts[i], *pts[(i + 1) % n], *pts[v])
+        for i in range(n)
+        for v in range(n)
+        if v not in (i, (i + 1) % n)
+    }
+    return sides in ({1}, {-1})
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 4), st.integers(0, 4)), min_size=3, max_size=9))
+def test_convexity_matches_an_exact_oracle(pts):
+    # as_polygon skips its search for repeated vertices on a strictly convex ring: the
+    # flag must be exactly the oracle's (either orientation), so that repeats are found
+    try:
+        polygon = optri.as_polygon(pts)
+    except optri.InvalidPolygonError:
+        assume(False)
+    ring = [(int(x), int(y)) for x, y in polygon.vertices.tolist()]  # closing copies dropped
+    assert polygon.convex == _strictly_convex_q(ring)
+    assert optri.as_polygon(ring[::-1]).convex == polygon.convex
 
 
 def test_weight_errors():
