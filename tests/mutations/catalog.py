@@ -531,7 +531,7 @@ MUTATIONS: list[Mutation] = [
         "src/optri/polygon.py",
         "return int(np.count_nonzero(~upper & following(upper))) == 1",
         "return True",
-        (ERRORS, "-k", "invalid_polygons or pentagram"),
+        (ERRORS, "-k", "invalid_polygons or pentagram or oracle"),
         "a ring around twice taken as convex, so never searched for repeated vertices",
     ),
     M(
