@@ -163,8 +163,7 @@ def big_n(n: int = 2000) -> list[str]:
     lines.append(
         f"n = {n} random star: simplicity check {t_simple * 1000:.0f} ms, valid-diagonal "
         f"mask (the check included) {t_mask * 1000:.0f} ms ({int(mask.sum() - 2 * n) // 2} "
-        f"diagonals of "
-        f"{n * (n - 3) // 2} chords)"
+        f"diagonals of {n * (n - 3) // 2} chords)"
     )
     a = np.linspace(0, 2 * np.pi, n, endpoint=False)
     convex = np.column_stack((np.cos(a), np.sin(a)))

@@ -126,6 +126,24 @@ def perimeter_dp(points: np.ndarray, ok: np.ndarray) -> float:
     return cost[0][n - 1]
 
 
+def exact_strictly_convex(points: np.ndarray) -> bool:
+    """Whether every other vertex lies strictly on one and the same side of every edge.
+
+    Either orientation; a ring around twice, or one with a straight vertex, is not.
+    Exact ints, O(n^2).
+    """
+    x, y = as_integers(points)
+    n = len(x)
+    sides = set()
+    for a in range(n):
+        b = (a + 1) % n
+        for c in range(n):
+            if c not in (a, b):
+                d = (x[b] - x[a]) * (y[c] - y[a]) - (y[b] - y[a]) * (x[c] - x[a])
+                sides.add((d > 0) - (d < 0))
+    return sides in ({1}, {-1})
+
+
 def exact_simple(points: np.ndarray) -> bool:
     """Whether the closed ring of distinct points is simple: no two edges meet improperly.
 

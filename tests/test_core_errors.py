@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 import optri
 from cli_run import run_optri
-from exact_oracle import sign_q
+from exact_oracle import exact_strictly_convex
 from optri import config
 from optri.engines.interrupts import interruptible, stop_signals_unwind
 from optri.errors import Terminated
@@ -56,18 +56,6 @@ def test_pentagram_is_not_convex():
     assert not optri.as_polygon(star).convex
 
 
-def _strictly_convex_q(pts: list[tuple[int, int]]) -> bool:
-    """Oracle: every other vertex strictly on one and the same side of every edge."""
-    n = len(pts)
-    sides = {
-        sign_q(*pts[i], *pts[(i + 1) % n], *pts[v])
-        for i in range(n)
-        for v in range(n)
-        if v not in (i, (i + 1) % n)
-    }
-    return sides in ({1}, {-1})
-
-
 @settings(max_examples=300, deadline=None)
 @given(st.lists(st.tuples(st.integers(0, 4), st.integers(0, 4)), min_size=3, max_size=9))
 def test_convexity_matches_an_exact_oracle(pts):
@@ -77,8 +65,8 @@ def test_convexity_matches_an_exact_oracle(pts):
         polygon = optri.as_polygon(pts)
     except optri.InvalidPolygonError:
         assume(False)
-    ring = [(int(x), int(y)) for x, y in polygon.vertices.tolist()]  # closing copies dropped
-    assert polygon.convex == _strictly_convex_q(ring)
+    ring = polygon.vertices  # closing copies dropped
+    assert polygon.convex == exact_strictly_convex(ring)
     assert optri.as_polygon(ring[::-1]).convex == polygon.convex
 
 
