@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import threading
 import warnings
 
 import numpy as np
@@ -70,7 +71,7 @@ def test_fast_small_tiles_equal_memo(monkeypatch: pytest.MonkeyPatch, tile: int)
     # tiny tiles: many tile-diagonals, far splits, partial tiles and odd row counts
     monkeypatch.setattr(config, "FAST_TILE", tile)
     monkeypatch.setattr(config, "FAST_GENERIC_TILE", tile)
-    monkeypatch.setattr(config, "FAST_CHUNK_WORK", 1)  # one kernel call per tile-diagonal
+    monkeypatch.setattr(config, "FAST_WATCH_WORK", 0)  # min-plus: in a watched helper thread
     monkeypatch.setattr(config, "FAST_GENERIC_CHUNK_WORK", 1)
     pts = convex_polygon(37, tile)
     for w, obj in (("perimeter", "sum"), ("diagonal", "sum"), ("max_angle", "max")):
@@ -249,6 +250,70 @@ def test_fast_progress_and_table() -> None:
     np.testing.assert_array_equal(np.tril(a.table), np.tril(b.table))
 
 
+def test_fast_watched_fill_reports_progress_and_equals_the_direct_one(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # a long min-plus fill runs in a helper thread while this one reports the cells of
+    # finished tiles: reports rise to the total, and the table is the direct call's
+    pts = convex_polygon(300, 3)
+    monkeypatch.setattr(config, "FAST_TILE", 8)
+    direct = optri.triangulate(pts, method="fast", keep_table=True)
+    monkeypatch.setattr(config, "FAST_WATCH_WORK", 0)
+    monkeypatch.setattr(config, "FAST_PROGRESS_SECONDS", 1e-4)
+    calls: list[tuple[int, int]] = []
+    got = optri.triangulate(
+        pts, method="fast", keep_table=True, progress=lambda d, t: calls.append((d, t))
+    )
+    assert np.array_equal(got.table, direct.table) and got.weight == direct.weight
+    total = 299 * 298 // 2
+    assert calls[-1] == (total, total) and all(t == total for _, t in calls)
+    assert all(a < b for (a, _), (b, _) in zip(calls, calls[1:]))
+    # what the reports add up: each tile's chords, every chord in exactly one tile
+    for n, tile in ((300, 8), (1000, 128), (10, 4), (9, 16), (4000, 256)):
+        i, j = np.triu_indices(n, 2)
+        per_tile = np.bincount(
+            i // tile * -(-n // tile) + j // tile, minlength=(-(-n // tile)) ** 2
+        )
+        assert np.array_equal(jit._tile_cells(n, tile), per_tile), (n, tile)
+
+
+def test_fast_watched_fill_stops_when_the_caller_raises(monkeypatch: pytest.MonkeyPatch) -> None:
+    # an exception in the watching thread (Ctrl-C arrives there too) sets the stop
+    # flag: the helper takes no further tile and is waited for before the exception
+    # goes on; a fill that was not stopped would have finished every tile
+    from optri.engines import _jit_kernels
+
+    made: list[tuple[np.ndarray, np.ndarray]] = []
+    fresh = _jit_kernels.tile_flags
+
+    def flags(n: int, tile: int) -> tuple[np.ndarray, np.ndarray]:
+        made.append(fresh(n, tile))
+        return made[-1]
+
+    monkeypatch.setattr(_jit_kernels, "tile_flags", flags)
+    monkeypatch.setattr(config, "FAST_TILE", 16)
+    monkeypatch.setattr(config, "FAST_WATCH_WORK", 0)
+    monkeypatch.setattr(config, "FAST_PROGRESS_SECONDS", 1e-3)
+
+    def stop_now(done: int, total: int) -> None:
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        optri.triangulate(convex_polygon(1500, 2), method="fast", progress=stop_now)
+    done, stop = made[-1]
+    nt = -(-1500 // 16)
+    assert stop[0] == 1 and not done.reshape(nt, nt)[np.triu_indices(nt)].all()
+    assert not any(t.name == "optri-fill" and t.is_alive() for t in threading.enumerate())
+    # a stopped kernel call takes no tile at all
+    n = 100
+    T = np.full((n, n), np.nan)
+    stop = np.ones(1, dtype=np.int64)
+    chords = (np.ones((1, 1), dtype=np.bool_), False)
+    pts = np.asfortranarray(convex_polygon(n, 1))
+    _jit_kernels.minplus_tiles(T, pts, 0, chords, 8, 0, n, 2, fresh(n, 8)[0], stop)
+    assert np.isnan(T).all()
+
+
 @numba.njit(cache=False)
 def _njit_perimeter(v, i, k, j):
     if v.shape[0] == 13:  # a NaN for one polygon size, to test detection
@@ -311,11 +376,10 @@ def test_fast_tile_queue_waits_for_its_neighbours(monkeypatch: pytest.MonkeyPatc
     old = numba.get_num_threads()
     try:
         numba.set_num_threads(1)
-        monkeypatch.setattr(config, "FAST_CHUNK_WORK", 1)
         ref = optri.triangulate(pts, method="fast", keep_table=True)
         numba.set_num_threads(2)
-        monkeypatch.setattr(config, "FAST_CHUNK_WORK", 1e18)
-        for _ in range(3):
+        for watch in (0, 1e18, 0):  # in a helper thread, in this one
+            monkeypatch.setattr(config, "FAST_WATCH_WORK", watch)
             got = optri.triangulate(pts, method="fast", keep_table=True)
             assert got.stats["threads"] == 2
             assert np.array_equal(got.table, ref.table, equal_nan=True)

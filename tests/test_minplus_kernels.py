@@ -28,6 +28,7 @@ numba = pytest.importorskip("numba")
 from optri.engines import _llvm  # noqa: E402
 from optri.engines._jit_weights import edge_weight, edge_weight_row  # noqa: E402
 from optri.engines._minplus import FASTMATH  # noqa: E402
+from optri.engines._minplus import tile_flags as _flags  # noqa: E402
 
 SHAPES = [(4, 4), (4, 8), (4, 16), (8, 16)]
 
@@ -258,13 +259,13 @@ def test_fill_writes_both_halves(n: int, tile: int, use_mask: bool) -> None:
         mask |= mask.T
     T = np.full((n, n), np.nan)
     code = int(WeightCode.PERIMETER)
-    _jit_kernels.minplus_tiles(T, pts, code, (mask, use_mask), tile, 0, n, 2)
+    _jit_kernels.minplus_tiles(T, pts, code, (mask, use_mask), tile, 0, n, 2, *_flags(n, tile))
     upper = np.triu_indices(n, 1)
     assert not np.isnan(T[upper]).any()
     assert np.array_equal(T[upper], T.T[upper])
     # and the same upper half as with 4 x 4 tiles, all leaves
     T4 = np.full((n, n), np.nan)
-    _jit_kernels.minplus_tiles(T4, pts, code, (mask, use_mask), 4, 0, n, 1)
+    _jit_kernels.minplus_tiles(T4, pts, code, (mask, use_mask), 4, 0, n, 1, *_flags(n, 4))
     assert np.array_equal(T[upper], T4[upper])
 
 
@@ -281,10 +282,13 @@ def test_fill_one_tile_diagonal_per_call(n: int, tile: int) -> None:
     chords = (np.ones((1, 1), dtype=np.bool_), False)
     code = int(WeightCode.PERIMETER)
     whole = np.full((n, n), np.nan)
-    _jit_kernels.minplus_tiles(whole, pts, code, chords, tile, 0, n, 2)
+    _jit_kernels.minplus_tiles(whole, pts, code, chords, tile, 0, n, 2, *_flags(n, tile))
     calls = np.full((n, n), np.nan)
+    done, stop = _flags(n, tile)  # kept from call to call, as a caller would
     for d in range(-(-n // tile)):
-        _jit_kernels.minplus_tiles(calls, pts, code, chords, tile, d, d + 1, 2)
+        _jit_kernels.minplus_tiles(calls, pts, code, chords, tile, d, d + 1, 2, done, stop)
+    nt = -(-n // tile)
+    assert done.reshape(nt, nt)[np.triu_indices(nt)].all() and not stop[0]
     assert np.array_equal(calls, whole, equal_nan=True)  # the diagonal is never written
     assert np.isnan(np.diag(whole)).all() and not np.isnan(whole[np.triu_indices(n, 1)]).any()
 

@@ -138,10 +138,12 @@ FAST_TILE: int | None = None
 #: Compiled engine: tile side of the generic kernel (any weight): compute-bound, so small
 #: tiles that keep each kernel call short (progress, Ctrl-C) cost nothing.
 FAST_GENERIC_TILE = 16
-#: Compiled engine: min-plus steps per kernel call between progress reports (about 0.1 s
-#: at full speed; each call ends when its last tile does, so fewer calls keep every core
-#: busy for longer).
-FAST_CHUNK_WORK = 2e9
+#: Compiled engine: min-plus fills of more steps than this (n^3 / 6; about 0.1 s at full
+#: speed) run in a helper thread while the calling thread reports progress and takes
+#: Ctrl-C, which stops the fill at its next tile; shorter fills run in the calling thread.
+FAST_WATCH_WORK = 2e9
+#: Compiled engine: seconds between progress reports of a watched min-plus fill.
+FAST_PROGRESS_SECONDS = 0.1
 #: The same for the generic kernel, in min-plus-step equivalents (a weight evaluation
 #: counts 20): calls of about 0.1 s there too, where Ctrl-C takes effect.
 FAST_GENERIC_CHUNK_WORK = 3e8

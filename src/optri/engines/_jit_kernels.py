@@ -24,7 +24,7 @@ from numba.extending import overload
 from ..objective import lex_better
 from ..weights import WeightCode
 from ._jit_weights import triangle_weight
-from ._minplus import minplus_split, minplus_tiles, subtract_edges
+from ._minplus import minplus_split, minplus_tiles, subtract_edges, tile_flags
 from .compiled import kernel
 
 __all__ = [
@@ -35,6 +35,7 @@ __all__ = [
     "minplus_tiles",
     "split_table",
     "subtract_edges",
+    "tile_flags",
     "trace",
     "uncached",
 ]

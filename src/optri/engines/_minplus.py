@@ -41,6 +41,7 @@ from ._jit_weights import edge_weight, edge_weight_row
 from ._llvm import (
     fetch_add,
     fmin,
+    load_acquire,
     load_at,
     outer_4x4,
     outer_4x8,
@@ -60,6 +61,7 @@ __all__ = [
     "minplus_tiles",
     "subtract_edges",
     "tile_edges",
+    "tile_flags",
     "worker_bytes",
 ]
 
@@ -525,8 +527,19 @@ def worker_bytes(tile: int, itemsize: int) -> int:
     return tile * tile * 8 + _KBLOCK * (tile // 16) * 16 * itemsize
 
 
-@kernel(parallel=True, fastmath=FASTMATH)
-def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers):
+def tile_flags(n: int, tile: int) -> tuple[np.ndarray, np.ndarray]:
+    """Fresh ``(done, stop)`` arrays for ``minplus_tiles`` on an ``n``-vertex table.
+
+    ``done[ti * nt + tj]`` becomes 1 when tile (ti, tj) is finished (``nt`` tiles
+    a side), which a watching thread may read for progress; setting ``stop[0]``
+    to 1 makes the threads take no further tile.
+    """
+    nt = (n + tile - 1) // tile
+    return np.zeros(nt * nt, dtype=np.int64), np.zeros(1, dtype=np.int64)
+
+
+@kernel(parallel=True, fastmath=FASTMATH, nogil=True)
+def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers, done, stop):
     """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the E-table (sum, edge weight).
 
     ``chords = (mask, use_mask)``: with ``use_mask``, cells where ``mask`` is
@@ -537,6 +550,12 @@ def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers):
     rows; see ``_tile``): no barrier between tile-diagonals, so no thread
     idles at the end of one. Every wait is for a tile taken earlier, so the
     earliest unfinished tile never waits.
+
+    ``done, stop`` are ``tile_flags(n, tile)`` (``done`` may come from a call
+    on earlier diagonals). Runs without the GIL: another thread may watch
+    ``done`` and set ``stop[0]``, after which no thread takes a new tile; the
+    tiles already taken are finished (each waits only for tiles taken before
+    it), so the call returns within about one tile's time.
     """
     mask, use_mask = chords
     nt = (T.shape[0] + tile - 1) // tile
@@ -547,7 +566,6 @@ def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers):
         for t in range(nt - d):
             order[m, 0], order[m, 1] = t, d
             m += 1
-    done = np.zeros(nt * nt, dtype=np.int64)  # tile (ti, tj) at ti * nt + tj
     for ti in range(nt):  # tiles of earlier calls
         for tj in range(ti, min(nt, ti + d0)):
             done[ti * nt + tj] = 1
@@ -557,7 +575,7 @@ def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers):
     packed = np.empty((workers, 0 if use_mask else _KBLOCK * (tile // 16), 16), dtype=T.dtype)
     columns = np.asfortranarray(pts)  # each coordinate contiguous: edge rows vectorize
     for w in prange(workers):
-        while True:
+        while load_acquire(stop, 0) == 0:
             k = fetch_add(taken, 0)
             if k >= m:
                 break

@@ -9,8 +9,10 @@ compiled weight and the ``"max"`` and lexicographic objectives run the generic
 recurrence (a lexicographic pair uses a second table). Split vertices are not
 stored: the O(n) cells on the optimal path are re-scanned afterwards.
 
-The driver fills the table in chunks of (tile-)diagonals, reporting progress
-between chunks, where Ctrl-C also takes effect. Compiled code is cached on
+The min-plus fill runs as one kernel call, watched from the calling thread
+(progress, Ctrl-C) when it is long; the generic fill runs in chunks of
+(tile-)diagonals, reporting progress between chunks, where Ctrl-C also takes
+effect. Compiled code is cached on
 disk (:mod:`optri.engines.compiled`), so only the first process ever pays the
 compilation.
 """
@@ -20,6 +22,7 @@ from __future__ import annotations
 import functools
 import importlib.util
 import math
+import threading
 from collections.abc import Iterator
 from typing import Any
 
@@ -322,10 +325,79 @@ def _user_vertices(problem: Problem) -> NDArray[np.float64]:
 
 
 def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args, threads: int) -> None:
+    """The min-plus fill: one kernel call, watched from this thread when it is long.
+
+    Every tile-diagonal runs in one parallel region, so no thread waits at the
+    end of a call for another's last tile (at n = 4000 on the Xeon of
+    ``docs/fast-engine.md``, six calls of a few diagonals took 1.03x the time
+    of one). Beyond ``config.FAST_WATCH_WORK`` min-plus steps the kernel runs
+    in a helper thread while this one reports progress and takes Ctrl-C
+    (:func:`_watched`).
+    """
+    n = problem.n
     code = int(problem.weights[0].code)  # an int: typing an IntEnum costs 0.2 ms a call
-    side, budget = minplus_tile(problem.n), config.FAST_CHUNK_WORK
-    for d0, d1, tile in _tile_chunks(problem, side, cost_per_split=1, budget=budget):
-        K.minplus_tiles(T, args.pts, code, args.chords, tile, d0, d1, threads)
+    tile = minplus_tile(n)
+    done, stop = K.tile_flags(n, tile)
+    nt = (n + tile - 1) // tile
+
+    def fill() -> None:
+        K.minplus_tiles(T, args.pts, code, args.chords, tile, 0, nt, threads, done, stop)
+
+    report = _Reporter(problem, n)
+    if n**3 / 6 <= config.FAST_WATCH_WORK:
+        fill()
+    else:
+        cells = _tile_cells(n, tile)
+        _watched(fill, threads, stop, lambda: report.to(int(cells @ done)))
+    report.to(report.total)
+
+
+def _watched(fill: Any, threads: int, stop: NDArray[np.int64], poll: Any) -> None:
+    """Run ``fill`` (a kernel that releases the GIL) in a helper thread, polling meanwhile.
+
+    ``poll()`` runs every ``config.FAST_PROGRESS_SECONDS``. Ctrl-C, a stop signal
+    (:func:`optri.engines.interrupts.stop_signals_unwind`) or an exception from
+    ``poll`` sets ``stop[0]``: the kernel takes no further tile and returns
+    within about one tile's time, and the exception goes on from here, where
+    Python delivers signals. An exception in the helper is raised here too.
+    """
+    import numba
+
+    failure: list[BaseException] = []
+
+    def target() -> None:
+        numba.set_num_threads(threads)  # numba's thread count is per calling thread
+        try:
+            fill()
+        except BaseException as exc:  # noqa: BLE001 - handed to the calling thread
+            failure.append(exc)
+
+    helper = threading.Thread(target=target, name="optri-fill", daemon=True)
+    helper.start()
+    try:
+        while helper.is_alive():
+            helper.join(config.FAST_PROGRESS_SECONDS)
+            poll()
+    except BaseException:
+        stop[0] = 1
+        helper.join()
+        raise
+    if failure:
+        raise failure[0]
+
+
+def _tile_cells(n: int, tile: int) -> NDArray[np.int64]:
+    """Chords (i, j), ``j - i >= 2``, of each tile (ti, tj) at ``ti * nt + tj``; 0 below.
+
+    >>> _tile_cells(10, 4).reshape(3, 3).tolist()
+    [[3, 15, 8], [0, 3, 7], [0, 0, 0]]
+    """
+    nt = (n + tile - 1) // tile
+    side = np.minimum(n, np.arange(1, nt + 1) * tile) - np.arange(nt) * tile
+    cells = np.triu(np.outer(side, side))
+    cells[np.diag_indices(nt)] = (side - 1) * (side - 2) // 2
+    cells[np.arange(nt - 1), np.arange(1, nt)] -= 1  # the polygon side (i1 - 1, i1)
+    return cells.reshape(-1).astype(np.int64)
 
 
 def _fill_generic(problem: Problem, tables: tuple[NDArray[Any], NDArray[Any]], args: _Args) -> None:
@@ -404,9 +476,15 @@ class _Reporter:
         self.done = 0
 
     def add(self, cells: int) -> None:
-        self.done = min(self.total, self.done + cells)
-        if self.cb is not None:
-            self.cb(self.done, self.total)
+        self.to(self.done + cells)
+
+    def to(self, cells: int) -> None:
+        """Report ``cells`` done in all, if that is more than reported before."""
+        cells = min(self.total, cells)
+        if cells > self.done:
+            self.done = cells
+            if self.cb is not None:
+                self.cb(self.done, self.total)
 
 
 def _export(
