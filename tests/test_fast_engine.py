@@ -71,8 +71,7 @@ def test_fast_small_tiles_equal_memo(monkeypatch: pytest.MonkeyPatch, tile: int)
     # tiny tiles: many tile-diagonals, far splits, partial tiles and odd row counts
     monkeypatch.setattr(config, "FAST_TILE", tile)
     monkeypatch.setattr(config, "FAST_GENERIC_TILE", tile)
-    monkeypatch.setattr(config, "FAST_WATCH_WORK", 0)  # min-plus: in a watched helper thread
-    monkeypatch.setattr(config, "FAST_GENERIC_CHUNK_WORK", 1)
+    monkeypatch.setattr(config, "FAST_WATCH_WORK", 0)  # in a watched helper thread
     pts = convex_polygon(37, tile)
     for w, obj in (("perimeter", "sum"), ("diagonal", "sum"), ("max_angle", "max")):
         a = optri.triangulate(pts, w, obj, method="fast")
@@ -250,23 +249,31 @@ def test_fast_progress_and_table() -> None:
     np.testing.assert_array_equal(np.tril(a.table), np.tril(b.table))
 
 
+@pytest.mark.parametrize("weight, objective", [("perimeter", "sum"), ("max_angle", "max")])
 def test_fast_watched_fill_reports_progress_and_equals_the_direct_one(
-    monkeypatch: pytest.MonkeyPatch,
+    monkeypatch: pytest.MonkeyPatch, weight: str, objective: str
 ) -> None:
-    # a long min-plus fill runs in a helper thread while this one reports the cells of
-    # finished tiles: reports rise to the total, and the table is the direct call's
+    # a long fill (min-plus; generic) runs in a helper thread while this one reports the
+    # cells of finished tiles (tile-diagonals): reports rise to the total, more than once,
+    # and the table is the direct call's
     pts = convex_polygon(300, 3)
     monkeypatch.setattr(config, "FAST_TILE", 8)
-    direct = optri.triangulate(pts, method="fast", keep_table=True)
+    monkeypatch.setattr(config, "FAST_GENERIC_TILE", 4)
+    direct = optri.triangulate(pts, weight, objective, method="fast", keep_table=True)
     monkeypatch.setattr(config, "FAST_WATCH_WORK", 0)
     monkeypatch.setattr(config, "FAST_PROGRESS_SECONDS", 1e-4)
     calls: list[tuple[int, int]] = []
     got = optri.triangulate(
-        pts, method="fast", keep_table=True, progress=lambda d, t: calls.append((d, t))
+        pts,
+        weight,
+        objective,
+        method="fast",
+        keep_table=True,
+        progress=lambda d, t: calls.append((d, t)),
     )
     assert np.array_equal(got.table, direct.table) and got.weight == direct.weight
     total = 299 * 298 // 2
-    assert calls[-1] == (total, total) and all(t == total for _, t in calls)
+    assert len(calls) > 1 and calls[-1] == (total, total) and all(t == total for _, t in calls)
     assert all(a < b for (a, _), (b, _) in zip(calls, calls[1:]))
     # what the reports add up: each tile's chords, every chord in exactly one tile
     for n, tile in ((300, 8), (1000, 128), (10, 4), (9, 16), (4000, 256)):
@@ -314,6 +321,92 @@ def test_fast_watched_fill_stops_when_the_caller_raises(monkeypatch: pytest.Monk
     assert np.isnan(T).all()
 
 
+def test_watched_raises_a_real_sigint_only_once_the_fill_has_returned(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # the calling thread waits when SIGINT comes: it sets the stop flag and raises only
+    # once the helper has returned (on Python 3.11 a Thread.join that Ctrl-C interrupts
+    # marks the thread as stopped, and a second join returns at once while it still runs)
+    import os
+    import signal
+    import time
+
+    monkeypatch.setattr(config, "FAST_PROGRESS_SECONDS", 1.0)  # the signal finds it waiting
+    stop = np.zeros(1, dtype=np.int64)
+    returned: list[bool] = []
+
+    def fill() -> None:  # a kernel: runs until stopped, then finishes the tiles it took
+        start = time.monotonic()
+        while not stop[0] and time.monotonic() - start < 20:
+            time.sleep(0.001)
+        time.sleep(0.05)
+        returned.append(True)
+
+    timer = threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        jit._watched(fill, 1, stop, lambda: None)
+    timer.join()
+    assert returned == [True] and stop[0] == 1
+
+
+def test_a_kernels_first_call_is_watched(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the first call of a kernel compiles it or loads it from the disk cache, partly in
+    # llvmlite callbacks that swallow Ctrl-C: it runs in the helper, whatever its size
+    @numba.njit(cache=False)
+    def never_called(x):  # type: ignore[no-untyped-def]
+        return x + 1
+
+    assert not jit._loaded(never_called)
+    never_called(1)
+    assert jit._loaded(never_called)
+
+    watched: list[object] = []
+    monkeypatch.setattr(jit, "_watched", lambda fill, *rest: (watched.append(fill), fill()))
+    pts = convex_polygon(8, 1)
+    for loaded in (False, True):
+        monkeypatch.setattr(jit, "_loaded", lambda kernel, loaded=loaded: loaded)
+        optri.triangulate(pts, method="fast")  # min-plus
+        optri.triangulate(pts, "max_angle", "max", method="fast")  # generic
+    assert len(watched) == 2  # both first calls, neither later one
+
+
+def test_fast_watched_generic_fill_stops_when_the_caller_raises(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # the generic kernel checks the stop flag between tile-diagonals
+    from optri.engines import jit
+
+    seen: list[np.ndarray] = []
+    fresh = np.zeros
+
+    def zeros(shape: object, dtype: object = float) -> np.ndarray:
+        a = fresh(shape, dtype=dtype)  # type: ignore[call-overload]
+        seen.append(a)
+        return a
+
+    class _Numpy:  # numpy, except that the driver's zeros are kept for a look afterwards
+        def __getattr__(self, name: str) -> object:
+            return zeros if name == "zeros" else getattr(np, name)
+
+    monkeypatch.setattr(jit, "np", _Numpy())
+    monkeypatch.setattr(config, "FAST_GENERIC_TILE", 4)
+    monkeypatch.setattr(config, "FAST_WATCH_WORK", 0)
+    monkeypatch.setattr(config, "FAST_PROGRESS_SECONDS", 1e-3)
+
+    def stop_now(done: int, total: int) -> None:
+        raise KeyboardInterrupt
+
+    n = 700
+    with pytest.raises(KeyboardInterrupt):
+        optri.triangulate(
+            convex_polygon(n, 2), "max_angle", "max", method="fast", progress=stop_now
+        )
+    stop, reached = seen[-2], seen[-1]
+    assert stop[0] == 1 and 0 < reached[0] < -(-n // 4)
+    assert not any(t.name == "optri-fill" and t.is_alive() for t in threading.enumerate())
+
+
 @numba.njit(cache=False)
 def _njit_perimeter(v, i, k, j):
     if v.shape[0] == 13:  # a NaN for one polygon size, to test detection
@@ -332,6 +425,19 @@ def test_fast_custom_njit_weight_and_nan() -> None:
     b = optri.triangulate(pts, "perimeter", method="fast")
     assert close(a.weight, b.weight)
     a.check()
+    with pytest.raises(WeightError, match="NaN"):
+        optri.triangulate(convex_polygon(13, 1), w, method="fast")
+
+
+def test_fast_watched_user_weight_and_nan(monkeypatch: pytest.MonkeyPatch) -> None:
+    # in the watched helper thread: a user's numba weight, and its NaN, as in this one
+    monkeypatch.setattr(config, "FAST_WATCH_WORK", 0)
+    monkeypatch.setattr(config, "FAST_GENERIC_TILE", 4)
+    w = optri.custom_weight(_njit_perimeter)
+    pts = convex_polygon(30, 9)
+    assert optri.triangulate(pts, w, method="fast").weight == pytest.approx(
+        optri.triangulate(pts, "perimeter", method="memo").weight, rel=1e-12
+    )
     with pytest.raises(WeightError, match="NaN"):
         optri.triangulate(convex_polygon(13, 1), w, method="fast")
 

@@ -136,17 +136,16 @@ FAST_GENERIC_PARALLEL_MIN_N = 250
 #: ``optri.engines.jit.minplus_tile``).
 FAST_TILE: int | None = None
 #: Compiled engine: tile side of the generic kernel (any weight): compute-bound, so small
-#: tiles that keep each kernel call short (progress, Ctrl-C) cost nothing.
+#: tiles, which keep each tile-diagonal short (Ctrl-C stops the fill between them), cost
+#: nothing.
 FAST_GENERIC_TILE = 16
-#: Compiled engine: min-plus fills of more steps than this (n^3 / 6; about 0.1 s at full
-#: speed) run in a helper thread while the calling thread reports progress and takes
-#: Ctrl-C, which stops the fill at its next tile; shorter fills run in the calling thread.
+#: Compiled engine: fills of more min-plus steps than this (n^3 / 6, a weight evaluation
+#: of the generic kernel counting 20; about 0.1 s) run in a helper thread while the
+#: calling thread reports progress and takes Ctrl-C, which stops the fill at its next tile
+#: (generic kernel: tile-diagonal); shorter fills run in the calling thread.
 FAST_WATCH_WORK = 2e9
-#: Compiled engine: seconds between progress reports of a watched min-plus fill.
+#: Compiled engine: seconds between progress reports of a watched fill.
 FAST_PROGRESS_SECONDS = 0.1
-#: The same for the generic kernel, in min-plus-step equivalents (a weight evaluation
-#: counts 20): calls of about 0.1 s there too, where Ctrl-C takes effect.
-FAST_GENERIC_CHUNK_WORK = 3e8
 #: Compiled kernels: cache folder when NUMBA_CACHE_DIR is unset (None: beside the package,
 #: else ~/.cache/optri); read once, when the first kernel module loads.
 JIT_CACHE_DIR: str | None = None

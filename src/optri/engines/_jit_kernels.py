@@ -24,6 +24,7 @@ from numba.extending import overload
 from ..objective import lex_better
 from ..weights import WeightCode
 from ._jit_weights import triangle_weight
+from ._llvm import load_acquire
 from ._minplus import minplus_split, minplus_tiles, subtract_edges, tile_flags
 from .compiled import kernel
 
@@ -138,20 +139,26 @@ def best_split(tables, weigh, rule, i, j):
     return b1, b2, arg
 
 
-@kernel(parallel=True)
-def generic_tiles(tables, weigh, rule, chords, tile, d0, d1):
+@kernel(parallel=True, nogil=True)
+def generic_tiles(tables, weigh, rule, chords, tile, d0, d1, stop, reached):
     """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the cost table(s).
 
     ``chords = (mask, use_mask)``. Sides must hold the neutral cost already.
     Tiles on one tile-diagonal are independent; inside a tile, cells go rows
     upwards, columns rightwards, so both halves of every split are final when read.
+    ``reached[0]`` is set to ``d + 1`` once tile-diagonal ``d`` is finished. Runs
+    without the GIL: another thread may watch ``reached`` and set ``stop[0]``;
+    the call returns after the tile-diagonal under way, as it does once a
+    weight has returned NaN (``rule[2]``).
     """
     T1, T2 = tables
     mask, use_mask = chords
-    lex = rule[1]
+    lex, nan = rule[1], rule[2]
     n = T1.shape[0]
     nt = (n + tile - 1) // tile
     for d in range(d0, d1):
+        if load_acquire(stop, 0) != 0 or nan[0] != 0:
+            break
         for t in prange(nt - d):
             i0, i1 = t * tile, min(n, t * tile + tile)
             j0, j1 = (t + d) * tile, min(n, (t + d) * tile + tile)
@@ -166,6 +173,7 @@ def generic_tiles(tables, weigh, rule, chords, tile, d0, d1):
                     if lex:
                         T2[i, j] = c2
                         T2[j, i] = c2
+        reached[0] = d + 1
 
 
 # --- reconstruction and the exported table ---------------------------------------------

@@ -9,21 +9,18 @@ compiled weight and the ``"max"`` and lexicographic objectives run the generic
 recurrence (a lexicographic pair uses a second table). Split vertices are not
 stored: the O(n) cells on the optimal path are re-scanned afterwards.
 
-The min-plus fill runs as one kernel call, watched from the calling thread
-(progress, Ctrl-C) when it is long; the generic fill runs in chunks of
-(tile-)diagonals, reporting progress between chunks, where Ctrl-C also takes
-effect. Compiled code is cached on
+Each fill is one kernel call; a long one runs in a helper thread while the
+calling thread reports progress and takes Ctrl-C, which stops the fill at its
+next tile (min-plus) or tile-diagonal (generic). Compiled code is cached on
 disk (:mod:`optri.engines.compiled`), so only the first process ever pays the
 compilation.
 """
 
 from __future__ import annotations
 
-import functools
 import importlib.util
 import math
 import threading
-from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -191,7 +188,7 @@ def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:
         e_last = edge_weight(problem.weights[0].code, args.pts, 0, n - 1)
         cost: Any = float(T1[0, n - 1]) - e_last
     else:
-        _fill_generic(problem, tables, args)
+        _fill_generic(problem, tables, args, threads)
         cost = (float(T1[0, n - 1]), float(T2[0, n - 1])) if lex else float(T1[0, n - 1])
     tris, bad = args.kernel("trace")(tables, args.weigh, args.rule, minplus)
     args.raise_on_nan()
@@ -330,8 +327,9 @@ def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args, thread
     Every tile-diagonal runs in one parallel region, so no thread waits at the
     end of a call for another's last tile (at n = 4000 on the Xeon of
     ``docs/fast-engine.md``, six calls of a few diagonals took 1.03x the time
-    of one). Beyond ``config.FAST_WATCH_WORK`` min-plus steps the kernel runs
-    in a helper thread while this one reports progress and takes Ctrl-C
+    of one). Beyond ``config.FAST_WATCH_WORK`` min-plus steps, and on the
+    kernel's first call in the process (:func:`_loaded`), the kernel runs in a
+    helper thread while this one reports progress and takes Ctrl-C
     (:func:`_watched`).
     """
     n = problem.n
@@ -344,12 +342,23 @@ def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args, thread
         K.minplus_tiles(T, args.pts, code, args.chords, tile, 0, nt, threads, done, stop)
 
     report = _Reporter(problem, n)
-    if n**3 / 6 <= config.FAST_WATCH_WORK:
+    if n**3 / 6 <= config.FAST_WATCH_WORK and _loaded(K.minplus_tiles):
         fill()
     else:
         cells = _tile_cells(n, tile)
         _watched(fill, threads, stop, lambda: report.to(int(cells @ done)))
     report.to(report.total)
+
+
+def _loaded(kernel: Any) -> bool:
+    """Whether ``kernel`` has machine code in this process already.
+
+    Its first call compiles it or loads it from the disk cache (seconds, or half
+    of one), partly inside llvmlite's callbacks, where Python reports a Ctrl-C
+    as "Exception ignored" and carries on: that first call is watched from
+    another thread, whatever its size.
+    """
+    return bool(kernel.overloads)
 
 
 def _watched(fill: Any, threads: int, stop: NDArray[np.int64], poll: Any) -> None:
@@ -364,6 +373,7 @@ def _watched(fill: Any, threads: int, stop: NDArray[np.int64], poll: Any) -> Non
     import numba
 
     failure: list[BaseException] = []
+    finished = threading.Event()
 
     def target() -> None:
         numba.set_num_threads(threads)  # numba's thread count is per calling thread
@@ -371,16 +381,20 @@ def _watched(fill: Any, threads: int, stop: NDArray[np.int64], poll: Any) -> Non
             fill()
         except BaseException as exc:  # noqa: BLE001 - handed to the calling thread
             failure.append(exc)
+        finally:
+            finished.set()
 
-    helper = threading.Thread(target=target, name="optri-fill", daemon=True)
-    helper.start()
+    # an Event, not Thread.join: a join that Ctrl-C interrupts marks the thread as
+    # stopped on Python 3.11 (threading's bpo-45274 handling), and the next join
+    # returns at once while the kernel still writes the table
+    threading.Thread(target=target, name="optri-fill", daemon=True).start()
     try:
-        while helper.is_alive():
-            helper.join(config.FAST_PROGRESS_SECONDS)
+        while not finished.wait(config.FAST_PROGRESS_SECONDS):
             poll()
+        poll()
     except BaseException:
         stop[0] = 1
-        helper.join()
+        finished.wait()
         raise
     if failure:
         raise failure[0]
@@ -400,7 +414,14 @@ def _tile_cells(n: int, tile: int) -> NDArray[np.int64]:
     return cells.reshape(-1).astype(np.int64)
 
 
-def _fill_generic(problem: Problem, tables: tuple[NDArray[Any], NDArray[Any]], args: _Args) -> None:
+def _fill_generic(
+    problem: Problem, tables: tuple[NDArray[Any], NDArray[Any]], args: _Args, threads: int
+) -> None:
+    """The generic fill: one kernel call, watched from this thread when it is long.
+
+    A weight evaluation costs about 20 min-plus steps, which ``config.FAST_WATCH_WORK``
+    counts in. The kernel checks the stop flag, and a NaN weight, between tile-diagonals.
+    """
     n = problem.n
     neutral = problem.objective.neutral
     neutrals = neutral if isinstance(neutral, tuple) else (neutral,)
@@ -408,63 +429,22 @@ def _fill_generic(problem: Problem, tables: tuple[NDArray[Any], NDArray[Any]], a
     for T, v in zip(tables, neutrals):
         T[idx, idx + 1] = T[idx + 1, idx] = v
     kernel = args.kernel("generic_tiles")
-    # a weight evaluation costs about 20 min-plus steps
-    side, budget = int(config.FAST_GENERIC_TILE), config.FAST_GENERIC_CHUNK_WORK
-    for d0, d1, tile in _tile_chunks(problem, side, cost_per_split=20, budget=budget):
-        kernel(tables, args.weigh, args.rule, args.chords, tile, d0, d1)
-        args.raise_on_nan()
-
-
-def _tile_chunks(
-    problem: Problem, tile: int, cost_per_split: int, budget: float
-) -> Iterator[tuple[int, int, int]]:
-    """Runs ``(d0, d1, tile)`` of tile-diagonals per kernel call, reporting progress."""
-    report = _Reporter(problem, problem.n)
-    for d0, d1, cells in _chunk_plan(problem.n, tile, cost_per_split, budget):
-        yield d0, d1, tile
-        report.add(cells)
-
-
-@functools.lru_cache(maxsize=64)
-def _chunk_plan(
-    n: int, tile: int, cost_per_split: int, budget: float
-) -> tuple[tuple[int, int, int], ...]:
-    """``(d0, d1, cells)`` of each kernel call: its tile-diagonals and their chords.
-
-    Cached: a batch of same-size polygons plans once (0.1 ms at n = 1000).
-    """
+    tile = int(config.FAST_GENERIC_TILE)
     nt = (n + tile - 1) // tile
-    cells = [_tile_diagonal_cells(n, tile, d) for d in range(nt)]
-    # work of tile-diagonal d: its cells times the splits each scans (~ (d + 1) tiles)
-    work = [c * (d + 1) * tile * cost_per_split for d, c in enumerate(cells)]
-    return tuple((d0, d1, sum(cells[d0:d1])) for d0, d1 in _chunks(work, budget))
+    stop, reached = np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64)
 
+    def fill() -> None:
+        kernel(tables, args.weigh, args.rule, args.chords, tile, 0, nt, stop, reached)
 
-def _chunks(work: list[int], budget: float) -> list[tuple[int, int]]:
-    """Split ``range(len(work))`` into consecutive runs of about ``budget`` work each."""
-    out, start, acc = [], 0, 0
-    for i, w in enumerate(work):
-        acc += w
-        if acc >= budget:
-            out.append((start, i + 1))
-            start, acc = i + 1, 0
-    if start < len(work):
-        out.append((start, len(work)))
-    return out
-
-
-def _tile_diagonal_cells(n: int, tile: int, d: int) -> int:
-    """Chords (i, j), j - i >= 2, in tiles (t, t + d)."""
-    nt = (n + tile - 1) // tile
-    total = 0
-    for t in range(nt - d):
-        rows = min(n, (t + 1) * tile) - t * tile
-        cols = min(n, (t + d + 1) * tile) - (t + d) * tile
-        if d == 0:
-            total += (rows - 1) * (rows - 2) // 2
-        else:
-            total += rows * cols - (1 if d == 1 else 0)
-    return total
+    report = _Reporter(problem, n)
+    if 20 * n**3 / 6 <= config.FAST_WATCH_WORK and _loaded(kernel):
+        fill()
+    else:  # cells of tile-diagonals 0 .. d - 1, for d = reached[0]
+        per_diagonal = [np.trace(_tile_cells(n, tile).reshape(nt, nt), d) for d in range(nt)]
+        cells = np.concatenate(([0], np.cumsum(per_diagonal)))
+        _watched(fill, threads, stop, lambda: report.to(int(cells[reached[0]])))
+    args.raise_on_nan()
+    report.to(report.total)
 
 
 class _Reporter:
