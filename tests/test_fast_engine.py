@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 import optri
 from optri import config
-from optri.engines import jit, memo
+from optri.engines import interrupts, jit, memo
 from optri.errors import EngineUnavailableError, TableTooLargeError, WeightError
 from optri.polygon import as_polygon
 from optri.solve import build_problem
@@ -344,7 +344,7 @@ def test_watched_raises_a_real_sigint_only_once_the_fill_has_returned(
     timer = threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT))
     timer.start()
     with pytest.raises(KeyboardInterrupt):
-        jit._watched(fill, 1, stop, lambda: None)
+        interrupts.watched(fill, 1, stop, lambda: None)
     timer.join()
     assert returned == [True] and stop[0] == 1
 
@@ -356,15 +356,15 @@ def test_a_kernels_first_call_is_watched(monkeypatch: pytest.MonkeyPatch) -> Non
     def never_called(x):  # type: ignore[no-untyped-def]
         return x + 1
 
-    assert not jit._loaded(never_called)
+    assert not interrupts.is_loaded(never_called)
     never_called(1)
-    assert jit._loaded(never_called)
+    assert interrupts.is_loaded(never_called)
 
     watched: list[object] = []
-    monkeypatch.setattr(jit, "_watched", lambda fill, *rest: (watched.append(fill), fill()))
+    monkeypatch.setattr(jit, "watched", lambda fill, *rest: (watched.append(fill), fill()))
     pts = convex_polygon(8, 1)
     for loaded in (False, True):
-        monkeypatch.setattr(jit, "_loaded", lambda kernel, loaded=loaded: loaded)
+        monkeypatch.setattr(jit, "is_loaded", lambda kernel, loaded=loaded: loaded)
         optri.triangulate(pts, method="fast")  # min-plus
         optri.triangulate(pts, "max_angle", "max", method="fast")  # generic
     assert len(watched) == 2  # both first calls, neither later one

@@ -7,13 +7,13 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from optri import InvalidPolygonError, as_polygon
+from optri import InvalidPolygonError, as_polygon, config
 from optri.engines.brute import all_index_triangulations
 from optri.engines.problem import chord_rows
 from optri.enumeration.counting import count_table
 from optri.polygon import require_simple
 from optri.simple import allowed_chords, valid_diagonals
-from optri.simple._kernels import valid_mask
+from optri.simple._kernels import ear_clip_until, valid_mask, visibility_mask, visibility_rows
 from optri.simple.mask import _set_sides, valid_diagonals_compiled, valid_diagonals_numpy
 from simple_polys import (
     ccw_of,
@@ -41,6 +41,17 @@ def test_mask_equals_shapely_oracle(coords, reverse):
     assert np.array_equal(valid_diagonals(poly), expected)
     assert np.array_equal(valid_diagonals_numpy(poly.data), expected)
     assert np.array_equal(valid_diagonals_compiled(poly.data), expected)
+    assert np.array_equal(_parallel_mask(poly.data), expected)
+
+
+def _parallel_mask(points: np.ndarray) -> np.ndarray:
+    """valid_diagonals_compiled on its large-polygon path (watched, rows on every thread)."""
+    old = config.MASK_WATCH_MIN_N
+    config.MASK_WATCH_MIN_N = 0
+    try:
+        return valid_diagonals_compiled(points)
+    finally:
+        config.MASK_WATCH_MIN_N = old
 
 
 @settings(max_examples=40, deadline=None)
@@ -93,6 +104,7 @@ def test_compiled_paths_agree(kind, seed):
     off = ~np.eye(poly.n, dtype=bool)
     sides = ref & ~scan & off
     assert np.array_equal(fast, ref)
+    assert np.array_equal(_parallel_mask(poly.data), ref)
     assert np.array_equal(scan | sides, ref)  # the scan kernel leaves sides unset
 
 
@@ -202,3 +214,22 @@ def test_float_stars_match_oracle(seed):
     expected = oracle_mask(ccw_of(pts))
     assert np.array_equal(valid_diagonals(poly), expected)
     assert np.array_equal(valid_diagonals_compiled(poly.data), expected)
+
+
+def test_the_parallel_walk_stops_when_asked_and_answers_as_the_serial_one():
+    pts = random_star(300, 1)
+    x, y = np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1])
+    go, stop = np.zeros(1, dtype=np.int64), np.ones(1, dtype=np.int64)
+    tris, ok = ear_clip_until(x, y, go)
+    assert ok and tris.shape == (298, 3)
+    assert not ear_clip_until(x, y, stop)[1]
+    mask, ok = visibility_rows(x, y, tris, go)
+    assert ok and mask.any()
+    assert not visibility_rows(x, y, tris, stop)[1]
+    assert np.array_equal(mask, visibility_mask(x, y, tris)[0])
+    broken = tris.copy()
+    broken[7] = broken[8]  # a triangle twice, one missing: whatever the serial walk says
+    got, want = visibility_rows(x, y, broken, go), visibility_mask(x, y, broken)
+    assert got[1] == want[1] and (not got[1] or np.array_equal(got[0], want[0]))
+    broken[7, 0] = 300  # no such vertex
+    assert not visibility_rows(x, y, broken, go)[1]

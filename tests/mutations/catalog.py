@@ -1032,7 +1032,7 @@ MUTATIONS: list[Mutation] = [
     ),
     M(
         "watch-stops-without-waiting",
-        "src/optri/engines/jit.py",
+        "src/optri/engines/interrupts.py",
         "        stop[0] = 1\n        finished.wait()\n",
         "        stop[0] = 1\n",
         ("tests/test_fast_engine.py", "-k", "watched"),
@@ -1040,7 +1040,7 @@ MUTATIONS: list[Mutation] = [
     ),
     M(
         "watch-never-stops",
-        "src/optri/engines/jit.py",
+        "src/optri/engines/interrupts.py",
         "        stop[0] = 1\n",
         "        pass\n",
         ("tests/test_fast_engine.py", "-k", "watched"),
@@ -1065,10 +1065,34 @@ MUTATIONS: list[Mutation] = [
     M(
         "first-call-not-watched",
         "src/optri/engines/jit.py",
-        "    if 20 * n**3 / 6 <= config.FAST_WATCH_WORK and _loaded(kernel):",
+        "    if 20 * n**3 / 6 <= config.FAST_WATCH_WORK and is_loaded(kernel):",
         "    if 20 * n**3 / 6 <= config.FAST_WATCH_WORK:",
         ("tests/test_fast_engine.py", "-k", "first_call"),
         "Ctrl-C during the generic kernel's first call (compiling) is swallowed",
+    ),
+    M(
+        "mask-rows-ignore-stop",
+        "src/optri/simple/_kernels.py",
+        "            if stop[0] != 0 or not _see_from(x, y, tris, left, i, out[i]):",
+        "            if not _see_from(x, y, tris, left, i, out[i]):",
+        ("tests/test_simple_mask.py", "-k", "parallel_walk"),
+        "the large polygon's visibility walk goes on after Ctrl-C",
+    ),
+    M(
+        "ear-clip-ignores-stop",
+        "src/optri/simple/_kernels.py",
+        "        if stop[0] != 0:\n            return tris, False\n",
+        "",
+        ("tests/test_simple_mask.py", "-k", "parallel_walk"),
+        "ear clipping goes on after Ctrl-C",
+    ),
+    M(
+        "mask-rows-skip-one",
+        "src/optri/simple/_kernels.py",
+        "        for i in range(s, n, _ROW_STRIDE):",
+        "        for i in range(s + _ROW_STRIDE, n, _ROW_STRIDE):",
+        ("tests/test_simple_mask.py",),
+        "the parallel walk leaves the first rows of each stride unseen",
     ),
     M(
         "watched-progress-counts-one-tile-less",

@@ -26,9 +26,10 @@ import threading
 from collections.abc import Iterator
 from typing import Any
 
+from .. import config
 from ..errors import Terminated
 
-__all__ = ["interruptible", "kernel_cause", "stop_signals_unwind"]
+__all__ = ["interruptible", "is_loaded", "kernel_cause", "stop_signals_unwind", "watched"]
 
 #: The signals :func:`stop_signals_unwind` turns into :class:`~optri.errors.Terminated`.
 STOP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGTERM", "SIGHUP") if hasattr(signal, n))
@@ -89,3 +90,65 @@ def stop_signals_unwind() -> Iterator[None]:
         for sig, handler in old.items():
             if handler is not None:  # None: installed outside Python, cannot be put back
                 signal.signal(sig, handler)
+
+
+def is_loaded(kernel: Any) -> bool:
+    """Whether the numba dispatcher ``kernel`` has machine code in this process already.
+
+    Its first call compiles it or loads it from the disk cache (seconds, or half
+    of one), partly inside llvmlite's callbacks, where Python reports a Ctrl-C
+    as "Exception ignored" and carries on: callers run that first call
+    :func:`watched`, whatever its size.
+
+    >>> import numba
+    >>> twice = numba.njit(lambda x: 2 * x)
+    >>> is_loaded(twice), twice(2), is_loaded(twice)
+    (False, 4, True)
+    """
+    return bool(kernel.overloads)
+
+
+def watched(fill: Any, threads: int, stop: Any, poll: Any) -> None:
+    """Run ``fill`` (a kernel call that releases the GIL) in a helper thread, polling meanwhile.
+
+    ``poll()`` runs every ``config.FAST_PROGRESS_SECONDS``. Ctrl-C, a stop signal
+    (:func:`stop_signals_unwind`) or an exception from ``poll`` sets
+    ``stop[0] = 1``, which the kernel checks between pieces of its work (a tile, a
+    row) to return early; once ``fill`` has returned, the exception goes on from
+    here, where Python delivers signals. An exception in the helper is raised
+    here too. ``threads``: numba threads for the helper (a per-thread setting).
+
+    >>> import numpy as np
+    >>> stop, out = np.zeros(1, dtype=np.int64), []
+    >>> watched(lambda: out.append("filled"), 1, stop, lambda: None)
+    >>> out, int(stop[0])
+    (['filled'], 0)
+    """
+    import numba
+
+    failure: list[BaseException] = []
+    finished = threading.Event()
+
+    def target() -> None:
+        numba.set_num_threads(threads)  # numba's thread count is per calling thread
+        try:
+            fill()
+        except BaseException as exc:  # noqa: BLE001 - handed to the calling thread
+            failure.append(exc)
+        finally:
+            finished.set()
+
+    # an Event, not Thread.join: a join that Ctrl-C interrupts marks the thread as
+    # stopped on Python 3.11 (threading's bpo-45274 handling), and the next join
+    # returns at once while the kernel still writes the table
+    threading.Thread(target=target, name="optri-fill", daemon=True).start()
+    try:
+        while not finished.wait(config.FAST_PROGRESS_SECONDS):
+            poll()
+        poll()
+    except BaseException:
+        stop[0] = 1
+        finished.wait()
+        raise
+    if failure:
+        raise failure[0]

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import importlib.util
 import math
-import threading
 from typing import Any
 
 import numpy as np
@@ -29,7 +28,7 @@ from numpy.typing import NDArray
 from .. import config
 from ..errors import EngineUnavailableError, NoTriangulationError, OptriError, WeightError
 from ..weights import Weight, WeightCode, compiled_weight_error, edge_weight
-from .interrupts import interruptible
+from .interrupts import interruptible, is_loaded, watched
 from .memory import require_memory
 from .problem import Problem, Solution, with_sides
 
@@ -328,9 +327,9 @@ def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args, thread
     end of a call for another's last tile (at n = 4000 on the Xeon of
     ``docs/fast-engine.md``, six calls of a few diagonals took 1.03x the time
     of one). Beyond ``config.FAST_WATCH_WORK`` min-plus steps, and on the
-    kernel's first call in the process (:func:`_loaded`), the kernel runs in a
+    kernel's first call in the process (:func:`~.interrupts.is_loaded`), the kernel runs in a
     helper thread while this one reports progress and takes Ctrl-C
-    (:func:`_watched`).
+    (:func:`~.interrupts.watched`).
     """
     n = problem.n
     code = int(problem.weights[0].code)  # an int: typing an IntEnum costs 0.2 ms a call
@@ -342,62 +341,12 @@ def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args, thread
         K.minplus_tiles(T, args.pts, code, args.chords, tile, 0, nt, threads, done, stop)
 
     report = _Reporter(problem, n)
-    if n**3 / 6 <= config.FAST_WATCH_WORK and _loaded(K.minplus_tiles):
+    if n**3 / 6 <= config.FAST_WATCH_WORK and is_loaded(K.minplus_tiles):
         fill()
     else:
         cells = _tile_cells(n, tile)
-        _watched(fill, threads, stop, lambda: report.to(int(cells @ done)))
+        watched(fill, threads, stop, lambda: report.to(int(cells @ done)))
     report.to(report.total)
-
-
-def _loaded(kernel: Any) -> bool:
-    """Whether ``kernel`` has machine code in this process already.
-
-    Its first call compiles it or loads it from the disk cache (seconds, or half
-    of one), partly inside llvmlite's callbacks, where Python reports a Ctrl-C
-    as "Exception ignored" and carries on: that first call is watched from
-    another thread, whatever its size.
-    """
-    return bool(kernel.overloads)
-
-
-def _watched(fill: Any, threads: int, stop: NDArray[np.int64], poll: Any) -> None:
-    """Run ``fill`` (a kernel that releases the GIL) in a helper thread, polling meanwhile.
-
-    ``poll()`` runs every ``config.FAST_PROGRESS_SECONDS``. Ctrl-C, a stop signal
-    (:func:`optri.engines.interrupts.stop_signals_unwind`) or an exception from
-    ``poll`` sets ``stop[0]``: the kernel takes no further tile and returns
-    within about one tile's time, and the exception goes on from here, where
-    Python delivers signals. An exception in the helper is raised here too.
-    """
-    import numba
-
-    failure: list[BaseException] = []
-    finished = threading.Event()
-
-    def target() -> None:
-        numba.set_num_threads(threads)  # numba's thread count is per calling thread
-        try:
-            fill()
-        except BaseException as exc:  # noqa: BLE001 - handed to the calling thread
-            failure.append(exc)
-        finally:
-            finished.set()
-
-    # an Event, not Thread.join: a join that Ctrl-C interrupts marks the thread as
-    # stopped on Python 3.11 (threading's bpo-45274 handling), and the next join
-    # returns at once while the kernel still writes the table
-    threading.Thread(target=target, name="optri-fill", daemon=True).start()
-    try:
-        while not finished.wait(config.FAST_PROGRESS_SECONDS):
-            poll()
-        poll()
-    except BaseException:
-        stop[0] = 1
-        finished.wait()
-        raise
-    if failure:
-        raise failure[0]
 
 
 def _tile_cells(n: int, tile: int) -> NDArray[np.int64]:
@@ -437,12 +386,12 @@ def _fill_generic(
         kernel(tables, args.weigh, args.rule, args.chords, tile, 0, nt, stop, reached)
 
     report = _Reporter(problem, n)
-    if 20 * n**3 / 6 <= config.FAST_WATCH_WORK and _loaded(kernel):
+    if 20 * n**3 / 6 <= config.FAST_WATCH_WORK and is_loaded(kernel):
         fill()
     else:  # cells of tile-diagonals 0 .. d - 1, for d = reached[0]
         per_diagonal = [np.trace(_tile_cells(n, tile).reshape(nt, nt), d) for d in range(nt)]
         cells = np.concatenate(([0], np.cumsum(per_diagonal)))
-        _watched(fill, threads, stop, lambda: report.to(int(cells[reached[0]])))
+        watched(fill, threads, stop, lambda: report.to(int(cells[reached[0]])))
     args.raise_on_nan()
     report.to(report.total)
 

@@ -1,18 +1,22 @@
-"""Compiled valid-diagonal kernels for simple polygons (numba, serial: compiles fast).
+"""Compiled valid-diagonal kernels for simple polygons (numba).
 
 Imported lazily by :func:`optri.simple.valid_diagonals`, so ``import optri``
 never loads numba. Under ``NUMBA_DISABLE_JIT=1`` the same code runs as Python.
+Serial kernels compile fast (the batch's per-polygon path uses them); a large
+polygon's mask runs ``ear_clip_until`` and ``visibility_rows``, which release
+the GIL, stop when asked, and walk the rows on every thread.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from numba import prange
 from numba.extending import register_jitable
 
 from ..engines.compiled import kernel
 from ..predicates import COMPILED_HELPERS, orient_sign, strictly_between
 
-__all__ = ["ear_clip", "valid_mask", "visibility_mask"]
+__all__ = ["ear_clip", "ear_clip_until", "valid_mask", "visibility_mask", "visibility_rows"]
 
 
 # the exact predicates of optri.predicates, compiled from the same source: the float
@@ -20,6 +24,7 @@ __all__ = ["ear_clip", "valid_mask", "visibility_mask"]
 for _helper in COMPILED_HELPERS:
     register_jitable(_helper)
 _orient = kernel(inline="always")(orient_sign)
+_ROW_STRIDE = 64  # visibility_rows: thread s walks from vertices s, s + 64, s + 128, ...
 
 
 @kernel()
@@ -123,6 +128,17 @@ def ear_clip(x, y):  # type: ignore[no-untyped-def]
     ear triangle whose closed interior holds no other vertex), so ``ok`` is
     False only for input that is not simple. O(n^2) for most polygons.
     """
+    return _clip(x, y, np.zeros(1, dtype=np.int64))
+
+
+@kernel(nogil=True)
+def ear_clip_until(x, y, stop):  # type: ignore[no-untyped-def]
+    """:func:`ear_clip` without the GIL, returning ``ok`` False once ``stop[0]`` is set."""
+    return _clip(x, y, stop)
+
+
+@kernel()
+def _clip(x, y, stop):  # type: ignore[no-untyped-def]
     n = x.shape[0]
     prv = np.empty(n, dtype=np.int64)
     nxt = np.empty(n, dtype=np.int64)
@@ -135,6 +151,8 @@ def ear_clip(x, y):  # type: ignore[no-untyped-def]
     misses = 0
     m = 0
     while left > 3:
+        if stop[0] != 0:
+            return tris, False
         if _is_ear(x, y, prv, nxt, v):
             p = prv[v]
             q = nxt[v]
@@ -266,8 +284,43 @@ def visibility_mask(x, y, tris):  # type: ignore[no-untyped-def]
         if not _see_from(x, y, tris, left, i, out[i]):
             return out, False
     for i in range(n):
-        for j in range(i + 1, n):
-            both = out[i, j] and out[j, i]
-            out[i, j] = both
-            out[j, i] = both
+        _both_ways(out, i)
+    return out, True
+
+
+@kernel(inline="always")
+def _both_ways(out, i):  # type: ignore[no-untyped-def]
+    """Chord (i, j), j > i, is visible iff seen from both ends; writes row i and column i."""
+    for j in range(i + 1, out.shape[0]):
+        both = out[i, j] and out[j, i]
+        out[i, j] = both
+        out[j, i] = both
+
+
+@kernel(parallel=True, nogil=True)
+def visibility_rows(x, y, tris, stop):  # type: ignore[no-untyped-def]
+    """:func:`visibility_mask` on every numba thread, without the GIL.
+
+    Each vertex's walk writes only its own row, so the rows are independent;
+    threads take every ``_ROW_STRIDE``-th row, which spreads rows of unequal
+    cost evenly. Returns ``ok`` False once ``stop[0]`` is set (checked before
+    each row). The mask is the serial kernel's, bit for bit.
+    """
+    n = x.shape[0]
+    out = np.zeros((n, n), dtype=np.bool_)
+    for t in range(tris.shape[0]):
+        for m in range(3):
+            if tris[t, m] < 0 or tris[t, m] >= n:
+                return out, False
+    left = _left_triangle(tris, n)
+    bad = np.zeros(_ROW_STRIDE, dtype=np.int64)  # one flag per stride: no shared write
+    for s in prange(_ROW_STRIDE):
+        for i in range(s, n, _ROW_STRIDE):
+            if stop[0] != 0 or not _see_from(x, y, tris, left, i, out[i]):
+                bad[s] = 1
+                break
+    if bad.any():
+        return out, False
+    for i in prange(n):  # row i's thread alone writes row i right of the diagonal, column i below
+        _both_ways(out, i)
     return out, True

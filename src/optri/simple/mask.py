@@ -11,12 +11,13 @@ no zero-area triangle can be produced.
 from __future__ import annotations
 
 import sys
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import config
-from ..engines.interrupts import interruptible
+from ..engines.interrupts import interruptible, is_loaded, watched
 from ..engines.memory import require_memory
 from ..errors import InvalidPolygonError, OptriError
 from ..polygon import Polygon, as_polygon, find_self_intersection, require_simple
@@ -141,14 +142,18 @@ def valid_diagonals_compiled(points: NDArray[np.float64]) -> NDArray[np.bool_]:
     against the edges outward from its first endpoint, stopping at the first
     blocker (O(n^3) in the worst case).
     """
-    from ._kernels import ear_clip, valid_mask, visibility_mask
+    from ._kernels import ear_clip, ear_clip_until, valid_mask, visibility_mask, visibility_rows
 
     x = np.ascontiguousarray(points[:, 0], dtype=np.float64)
     y = np.ascontiguousarray(points[:, 1], dtype=np.float64)
     with interruptible():  # Ctrl-C in a kernel: KeyboardInterrupt, not SystemError
-        tris, ok = ear_clip(x, y)
-        if ok:
-            mask, ok = visibility_mask(x, y, tris)
+        n = len(x)
+        if n >= config.MASK_WATCH_MIN_N or not is_loaded(visibility_rows):
+            mask, ok = _watched_mask(x, y, ear_clip_until, visibility_rows)
+        else:
+            tris, ok = ear_clip(x, y)
+            if ok:
+                mask, ok = visibility_mask(x, y, tris)
         if not ok:  # input that is not simple (ear clipping may still succeed on it)
             if find_self_intersection(points) is None:
                 raise OptriError(
@@ -158,6 +163,27 @@ def valid_diagonals_compiled(points: NDArray[np.float64]) -> NDArray[np.bool_]:
             mask = valid_mask(x, y)  # the scan needs no triangulation
     _set_sides(mask)
     return mask
+
+
+def _watched_mask(
+    x: NDArray[np.float64], y: NDArray[np.float64], clip: Any, rows: Any
+) -> tuple[NDArray[np.bool_], bool]:
+    """Ear clipping, then the visibility rows on every numba thread, in a watched helper.
+
+    Ctrl-C takes effect at the next ear or row (both kernels check a stop flag);
+    see :func:`optri.engines.interrupts.watched`.
+    """
+    import numba
+
+    stop = np.zeros(1, dtype=np.int64)
+    found: list[tuple[NDArray[np.bool_], bool]] = []
+
+    def walk() -> None:
+        tris, ok = clip(x, y, stop)
+        found.append(rows(x, y, tris, stop) if ok else (np.zeros((0, 0), dtype=np.bool_), False))
+
+    watched(walk, numba.get_num_threads(), stop, lambda: None)
+    return found[0]
 
 
 def valid_diagonals_numpy(points: NDArray[np.float64]) -> NDArray[np.bool_]:
