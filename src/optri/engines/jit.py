@@ -397,15 +397,12 @@ def _fill_generic(
 
 
 class _Reporter:
-    """Accumulate finished cells and pass them to ``problem.progress``."""
+    """Pass the cells finished so far to ``problem.progress``, each count once, rising."""
 
     def __init__(self, problem: Problem, n: int) -> None:
         self.cb = problem.progress
         self.total = (n - 1) * (n - 2) // 2
         self.done = 0
-
-    def add(self, cells: int) -> None:
-        self.to(self.done + cells)
 
     def to(self, cells: int) -> None:
         """Report ``cells`` done in all, if that is more than reported before."""

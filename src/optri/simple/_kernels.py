@@ -118,7 +118,7 @@ def _is_ear(x, y, prv, nxt, v):  # type: ignore[no-untyped-def]
     return True
 
 
-@kernel()
+@kernel(nogil=True)
 def ear_clip(x, y):  # type: ignore[no-untyped-def]
     """Some triangulation of a simple CCW polygon with no zero-area triangle.
 
@@ -193,6 +193,16 @@ def _left_triangle(tris, n):  # type: ignore[no-untyped-def]
 
 
 @kernel()
+def _checked_left(tris, n):  # type: ignore[no-untyped-def]
+    """``(left, ok)``: :func:`_left_triangle`; ok False if a triangle names no vertex."""
+    for t in range(tris.shape[0]):
+        for m in range(3):
+            if tris[t, m] < 0 or tris[t, m] >= n:
+                return np.full((0, 0), -1, dtype=np.int32), False
+    return _left_triangle(tris, n), True
+
+
+@kernel()
 def _third(tris, t, a, b):  # type: ignore[no-untyped-def]
     for m in range(3):
         c = tris[t, m]
@@ -264,7 +274,7 @@ def _push(stack, top, a, b, lo, hi):  # type: ignore[no-untyped-def]
     return top + 1
 
 
-@kernel()
+@kernel(nogil=True)
 def visibility_mask(x, y, tris):  # type: ignore[no-untyped-def]
     """(n, n) bool vertex visibility from a triangulation ``tris``; O(n^2) in all.
 
@@ -275,11 +285,9 @@ def visibility_mask(x, y, tris):  # type: ignore[no-untyped-def]
     """
     n = x.shape[0]
     out = np.zeros((n, n), dtype=np.bool_)
-    for t in range(tris.shape[0]):
-        for m in range(3):
-            if tris[t, m] < 0 or tris[t, m] >= n:
-                return out, False
-    left = _left_triangle(tris, n)
+    left, ok = _checked_left(tris, n)
+    if not ok:
+        return out, False
     for i in range(n):
         if not _see_from(x, y, tris, left, i, out[i]):
             return out, False
@@ -308,11 +316,9 @@ def visibility_rows(x, y, tris, stop):  # type: ignore[no-untyped-def]
     """
     n = x.shape[0]
     out = np.zeros((n, n), dtype=np.bool_)
-    for t in range(tris.shape[0]):
-        for m in range(3):
-            if tris[t, m] < 0 or tris[t, m] >= n:
-                return out, False
-    left = _left_triangle(tris, n)
+    left, ok = _checked_left(tris, n)
+    if not ok:
+        return out, False
     bad = np.zeros(_ROW_STRIDE, dtype=np.int64)  # one flag per stride: no shared write
     for s in prange(_ROW_STRIDE):
         for i in range(s, n, _ROW_STRIDE):

@@ -147,9 +147,15 @@ def valid_diagonals_compiled(points: NDArray[np.float64]) -> NDArray[np.bool_]:
     x = np.ascontiguousarray(points[:, 0], dtype=np.float64)
     y = np.ascontiguousarray(points[:, 1], dtype=np.float64)
     with interruptible():  # Ctrl-C in a kernel: KeyboardInterrupt, not SystemError
-        n = len(x)
-        if n >= config.MASK_WATCH_MIN_N or not is_loaded(visibility_rows):
+        if len(x) >= config.MASK_WATCH_MIN_N:
             mask, ok = _watched_mask(x, y, ear_clip_until, visibility_rows)
+        elif not (is_loaded(ear_clip) and is_loaded(visibility_mask)):  # loads or compiles
+            mask, ok = _watched_mask(
+                x,
+                y,
+                lambda x, y, stop: ear_clip(x, y),
+                lambda x, y, t, stop: visibility_mask(x, y, t),
+            )
         else:
             tris, ok = ear_clip(x, y)
             if ok:
@@ -168,10 +174,12 @@ def valid_diagonals_compiled(points: NDArray[np.float64]) -> NDArray[np.bool_]:
 def _watched_mask(
     x: NDArray[np.float64], y: NDArray[np.float64], clip: Any, rows: Any
 ) -> tuple[NDArray[np.bool_], bool]:
-    """Ear clipping, then the visibility rows on every numba thread, in a watched helper.
+    """``clip(x, y, stop)``, then ``rows(x, y, triangles, stop)``, in a watched helper thread.
 
-    Ctrl-C takes effect at the next ear or row (both kernels check a stop flag);
-    see :func:`optri.engines.interrupts.watched`.
+    With ``ear_clip_until`` and ``visibility_rows``, Ctrl-C takes effect at the next
+    ear or walk (both check the stop flag); with the serial kernels on their first call
+    (loading or compiling them), once they return. See
+    :func:`optri.engines.interrupts.watched`.
     """
     import numba
 
