@@ -95,6 +95,8 @@ def stop_signals_unwind() -> Iterator[None]:
 def is_loaded(kernel: Any) -> bool:
     """Whether the numba dispatcher ``kernel`` has machine code in this process already.
 
+    Anything else (a plain function: nothing to compile) counts as loaded.
+
     Its first call compiles it or loads it from the disk cache (seconds, or half
     of one), partly inside llvmlite's callbacks, where Python reports a Ctrl-C
     as "Exception ignored" and carries on: callers run that first call
@@ -102,10 +104,10 @@ def is_loaded(kernel: Any) -> bool:
 
     >>> import numba
     >>> twice = numba.njit(lambda x: 2 * x)
-    >>> is_loaded(twice), twice(2), is_loaded(twice)
-    (False, 4, True)
+    >>> is_loaded(twice), twice(2), is_loaded(twice), is_loaded(print)
+    (False, 4, True, True)
     """
-    return bool(kernel.overloads)
+    return bool(getattr(kernel, "overloads", True))
 
 
 def watched(fill: Any, threads: int, stop: Any, poll: Any) -> None:
