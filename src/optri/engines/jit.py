@@ -389,8 +389,8 @@ def _fill_generic(
     if 20 * n**3 / 6 <= config.FAST_WATCH_WORK and is_loaded(kernel):
         fill()
     else:  # cells of tile-diagonals 0 .. d - 1, for d = reached[0]
-        per_diagonal = [np.trace(_tile_cells(n, tile).reshape(nt, nt), d) for d in range(nt)]
-        cells = np.concatenate(([0], np.cumsum(per_diagonal)))
+        grid = _tile_cells(n, tile).reshape(nt, nt)
+        cells = np.concatenate(([0], np.cumsum([np.trace(grid, d) for d in range(nt)])))
         watched(fill, threads, stop, lambda: report.to(int(cells[reached[0]])))
     args.raise_on_nan()
     report.to(report.total)
