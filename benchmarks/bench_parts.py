@@ -2,8 +2,8 @@
 
 The compiled engine's fill (``optri.engines._minplus``, perimeter sum) is timed whole
 and then one part at a time over every tile, each part on its own pass: the edge
-weights, the far products (unpaired: every tile copies its own ``B``), the near splits
-and the tile copies to the lower half. The yardstick is the rate of the same register
+weights, the far products (unpaired: every tile copies its own ``B``) and the near
+splits. The yardstick is the rate of the same register
 block on a product whose operands sit in cache, in the far products' packed layout,
 measured in the same run; each part's candidates are counted exactly. A part's
 pass runs on a table already filled (its operands final), so the parts add up to
@@ -34,7 +34,7 @@ from optri.engines.jit import _aligned_table, minplus_tile
 
 @njit(fastmath=K.FASTMATH)
 def _parts(T, pts, W, P, mask, tile, done, part):  # type: ignore[no-untyped-def]
-    """One pass over every tile: ``part`` 0 whole, 1 edges, 2 far, 3 near, 4 copies."""
+    """One pass over every tile: ``part`` 0 whole, 1 edges, 2 far, 3 near."""
     n = T.shape[0]
     nt = (n + tile - 1) // tile
     for d in range(nt):
@@ -55,8 +55,6 @@ def _parts(T, pts, W, P, mask, tile, done, part):  # type: ignore[no-untyped-def
                     K._triangle(T, ew, mask, False, i0, i1)
                 else:
                     K._square(T, ew, mask, False, i0, i1, j0, j1)
-            elif part == 4:
-                K._mirror(T, i0, i1, j0, j1)
 
 
 @njit(fastmath=K.FASTMATH)
@@ -134,9 +132,9 @@ def profile(n: int, rounds: int) -> dict[str, float]:
     nt = (n + tile - 1) // tile
     done = np.ones(nt * nt, dtype=np.int64)
     W = np.empty((tile, tile))
-    P = np.empty((K._KBLOCK * (tile // 16), 16))
+    P = np.empty((K._STRIP * (tile // 16), 16))
     _parts(T, pts, W, P, mask, tile, done, 0)  # compile, and fill the table once
-    names = ("whole", "edge weights", "far products", "near splits", "tile copies")
+    names = ("whole", "edge weights", "far products", "near splits")
     return {
         name: _best(lambda k=k: _parts(T, pts, W, P, mask, tile, done, k), rounds)
         for k, name in enumerate(names)

@@ -189,13 +189,13 @@ def test_every_cell_equals_the_python_table(
 @pytest.mark.parametrize("rows", [4, 8])
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
 def test_far_product_equals_numpy(rows: int, dtype: type) -> None:
-    # the far product reads B from the table's other half and packs it: rows and columns
+    # the far product packs B from the table's rows above the diagonal: rows and columns
     # past whole blocks and strips, and more than one block of splits (> _KBLOCK)
     from optri.engines import _minplus
 
     rng = np.random.default_rng(rows)
     T = _table(rng, 420, dtype)
-    T = np.minimum(T, T.T)  # both halves hold a chord's value, as in the fill
+    T[np.tril_indices(420)] = np.nan  # never read: the fill leaves the lower half unwritten
     ia, ib, ja, jb = 5, 30, 380, 417
     k0, k1 = ib, ja
     assert k1 - k0 > _minplus._KBLOCK and (ib - ia) % rows and (jb - ja) % 16
@@ -203,10 +203,10 @@ def test_far_product_equals_numpy(rows: int, dtype: type) -> None:
     a, b = T[ia:ib, k0:k1], T[k0:k1, ja:jb]
     sums = (a[:, :, None] + b[None, :, :]).min(axis=1)
     want[ia:ib, ja:jb] = np.minimum(want[ia:ib, ja:jb], sums)
-    P = np.empty((_minplus._KBLOCK * 128 // 16, 16), dtype=dtype)
+    P = np.full((_minplus._STRIP * 128 // 16, 16), np.nan, dtype=dtype)
     mask = np.zeros((1, 1), dtype=np.bool_)
     _minplus._far(T, P, mask, rows, ia, ib, ja, jb, k0, k1)
-    assert np.array_equal(T, want)
+    assert np.array_equal(T, want, equal_nan=True)
 
 
 @pytest.mark.parametrize("with_mask", [False, True])
@@ -246,9 +246,8 @@ def test_dense_product_equals_numpy(rows: int, with_mask: bool) -> None:
     "n, tile, use_mask",
     [(203, 64, False), (203, 50, True), (100, 12, False), (131, 16, False), (45, 8, True)],
 )
-def test_fill_writes_both_halves(n: int, tile: int, use_mask: bool) -> None:
-    # every finished tile is copied to the lower half, where later tiles' far products
-    # copy their operand from and the trace reads; the fill itself reads only the upper
+def test_fill_writes_only_the_upper_half(n: int, tile: int, use_mask: bool) -> None:
+    # the fill reads and writes only above the diagonal (a NaN read below would spread)
     from optri.engines import _jit_kernels
     from optri.weights import WeightCode
 
@@ -262,7 +261,7 @@ def test_fill_writes_both_halves(n: int, tile: int, use_mask: bool) -> None:
     _jit_kernels.minplus_tiles(T, pts, code, (mask, use_mask), tile, 0, n, 2, *_flags(n, tile))
     upper = np.triu_indices(n, 1)
     assert not np.isnan(T[upper]).any()
-    assert np.array_equal(T[upper], T.T[upper])
+    assert np.isnan(T[np.tril_indices(n)]).all()
     # and the same upper half as with 4 x 4 tiles, all leaves
     T4 = np.full((n, n), np.nan)
     _jit_kernels.minplus_tiles(T4, pts, code, (mask, use_mask), 4, 0, n, 1, *_flags(n, 4))
@@ -274,7 +273,7 @@ def test_fill_one_tile_diagonal_per_call(n: int, tile: int) -> None:
     # a tile on an even tile-diagonal applies most of the far splits of the tile above
     # it, which lies on the next diagonal and may belong to the next kernel call (the
     # engine fills in calls of a few diagonals, for progress and Ctrl-C): one call per
-    # diagonal must give the same table, both halves, as one call for all
+    # diagonal must give the same table as one call for all
     from optri.engines import _jit_kernels
     from optri.weights import WeightCode
 
@@ -295,7 +294,7 @@ def test_fill_one_tile_diagonal_per_call(n: int, tile: int) -> None:
 
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
 def test_transpose_8x8_equals_numpy(dtype: type) -> None:
-    # the far product's copy of B: 8 row loads, 24 shuffles, 8 row stores
+    # mirror_table's blocks: 8 row loads, 24 shuffles, 8 row stores
     @numba.njit
     def run(S, si, sj, D, di, dj):  # type: ignore[no-untyped-def]
         _llvm.transpose_8x8(S, si, sj, D, di, dj)
@@ -308,3 +307,53 @@ def test_transpose_8x8_equals_numpy(dtype: type) -> None:
         want[di : di + 8, dj : dj + 8] = S[si : si + 8, sj : sj + 8].T
         run(S, si, sj, D, di, dj)
         assert np.array_equal(D, want), (si, sj, di, dj)
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_copy_8_equals_numpy(dtype: type) -> None:
+    # the far product's copy of B, 64 bytes of a table row at a time
+    @numba.njit
+    def run(S, si, sj, D, di, dj):  # type: ignore[no-untyped-def]
+        _llvm.copy_8(S, si, sj, D, di, dj)
+
+    rng = np.random.default_rng(9)
+    S = rng.uniform(0, 1, (20, 21)).astype(dtype)
+    for si, sj, di, dj in [(0, 0, 0, 0), (3, 5, 7, 2), (19, 13, 29, 9)]:
+        D = np.full((30, 17), -1.0, dtype=dtype)
+        want = D.copy()
+        want[di, dj : dj + 8] = S[si, sj : sj + 8]
+        run(S, si, sj, D, di, dj)
+        assert np.array_equal(D, want), (si, sj, di, dj)
+
+
+@pytest.mark.parametrize("n", [2, 9, 64, 131])
+def test_mirror_table_fills_both_halves(n: int) -> None:
+    # an exported table's splits read the lower half: every cell below the diagonal,
+    # the sides (j = i + 1) included, becomes its mirror; the diagonal is left alone
+    from optri.engines import _jit_kernels
+
+    T = _table(np.random.default_rng(n), n, np.float64)
+    T[np.tril_indices(n)] = np.nan
+    upper = T[np.triu_indices(n, 1)].copy()
+    _jit_kernels.mirror_table(T)
+    assert np.array_equal(T[np.triu_indices(n, 1)], upper)
+    assert np.array_equal(T.T[np.triu_indices(n, 1)], upper)
+    assert np.isnan(np.diag(T)).all()
+
+
+@pytest.mark.parametrize("n", [5, 40, 97])
+def test_trace_reads_the_upper_half_splits(n: int) -> None:
+    # the trace's split of chord (i, j) from row i and column j, with nothing written
+    # below the diagonal, equals the first minimizer by numpy and the mirrored table's
+    from optri.engines import _jit_kernels
+
+    T = _table(np.random.default_rng(n), n, np.float64)
+    T[np.tril_indices(n)] = np.nan
+    M = T.copy()
+    _jit_kernels.mirror_table(M)
+    for i in range(n - 2):
+        for j in range(i + 2, n):
+            sums = T[i, i + 1 : j] + T[i + 1 : j, j]
+            want = -1 if np.isinf(sums.min()) else i + 1 + int(np.argmin(sums))
+            assert _jit_kernels.minplus_split(T, i, j, False) == want, (i, j)
+            assert _jit_kernels.minplus_split(M, i, j, True) == want, (i, j)

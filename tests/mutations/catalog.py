@@ -139,10 +139,18 @@ MUTATIONS: list[Mutation] = [
     M(
         "minplus-ties-to-last",
         "src/optri/engines/_minplus.py",
-        "for kk in range(ri.shape[0]):\n        if ri[kk] + rj[kk] == best:",
-        "for kk in range(ri.shape[0] - 1, -1, -1):\n        if ri[kk] + rj[kk] == best:",
+        "for k in range(i + 1, j):\n        if load_at(T, i, k) + load_at(T, k, j) == best:",
+        "for k in range(j - 1, i, -1):\n        if load_at(T, i, k) + load_at(T, k, j) == best:",
         (TIES,),
         "the min-plus traceback keeps the last of equal splits",
+    ),
+    M(
+        "mirrored-split-ties-to-last",
+        "src/optri/engines/_minplus.py",
+        "for kk in range(ri.shape[0]):\n            if ri[kk] + rj[kk] == best:",
+        "for kk in range(ri.shape[0] - 1, -1, -1):\n            if ri[kk] + rj[kk] == best:",
+        (MINPLUS, "-k", "trace_reads"),
+        "an exported table's split is the last of equal splits, not the first as the trace's",
     ),
     M(
         "compiled-lex-ties-to-last",
@@ -381,10 +389,10 @@ MUTATIONS: list[Mutation] = [
     M(
         "far-packs-one-split-row",
         "src/optri/engines/_minplus.py",
-        "transpose_8x8(T, j, kb + t, P, p + t, 0)",
-        "transpose_8x8(T, j, kb, P, p + t, 0)",
+        "copy_8(T, kb + t, ja + 16 * s, P, s * _STRIP + t, 0)",
+        "copy_8(T, kb, ja + 16 * s, P, s * _STRIP + t, 0)",
         (MINPLUS, "-k", "tiling or python_table or far_product"),
-        "the packed far product copies the first 8 splits' rows for every 8 (first 8 columns)",
+        "the packed far product copies the first split's row for every split (first 8 columns)",
     ),
     M(
         "far-forgets-columns-past-strips",
@@ -405,8 +413,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "far-8x16-block-runs-as-4x16",
         "src/optri/engines/_minplus.py",
-        "outer_8x16(T, i, ja + 16 * s, T, i, kb, P, s * _KBLOCK, 0, kn)",
-        "outer_4x16(T, i, ja + 16 * s, T, i, kb, P, s * _KBLOCK, 0, kn)",
+        "outer_8x16(T, i, ja + 16 * s, T, i, kb, P, s * _STRIP, 0, kn)",
+        "outer_4x16(T, i, ja + 16 * s, T, i, kb, P, s * _STRIP, 0, kn)",
         (MINPLUS, "-k", "far_product"),
         "the far product's 8-row block (64-byte vectors) updates only its first 4 rows",
     ),
@@ -417,14 +425,6 @@ MUTATIONS: list[Mutation] = [
         "quad_lo, quad_hi = [0, 1, 2, 3, 8, 9, 11, 10], [4, 5, 6, 7, 12, 13, 14, 15]",
         (MINPLUS, "-k", "transpose or far_product"),
         "the 8 x 8 transpose puts rows 6 and 7 of the input in each other's place",
-    ),
-    M(
-        "far-pack-forgets-the-tail",
-        "src/optri/engines/_minplus.py",
-        "for t in range(k8, kn):",
-        "for t in range(k8, k8):",
-        (MINPLUS, "-k", "far_product or tiling"),
-        "splits past the last whole 8 of a block are never copied into the packed B",
     ),
     M(
         "product-8-rows-forgets-columns-past-strips",
@@ -952,15 +952,12 @@ MUTATIONS: list[Mutation] = [
         "a projected polygon with holes is solved as one ring of all its vertices",
     ),
     M(
-        "tile-not-mirrored",
-        "src/optri/engines/_minplus.py",
-        "        _far(T, P, mask, _ROWS, i0, i1, j0, j1, i1, j0)\n    if d > 0:\n"
-        "        _square(T, ew, mask, use_mask, i0, i1, j0, j1)\n    _mirror(T, i0, i1, j0, j1)\n",
-        "        _far(T, P, mask, _ROWS, i0, i1, j0, j1, i1, j0)\n    if d > 0:\n"
-        "        _square(T, ew, mask, use_mask, i0, i1, j0, j1)\n",
-        (MINPLUS, "-k", "both_halves"),
-        "a finished tile is not copied below the diagonal, where the far products and the "
-        "trace read it",
+        "export-not-mirrored",
+        "src/optri/engines/jit.py",
+        "        K.mirror_table(tables[0])\n",
+        "        pass\n",
+        (FAST, "-k", "progress_and_table"),
+        "an exported table's splits read a lower half the fill never wrote",
     ),
     M(
         "mirror-skips-the-sides",
@@ -971,12 +968,28 @@ MUTATIONS: list[Mutation] = [
         "cells next to the diagonal (the polygon's sides) are not copied below it",
     ),
     M(
-        "edge-cell-reads-the-mirror",
+        "edge-cell-reads-the-lower-half",
         "src/optri/engines/_minplus.py",
         "best = fmin(best, T[i, k] + T[k, j])",
         "best = fmin(best, T[i, k] + T[j, k])",
-        (MINPLUS, "-k", "both_halves"),
-        "cells at the edges of blocks read the lower half before their tile is copied there",
+        (MINPLUS, "-k", "upper_half"),
+        "cells at the edges of blocks read the lower half, which the fill never writes",
+    ),
+    M(
+        "trace-reads-the-lower-half",
+        "src/optri/engines/_minplus.py",
+        "best = fmin(best, load_at(T, i, k) + load_at(T, k, j))",
+        "best = fmin(best, load_at(T, i, k) + load_at(T, j, k))",
+        (MINPLUS, "-k", "trace_reads"),
+        "the trace takes a chord's splits from the lower half, which the fill never writes",
+    ),
+    M(
+        "far-copies-half-a-strip",
+        "src/optri/engines/_minplus.py",
+        "                copy_8(T, kb + t, ja + 16 * s + 8, P, s * _STRIP + t, 8)\n",
+        "",
+        (MINPLUS, "-k", "far_product"),
+        "the far product's copy of B leaves the right half of every strip's rows stale",
     ),
     M(
         "paired-tile-forgets-the-lower-rows",

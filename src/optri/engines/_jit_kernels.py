@@ -25,7 +25,7 @@ from ..objective import lex_better
 from ..weights import WeightCode
 from ._jit_weights import triangle_weight
 from ._llvm import load_acquire
-from ._minplus import minplus_split, minplus_tiles, subtract_edges, tile_flags
+from ._minplus import minplus_split, minplus_tiles, mirror_table, subtract_edges, tile_flags
 from .compiled import kernel
 
 __all__ = [
@@ -34,6 +34,7 @@ __all__ = [
     "generic_tiles",
     "minplus_split",
     "minplus_tiles",
+    "mirror_table",
     "split_table",
     "subtract_edges",
     "tile_flags",
@@ -200,7 +201,7 @@ def trace(tables, weigh, rule, minplus):
         # the branch written out here: behind a helper of both (inlined or not), the walk
         # took 97-113 us instead of 11-13 us at n = 1000 (min-plus), in every form tried
         if minplus:
-            k = minplus_split(tables[0], i, j)
+            k = minplus_split(tables[0], i, j, False)
         else:
             k = best_split(tables, weigh, rule, i, j)[2]
         if k <= i or k >= j or m >= n - 2:
@@ -215,13 +216,17 @@ def trace(tables, weigh, rule, minplus):
 
 @kernel(parallel=True)
 def split_table(tables, weigh, rule, minplus):
-    """Optimal split of every chord (O(n^3): only for an exported table)."""
+    """Optimal split of every chord (O(n^3): only for an exported table).
+
+    On the min-plus path, the table's lower half must hold its upper half
+    (``mirror_table``).
+    """
     n = tables[0].shape[0]
     out = np.full((n, n), -1, dtype=np.int32)
     for i in prange(n):
         for j in range(i + 2, n):
             if minplus:
-                out[i, j] = minplus_split(tables[0], i, j)
+                out[i, j] = minplus_split(tables[0], i, j, True)
             else:
                 out[i, j] = best_split(tables, weigh, rule, i, j)[2]
     return out

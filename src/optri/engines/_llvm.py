@@ -7,8 +7,10 @@
   vector code so that its accumulators stay in registers (the shape of the
   peak microbenchmark's kernels, ``optri/bench/yardsticks/minplus_peak.c``);
   ``register_plan`` picks its vector width and minimum for this CPU.
-* ``transpose_8x8``: an 8 x 8 transpose in vector registers, with which the
-  far product copies its ``B`` operand into a contiguous buffer.
+* ``copy_8``: eight values of a table row in one vector load and store, with
+  which the far product copies its ``B`` operand into a contiguous buffer.
+* ``transpose_8x8``: an 8 x 8 transpose in vector registers, with which an
+  exported table is copied to its lower half.
 * ``load_at`` / ``store_at``: a cell of a 2-D table without numba's
   negative-index wraparound, for the near splits' straight-line leaves.
 * atomics and ``yield_cpu`` for the tile queue of the min-plus fill.
@@ -36,6 +38,7 @@ __all__ = [
     "outer_4x8",
     "outer_4x16",
     "outer_8x16",
+    "copy_8",
     "register_plan",
     "store_at",
     "store_release",
@@ -267,6 +270,33 @@ def transpose_8x8(typingctx, src, si, sj, dst, di, dj):
             ]
         for p, v in zip(rows(3, args[4], args[5]), vecs):
             builder.store(v, p, align=size)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic
+def copy_8(typingctx, src, si, sj, dst, di, dj):
+    """``dst[di, dj + q] = src[si, sj + q]`` for ``q < 8``: one vector load and store.
+
+    On C-contiguous 2-D arrays of one float type, without numba's wraparound.
+    """
+    if not (_c_table(src) and _c_table(dst)) or src.dtype != dst.dtype:
+        return None
+    i = types.intp
+    sig = types.none(src, i, i, dst, i, i)
+
+    def codegen(context, builder, signature, args):
+        elt = context.get_data_type(signature.args[0].dtype)
+        size = context.get_abi_sizeof(elt)
+        vty = ir.VectorType(elt, 8).as_pointer()
+        s_data, s_ld = _table(context, builder, signature.args[0], args[0])
+        d_data, d_ld = _table(context, builder, signature.args[3], args[3])
+        value = builder.load(
+            builder.bitcast(_cell(builder, s_data, s_ld, args[1], args[2]), vty), align=size
+        )
+        ptr = builder.bitcast(_cell(builder, d_data, d_ld, args[4], args[5]), vty)
+        builder.store(value, ptr, align=size)
         return context.get_dummy_value()
 
     return sig, codegen

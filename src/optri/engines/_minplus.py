@@ -3,7 +3,7 @@
 With ``w(i, k, j) = e(i, k) + e(k, j) + e(i, j)`` the table holds
 ``E = cost + e`` and ``E(i, j) = 2 e(i, j) + min_k E(i, k) + E(k, j)``: a
 pure min-plus product (as in ``ref_mwt.c``). ``T[i, j]`` (``i < j``) holds
-``E(i, j)`` and, once its tile is finished, ``T[j, i]`` the same value.
+``E(i, j)``; the fill reads and writes nothing on or below the diagonal.
 
 Every split is evaluated by one register block, ``outer_4x16`` of
 :mod:`optri.engines._llvm` (4 rows x 16 columns of cells held in vector
@@ -16,16 +16,19 @@ finished cells:
   starts when the tiles left of it and below it are done;
 * in a tile, the "far" splits (between its rows and its columns) first: one
   dense product, whose ``B`` rows are first copied into a contiguous buffer
-  (``_far``; 8 x 16 register blocks where vectors are 64 bytes wide). A tile
+  along table rows (``_far``; 8 x 16 register blocks where vectors are 64
+  bytes wide). A tile
   on an even tile-diagonal applies most of the far splits of the tile above
   it too, from the same copy (``_tile``);
 * then the "near" splits, by recursive halving of the tile (bottom-left,
   bottom-right, top-left, top-right): before a quarter is solved, the splits
   through quarters already finished are applied to it as dense products;
-  only blocks of at most ``_LEAF`` rows or columns go cell by cell;
-* last, the finished tile is copied to the other half of the table
-  (``_mirror``), where later tiles' far products and the trace read it. The
-  fill itself reads only above the diagonal.
+  only blocks of at most ``_LEAF`` rows or columns go cell by cell.
+
+The trace reads the splits of a chord ``(i, j)`` from row ``i`` and column
+``j`` (``minplus_split``); for an exported table, whose every chord's split is
+needed, the table is first copied to its lower half (``mirror_table``), where
+column ``j`` is row ``j``.
 
 A diagonal tile (a triangle) halves into two triangles and the square
 between them. The minimum of a set of sums does not depend on the order they
@@ -39,6 +42,7 @@ from numba import prange
 
 from ._jit_weights import edge_weight, edge_weight_row
 from ._llvm import (
+    copy_8,
     fetch_add,
     fmin,
     load_acquire,
@@ -59,6 +63,7 @@ __all__ = [
     "FASTMATH",
     "minplus_split",
     "minplus_tiles",
+    "mirror_table",
     "subtract_edges",
     "tile_edges",
     "tile_flags",
@@ -69,6 +74,11 @@ __all__ = [
 # so "ninf" must stay off.
 FASTMATH = {"nnan", "nsz", "arcp", "contract", "reassoc"}
 _KBLOCK = 256  # splits per pass of a register block over a far product
+# rows of _far's packed buffer per strip: one more than a block of splits, so that the
+# copy's stores of a table row (one per strip, 32 KB apart at tile 256 without the spare
+# row) do not all fall in one L1 set; on the Xeon of docs/fast-engine.md, one thread's
+# far products at n = 4000 took 346 ms with it, 357 ms without
+_STRIP = _KBLOCK + 1
 _LEAF = 4  # blocks this small (rows or columns) are solved cell by cell
 # rows of the dense products' register block: 8 x 16 cells fill the 32 vector registers of
 # AVX-512 (64-byte vectors); with 32-byte vectors 4 x 16 fill the 16 of AVX2
@@ -87,10 +97,9 @@ def _rowmin(best, a, b):
 
 @kernel(fastmath=FASTMATH, inline="always")
 def _colmin(best, T, i, j, k0, k1):
-    """``min(best, min over k0 <= k < k1 of T[i, k] + T[k, j])``: column ``j``, not its mirror.
+    """``min(best, min over k0 <= k < k1 of T[i, k] + T[k, j])``: row ``i``, column ``j``.
 
-    For the few cells at the edges of blocks; the mirror ``T[j, k0:k1]`` is
-    written only when the tile is finished (``_mirror``).
+    For the few cells at the edges of blocks.
     """
     for k in range(k0, k1):
         best = fmin(best, T[i, k] + T[k, j])
@@ -182,36 +191,31 @@ def _far(T, P, mask, rows, ia, ib, ja, jb, k0, k1):
     """``_product`` of a tile's far splits (no chord mask), from packed rows.
 
     For each block of ``_KBLOCK`` splits, the rows ``B[k, j:j + 16]`` of each
-    16-column strip are first copied into ``P`` one after another, read from
-    the table's other half (``T[j + q, k]``, the same value): 16 contiguous
-    runs of the table rather than one short piece per table row, which the
-    hardware prefetches (on the Xeon of ``docs/fast-engine.md``, copying the
-    strips from ``T[k, j:j + 16]`` took a quarter of the far product's time),
-    eight splits at a time as two 8 x 8 transposes in vector registers. The
-    register block, ``rows`` x 16 (``_ROWS``), then reads its ``B``
-    operand as one contiguous run. Columns and rows beyond whole strips and
-    blocks go through ``_product``. The candidates are the same sums, so the
-    result is the same, bit for bit.
+    16-column strip are first copied into ``P``: strip ``s`` at rows
+    ``s * _STRIP`` on, its splits one after another. The copy runs along table
+    rows: row ``k``'s whole strips, one contiguous run of the table which the
+    hardware prefetches, go to the ``k``-th row of every strip, 64 bytes at a
+    time (``copy_8``). Copied strip by strip instead, one short piece per table
+    row, the copy took a quarter of the far product's time on the Xeon of
+    ``docs/fast-engine.md``. The register block, ``rows`` x 16 (``_ROWS``),
+    then reads its ``B`` operand as one contiguous run. Columns and rows
+    beyond whole strips and blocks go through ``_product``. The candidates are
+    the same sums, so the result is the same, bit for bit.
     """
     jf = ja + (jb - ja) // 16 * 16
     i_f = ia + (ib - ia) // rows * rows
     for kb in range(k0, k1, _KBLOCK):
         kn = min(k1, kb + _KBLOCK) - kb
-        for s in range((jf - ja) // 16):
-            j, p = ja + 16 * s, s * _KBLOCK
-            k8 = kn // 8 * 8
-            for t in range(0, k8, 8):  # two 8 x 8 transposes in vector registers
-                transpose_8x8(T, j, kb + t, P, p + t, 0)
-                transpose_8x8(T, j + 8, kb + t, P, p + t, 8)
-            for t in range(k8, kn):
-                for q in range(16):
-                    P[p + t, q] = T[j + q, kb + t]
+        for t in range(kn):  # row kb + t of B, whole strips, into each strip's run
+            for s in range((jf - ja) // 16):
+                copy_8(T, kb + t, ja + 16 * s, P, s * _STRIP + t, 0)
+                copy_8(T, kb + t, ja + 16 * s + 8, P, s * _STRIP + t, 8)
         for i in range(ia, i_f, rows):
             for s in range((jf - ja) // 16):
                 if rows == 8:
-                    outer_8x16(T, i, ja + 16 * s, T, i, kb, P, s * _KBLOCK, 0, kn)
+                    outer_8x16(T, i, ja + 16 * s, T, i, kb, P, s * _STRIP, 0, kn)
                 else:
-                    outer_4x16(T, i, ja + 16 * s, T, i, kb, P, s * _KBLOCK, 0, kn)
+                    outer_4x16(T, i, ja + 16 * s, T, i, kb, P, s * _STRIP, 0, kn)
     _product(T, mask, False, rows, ia, ib, jf, jb, k0, k1)
     _product(T, mask, False, rows, i_f, ib, ja, jf, k0, k1)
 
@@ -228,7 +232,7 @@ def _final(T, ew, mask, use_mask, i, j, best):
     """Store and return ``E(i, j) = best + 2 e(i, j)`` (a side: ``e``; disallowed: +inf).
 
     ``ew = (W, i0, j0)``: ``e(i, j)`` is ``W[i - i0, j - j0]``. Only
-    ``T[i, j]`` is written: ``_mirror`` copies the finished tile to ``T[j, i]``.
+    ``T[i, j]`` is written.
     """
     if j == i + 1:  # a side: cost 0
         v = T.dtype.type(_edge(ew, i, j))
@@ -441,14 +445,10 @@ def _triangle(T, ew, mask, use_mask, a, e):
 
 @kernel(fastmath=FASTMATH, _nrt=False)
 def _mirror(T, i0, i1, j0, j1):
-    """``T[j, i] = T[i, j]`` for ``i < j`` in rows [i0, i1) x columns [j0, j1): a finished tile.
+    """``T[j, i] = T[i, j]`` for ``i < j`` in rows [i0, i1) x columns [j0, j1).
 
     By 8 x 8 transposes in vector registers, cell by cell where a block
-    reaches the diagonal or the tile's edge. On the Xeon of
-    ``docs/fast-engine.md``, storing ``T[j, i]`` as each cell was finished
-    took 43 % of the near splits' time at n = 4000 (one thread; 129 ms with
-    those stores, 73 ms without): every such store went to a different cache
-    line of the other half.
+    reaches the diagonal or the block's edge.
     """
     for j in range(j0, j1, 8):  # eight rows of the other half at a time, left to right
         for i in range(i0, i1, 8):
@@ -458,6 +458,21 @@ def _mirror(T, i0, i1, j0, j1):
                 for r in range(i, min(i + 8, i1)):
                     for c in range(max(j, r + 1), min(j + 8, j1)):
                         T[c, r] = T[r, c]
+
+
+@kernel(fastmath=FASTMATH)
+def mirror_table(T):
+    """``T[j, i] = T[i, j]`` below the diagonal: the filled table, for ``minplus_split``.
+
+    After the fill (which writes only above the diagonal), for an exported
+    table, whose every chord's split is found: with the lower half, the
+    splits of ``(i, j)`` read two rows instead of a row and a column. In
+    blocks of 64 x 64 cells, so that both halves' lines stay in cache.
+    """
+    n = T.shape[0]
+    for i0 in range(0, n, 64):
+        for j0 in range(i0, n, 64):
+            _mirror(T, i0, min(n, i0 + 64), j0, min(n, j0 + 64))
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
@@ -515,7 +530,6 @@ def _tile(T, pts, code, W, P, mask, use_mask, tile, ti, tj, done, nt):
         _far(T, P, mask, _ROWS, i0, i1, j0, j1, i1, j0)
     if d > 0:
         _square(T, ew, mask, use_mask, i0, i1, j0, j1)
-    _mirror(T, i0, i1, j0, j1)
 
 
 def worker_bytes(tile: int, itemsize: int) -> int:
@@ -524,7 +538,7 @@ def worker_bytes(tile: int, itemsize: int) -> int:
     A ``tile x tile`` float64 tile of edge weights and ``_far``'s packed rows
     (``_KBLOCK`` splits x the tile's whole 16-column strips).
     """
-    return tile * tile * 8 + _KBLOCK * (tile // 16) * 16 * itemsize
+    return tile * tile * 8 + _STRIP * (tile // 16) * 16 * itemsize
 
 
 def tile_flags(n: int, tile: int) -> tuple[np.ndarray, np.ndarray]:
@@ -572,7 +586,7 @@ def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers, done, stop):
     taken = np.zeros(1, dtype=np.int64)
     scratch = np.empty((workers, tile, tile))  # e(i, j) of the tile a worker is on
     # _far's rows (the chord-mask path multiplies from the table itself)
-    packed = np.empty((workers, 0 if use_mask else _KBLOCK * (tile // 16), 16), dtype=T.dtype)
+    packed = np.empty((workers, 0 if use_mask else _STRIP * (tile // 16), 16), dtype=T.dtype)
     columns = np.asfortranarray(pts)  # each coordinate contiguous: edge rows vectorize
     for w in prange(workers):
         while load_acquire(stop, 0) == 0:
@@ -601,17 +615,29 @@ def subtract_edges(out, pts, code):
 
 
 @kernel(fastmath=FASTMATH)
-def minplus_split(T, i, j):
+def minplus_split(T, i, j, mirrored):
     """Smallest k minimizing ``E(i, k) + E(k, j)``; -1 if every split is infinite.
 
-    A vectorized minimum first, then the first split that reaches it (the
-    sums are the same additions both times, so equality is exact).
+    ``E(k, j)`` from column ``j``, or from row ``j`` of the lower half where
+    ``mirrored`` (``mirror_table``): two rows, a vectorized minimum. The
+    minimum first, then the first split that reaches it (the sums are the
+    same additions both times, so equality is exact).
     """
-    ri, rj = T[i, i + 1 : j], T[j, i + 1 : j]
-    best = _rowmin(np.inf, ri, rj)
+    if mirrored:
+        ri, rj = T[i, i + 1 : j], T[j, i + 1 : j]
+        best = _rowmin(np.inf, ri, rj)
+        if best == np.inf:
+            return -1
+        for kk in range(ri.shape[0]):
+            if ri[kk] + rj[kk] == best:
+                return i + 1 + kk
+        return -1
+    best = np.inf
+    for k in range(i + 1, j):  # a column: one cache line per split, loads independent
+        best = fmin(best, load_at(T, i, k) + load_at(T, k, j))
     if best == np.inf:
         return -1
-    for kk in range(ri.shape[0]):
-        if ri[kk] + rj[kk] == best:
-            return i + 1 + kk
+    for k in range(i + 1, j):
+        if load_at(T, i, k) + load_at(T, k, j) == best:
+            return k
     return -1

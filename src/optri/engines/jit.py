@@ -223,7 +223,7 @@ def _worker_bytes(n: int, dtype: Any) -> int:
     """Each thread's buffers in the min-plus fill: a tile of edge weights, the copied operand.
 
     >>> _worker_bytes(500, np.float64), _worker_bytes(8000, np.float64)
-    (163840, 1048576)
+    (164352, 1050624)
     """
     from ._minplus import worker_bytes  # the kernels' module (imports numba)
 
@@ -425,6 +425,8 @@ def _export(
     if minplus:  # the table holds E = cost + e(i, j)
         K.subtract_edges(out, args.pts, problem.weights[0].code)
     out[np.isneginf(out)] = 0.0
+    if minplus:  # the fill wrote only the upper half: split_table reads rows of both
+        K.mirror_table(tables[0])
     splits = args.kernel("split_table")(tables, args.weigh, args.rule, minplus)
     out += np.tril(splits.T.astype(np.float64), -1)
     return out
