@@ -240,6 +240,9 @@ def test_signals_end_cleanly_and_leave_no_temporary_file(tmp_path, sig, code, wo
     proc = subprocess.Popen(
         [sys.executable, "-c", _SLOW_WRITE, "solve", str(OCTAGON), "--plot", str(out), "-q"],
         stderr=subprocess.PIPE, stdout=subprocess.PIPE, text=True, env=checkout_env(),
+        # a test run started as a background job of a shell without job control has
+        # SIGINT ignored, and so would the child: Python then installs no Ctrl-C handler
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )  # fmt: skip
     assert proc.stderr.readline().strip() == "ready"
     assert any(p.name.endswith(".tmp") for p in tmp_path.iterdir())  # mid-write

@@ -331,6 +331,9 @@ def test_watched_raises_a_real_sigint_only_once_the_fill_has_returned(
     import time
 
     monkeypatch.setattr(config, "FAST_PROGRESS_SECONDS", 1.0)  # the signal finds it waiting
+    # Python's Ctrl-C handler even where the test run started with SIGINT ignored (a
+    # background job of a shell without job control)
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
     stop = np.zeros(1, dtype=np.int64)
     returned: list[bool] = []
 
@@ -343,9 +346,12 @@ def test_watched_raises_a_real_sigint_only_once_the_fill_has_returned(
 
     timer = threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT))
     timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        interrupts.watched(fill, 1, stop, lambda: None)
-    timer.join()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            interrupts.watched(fill, 1, stop, lambda: None)
+    finally:
+        timer.join()
+        signal.signal(signal.SIGINT, old)
     assert returned == [True] and stop[0] == 1
 
 
