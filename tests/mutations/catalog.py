@@ -954,8 +954,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "export-not-mirrored",
         "src/optri/engines/jit.py",
-        "        K.mirror_table(tables[0])\n",
-        "        pass\n",
+        "        K.mirror_table(tables[0])  # split_table",
+        "        pass  # split_table",
         (FAST, "-k", "progress_and_table"),
         "an exported table's splits read a lower half the fill never wrote",
     ),

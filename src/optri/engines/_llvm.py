@@ -30,6 +30,7 @@ from numba.extending import intrinsic
 from .compiled import kernel
 
 __all__ = [
+    "copy_8",
     "fetch_add",
     "fmin",
     "load_acquire",
@@ -38,7 +39,6 @@ __all__ = [
     "outer_4x8",
     "outer_4x16",
     "outer_8x16",
-    "copy_8",
     "register_plan",
     "store_at",
     "store_release",

@@ -422,11 +422,10 @@ def _export(
 ) -> NDArray[np.float64]:
     """The paper's table: costs (primary component) above the diagonal, splits below."""
     out = np.triu(tables[0], 1).astype(np.float64)  # the diagonal is never written
-    if minplus:  # the table holds E = cost + e(i, j)
+    if minplus:  # the table holds E = cost + e(i, j), above the diagonal only
         K.subtract_edges(out, args.pts, problem.weights[0].code)
+        K.mirror_table(tables[0])  # split_table reads column j as row j of the lower half
     out[np.isneginf(out)] = 0.0
-    if minplus:  # the fill wrote only the upper half: split_table reads rows of both
-        K.mirror_table(tables[0])
     splits = args.kernel("split_table")(tables, args.weigh, args.rule, minplus)
     out += np.tril(splits.T.astype(np.float64), -1)
     return out
