@@ -316,7 +316,7 @@ def test_fast_watched_fill_stops_when_the_caller_raises(monkeypatch: pytest.Monk
     stop = np.ones(1, dtype=np.int64)
     chords = (np.ones((1, 1), dtype=np.bool_), False)
     pts = np.asfortranarray(convex_polygon(n, 1))
-    _jit_kernels.minplus_tiles(T, pts, 0, chords, 8, 0, n, 2, fresh(n, 8)[0], stop)
+    _jit_kernels.minplus_tiles(T, pts, 0, chords, 8, 2, fresh(n, 8)[0], stop)
     assert np.isnan(T).all()
 
 

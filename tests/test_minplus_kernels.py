@@ -258,38 +258,14 @@ def test_fill_writes_only_the_upper_half(n: int, tile: int, use_mask: bool) -> N
         mask |= mask.T
     T = np.full((n, n), np.nan)
     code = int(WeightCode.PERIMETER)
-    _jit_kernels.minplus_tiles(T, pts, code, (mask, use_mask), tile, 0, n, 2, *_flags(n, tile))
+    _jit_kernels.minplus_tiles(T, pts, code, (mask, use_mask), tile, 2, *_flags(n, tile))
     upper = np.triu_indices(n, 1)
     assert not np.isnan(T[upper]).any()
     assert np.isnan(T[np.tril_indices(n)]).all()
     # and the same upper half as with 4 x 4 tiles, all leaves
     T4 = np.full((n, n), np.nan)
-    _jit_kernels.minplus_tiles(T4, pts, code, (mask, use_mask), 4, 0, n, 1, *_flags(n, 4))
+    _jit_kernels.minplus_tiles(T4, pts, code, (mask, use_mask), 4, 1, *_flags(n, 4))
     assert np.array_equal(T[upper], T4[upper])
-
-
-@pytest.mark.parametrize("n, tile", [(203, 8), (150, 12), (300, 16)])
-def test_fill_one_tile_diagonal_per_call(n: int, tile: int) -> None:
-    # a tile on an even tile-diagonal applies most of the far splits of the tile above
-    # it, which lies on the next diagonal and may belong to the next kernel call (the
-    # engine fills in calls of a few diagonals, for progress and Ctrl-C): one call per
-    # diagonal must give the same table as one call for all
-    from optri.engines import _jit_kernels
-    from optri.weights import WeightCode
-
-    pts = np.asfortranarray(convex_polygon(n, tile))
-    chords = (np.ones((1, 1), dtype=np.bool_), False)
-    code = int(WeightCode.PERIMETER)
-    whole = np.full((n, n), np.nan)
-    _jit_kernels.minplus_tiles(whole, pts, code, chords, tile, 0, n, 2, *_flags(n, tile))
-    calls = np.full((n, n), np.nan)
-    done, stop = _flags(n, tile)  # kept from call to call, as a caller would
-    for d in range(-(-n // tile)):
-        _jit_kernels.minplus_tiles(calls, pts, code, chords, tile, d, d + 1, 2, done, stop)
-    nt = -(-n // tile)
-    assert done.reshape(nt, nt)[np.triu_indices(nt)].all() and not stop[0]
-    assert np.array_equal(calls, whole, equal_nan=True)  # the diagonal is never written
-    assert np.isnan(np.diag(whole)).all() and not np.isnan(whole[np.triu_indices(n, 1)]).any()
 
 
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])

@@ -1008,18 +1008,6 @@ MUTATIONS: list[Mutation] = [
         "the upper tile of a pair skips the splits its partner could not share",
     ),
     M(
-        "call-reinitializes-its-first-diagonal",
-        "src/optri/engines/_minplus.py",
-        "    taken = np.zeros(1, dtype=np.int64)\n",
-        "    taken = np.zeros(1, dtype=np.int64)\n"
-        "    for t in range(nt - d0):\n"
-        "        if d0 > 0:\n"
-        "            _fill_inf(T, t * tile, min(T.shape[0], t * tile + tile), (t + d0) * tile,"
-        " min(T.shape[0], (t + d0) * tile + tile))\n",
-        (MINPLUS, "-k", "one_tile_diagonal"),
-        "a kernel call wipes the far splits its first diagonal got from the previous call",
-    ),
-    M(
         "pairs-start-a-diagonal-early",
         "src/optri/engines/_minplus.py",
         "elif d % 2 == 1 and d >= 5:",
@@ -1071,7 +1059,7 @@ MUTATIONS: list[Mutation] = [
         "generic-never-reports",
         "src/optri/engines/_jit_kernels.py",
         "        reached[0] = d + 1",
-        "        reached[0] = d0",
+        "        reached[0] = 0",
         ("tests/test_fast_engine.py", "-k", "watched"),
         "no progress from the generic fill until it ends",
     ),

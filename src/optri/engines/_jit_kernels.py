@@ -141,8 +141,8 @@ def best_split(tables, weigh, rule, i, j):
 
 
 @kernel(parallel=True, nogil=True)
-def generic_tiles(tables, weigh, rule, chords, tile, d0, d1, stop, reached):
-    """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the cost table(s).
+def generic_tiles(tables, weigh, rule, chords, tile, stop, reached):
+    """Fill the cost table(s), tile-diagonal by tile-diagonal.
 
     ``chords = (mask, use_mask)``. Sides must hold the neutral cost already.
     Tiles on one tile-diagonal are independent; inside a tile, cells go rows
@@ -157,7 +157,7 @@ def generic_tiles(tables, weigh, rule, chords, tile, d0, d1, stop, reached):
     lex, nan = rule[1], rule[2]
     n = T1.shape[0]
     nt = (n + tile - 1) // tile
-    for d in range(d0, d1):
+    for d in range(nt):
         if load_acquire(stop, 0) != 0 or nan[0] != 0:
             break
         for t in prange(nt - d):

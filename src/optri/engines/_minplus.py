@@ -553,8 +553,8 @@ def tile_flags(n: int, tile: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 @kernel(parallel=True, fastmath=FASTMATH, nogil=True)
-def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers, done, stop):
-    """Fill tile-diagonals ``d0 <= tj - ti < d1`` of the E-table (sum, edge weight).
+def minplus_tiles(T, pts, code, chords, tile, workers, done, stop):
+    """Fill the E-table (sum, edge weight) above the diagonal, tile by tile.
 
     ``chords = (mask, use_mask)``: with ``use_mask``, cells where ``mask`` is
     False get +inf. Each of ``workers`` threads takes the next tile (diagonal
@@ -565,24 +565,20 @@ def minplus_tiles(T, pts, code, chords, tile, d0, d1, workers, done, stop):
     idles at the end of one. Every wait is for a tile taken earlier, so the
     earliest unfinished tile never waits.
 
-    ``done, stop`` are ``tile_flags(n, tile)`` (``done`` may come from a call
-    on earlier diagonals). Runs without the GIL: another thread may watch
-    ``done`` and set ``stop[0]``, after which no thread takes a new tile; the
-    tiles already taken are finished (each waits only for tiles taken before
-    it), so the call returns within about one tile's time.
+    ``done, stop`` are fresh ``tile_flags(n, tile)``. Runs without the GIL:
+    another thread may watch ``done`` and set ``stop[0]``, after which no
+    thread takes a new tile; the tiles already taken are finished (each waits
+    only for tiles taken before it), so the call returns within about one
+    tile's time.
     """
     mask, use_mask = chords
     nt = (T.shape[0] + tile - 1) // tile
-    d1 = min(d1, nt)
-    order = np.empty((max(0, (d1 - d0) * nt), 2), dtype=np.int64)
+    order = np.empty((nt * (nt + 1) // 2, 2), dtype=np.int64)
     m = 0
-    for d in range(d0, d1):
+    for d in range(nt):
         for t in range(nt - d):
             order[m, 0], order[m, 1] = t, d
             m += 1
-    for ti in range(nt):  # tiles of earlier calls
-        for tj in range(ti, min(nt, ti + d0)):
-            done[ti * nt + tj] = 1
     taken = np.zeros(1, dtype=np.int64)
     scratch = np.empty((workers, tile, tile))  # e(i, j) of the tile a worker is on
     # _far's rows (the chord-mask path multiplies from the table itself)

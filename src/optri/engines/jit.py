@@ -335,10 +335,9 @@ def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args, thread
     code = int(problem.weights[0].code)  # an int: typing an IntEnum costs 0.2 ms a call
     tile = minplus_tile(n)
     done, stop = K.tile_flags(n, tile)
-    nt = (n + tile - 1) // tile
 
     def fill() -> None:
-        K.minplus_tiles(T, args.pts, code, args.chords, tile, 0, nt, threads, done, stop)
+        K.minplus_tiles(T, args.pts, code, args.chords, tile, threads, done, stop)
 
     report = _Reporter(problem, n)
     if n**3 / 6 <= config.FAST_WATCH_WORK and is_loaded(K.minplus_tiles):
@@ -383,7 +382,7 @@ def _fill_generic(
     stop, reached = np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64)
 
     def fill() -> None:
-        kernel(tables, args.weigh, args.rule, args.chords, tile, 0, nt, stop, reached)
+        kernel(tables, args.weigh, args.rule, args.chords, tile, stop, reached)
 
     report = _Reporter(problem, n)
     if 20 * n**3 / 6 <= config.FAST_WATCH_WORK and is_loaded(kernel):
