@@ -228,16 +228,28 @@ def test_custom_callable_weight_gets_input_indices():
     assert optri.triangulate(poly, area, method="memo").weight == pytest.approx(4.0)
 
 
-def test_progress_callback_reaches_total():
-    calls = []
-    ang = np.linspace(0, 2 * np.pi, 30, endpoint=False)
-    optri.triangulate(
-        np.column_stack((np.cos(ang), np.sin(ang))),
-        method="memo",
-        progress=lambda d, t: calls.append((d, t)),
-    )
-    assert calls and calls[-1][0] == calls[-1][1] == 29 * 28 // 2  # (n-1)(n-2)/2 cells
-    assert all(a <= b for (a, _), (b, _) in zip(calls, calls[1:]))
+@pytest.mark.parametrize("method", ["memo", "table", "fast"])
+def test_progress_counts_split_evaluations_up_to_the_total(method: str) -> None:
+    # progress(done, total) counts split evaluations (chord (i, j) takes j - i - 1), so
+    # that done / total moves with the time: rising, about 200 reports at most, the last
+    # the total, also where a chord mask leaves chords (and their splits) out
+    n = 30
+    ang = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    ring = np.column_stack((np.cos(ang), np.sin(ang)))
+    star = ring * np.where(np.arange(n) % 2, 1.0, 0.5)[:, None]
+    total = n * (n - 1) * (n - 2) // 6
+    seen = {}
+    for name, pts in (("convex", ring), ("star", star)):
+        calls: list[tuple[int, int]] = []
+        optri.triangulate(pts, method=method, progress=lambda d, t, c=calls: c.append((d, t)))
+        assert calls and calls[-1] == (total, total) and all(t == total for _, t in calls)
+        assert all(a < b for (a, _), (b, _) in zip(calls, calls[1:])) and len(calls) <= 202
+        seen[name] = [d for d, _ in calls]
+    if method != "fast":  # one report per 1/200 of the work (the fast fill is too short)
+        assert len(seen["convex"]) > 150
+    if method == "table":  # the convex polygon's chords by length: each report a prefix
+        work = np.cumsum([d - 1 for d in range(2, n) for _ in range(n - d)])
+        assert set(seen["convex"]) <= set(work.tolist())
 
 
 def test_table_layout_upper_costs_lower_splits():

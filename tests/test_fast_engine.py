@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 import optri
 from optri import config
 from optri.engines import interrupts, jit, memo
+from optri.engines.progress import tile_work
 from optri.errors import EngineUnavailableError, TableTooLargeError, WeightError
 from optri.polygon import as_polygon
 from optri.solve import build_problem
@@ -243,7 +244,7 @@ def test_fast_progress_and_table() -> None:
         pts, method="fast", keep_table=True, progress=lambda d, t: calls.append((d, t))
     )
     b = optri.triangulate(pts, method="memo", keep_table=True)
-    assert calls and calls[-1][0] == calls[-1][1] == 55
+    assert calls and calls[-1][0] == calls[-1][1] == 220  # C(12, 3) split evaluations
     assert [d for d, _ in calls] == sorted(d for d, _ in calls)
     np.testing.assert_allclose(np.triu(a.table), np.triu(b.table), rtol=1e-9, atol=1e-9)
     np.testing.assert_array_equal(np.tril(a.table), np.tril(b.table))
@@ -256,7 +257,8 @@ def test_fast_watched_fill_reports_progress_and_equals_the_direct_one(
     monkeypatch: pytest.MonkeyPatch, weight: str, objective: str, n: int, tile: int
 ) -> None:
     # a long fill (min-plus; generic) runs in a helper thread while this one reports the
-    # cells of finished tiles (tile-diagonals): reports rise to the total, more than once
+    # split evaluations of finished tiles (tile-diagonals): reports rise to the total,
+    # more than once
     # (fills of about 0.1 s, polled every millisecond), and the optimum is the direct
     # call's, bit for bit
     pts = convex_polygon(n, 3)
@@ -271,16 +273,16 @@ def test_fast_watched_fill_reports_progress_and_equals_the_direct_one(
     )
     assert got.weight == direct.weight
     assert np.array_equal(got.triangles, direct.triangles)
-    total = (n - 1) * (n - 2) // 2
+    total = n * (n - 1) * (n - 2) // 6
     assert len(calls) > 1 and calls[-1] == (total, total) and all(t == total for _, t in calls)
     assert all(a < b for (a, _), (b, _) in zip(calls, calls[1:]))
-    # what the reports add up: each tile's chords, every chord in exactly one tile
-    for n, tile in ((300, 8), (1000, 128), (10, 4), (9, 16), (4000, 256)):
+    # what the reports add up: each tile's split evaluations (j - i - 1 for chord (i, j)),
+    # every chord in exactly one tile, in the closed form against the chords counted
+    for n, tile in ((300, 8), (1000, 128), (10, 4), (9, 16), (4000, 256), (37, 5)):
         i, j = np.triu_indices(n, 2)
-        per_tile = np.bincount(
-            i // tile * -(-n // tile) + j // tile, minlength=(-(-n // tile)) ** 2
-        )
-        assert np.array_equal(jit._tile_cells(n, tile), per_tile), (n, tile)
+        nt = -(-n // tile)
+        per_tile = np.bincount(i // tile * nt + j // tile, weights=j - i - 1, minlength=nt * nt)
+        assert np.array_equal(tile_work(n, tile), per_tile.astype(np.int64)), (n, tile)
 
 
 def test_fast_watched_fill_stops_when_the_caller_raises(monkeypatch: pytest.MonkeyPatch) -> None:

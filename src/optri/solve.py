@@ -91,8 +91,11 @@ def triangulate(
         A polygon with holes takes ``"auto"``, ``"ip"`` or ``"bridge"``
         (:data:`optri.domains.METHODS`).
     progress : callable, optional
-        ``progress(done, total)`` called as the table fills. An exception it raises
-        stops the solve and propagates unchanged (a way to cancel).
+        ``progress(done, total)`` called as the table fills: split evaluations
+        done out of the table's ``n (n - 1) (n - 2) / 6`` (chord (i, j) takes
+        ``j - i - 1``), so ``done / total`` grows with the time spent, in every
+        engine. An exception it raises stops the solve and propagates
+        unchanged (a way to cancel).
     keep_table : bool, optional
         Keep the n x n table (default: the Python engines keep it).
     dtype : numpy dtype

@@ -32,6 +32,7 @@ from numba import cuda  # noqa: E402  (a module global: the simulator swaps thos
 from optri import config  # noqa: E402
 from optri.engines import gpu, memo, select_engine  # noqa: E402
 from optri.engines.brute import solve as brute_solve  # noqa: E402
+from optri.engines.progress import tile_work  # noqa: E402
 from optri.errors import (  # noqa: E402
     EngineUnavailableError,
     TableTooLargeError,
@@ -272,7 +273,10 @@ def test_triangulate_method_gpu_and_progress():
                       progress=lambda d, t: calls.append((d, t)))  # fmt: skip
     tri.check()
     assert tri.method == "gpu"
-    assert calls and calls[-1][0] == calls[-1][1] == 3
+    # split evaluations of tile-diagonals 0, 0-1, 0-2 of 4 x 4 tiles, out of C(12, 3)
+    grid = tile_work(12, 4).reshape(3, 3)
+    done = np.cumsum([np.trace(grid, d) for d in range(3)]).tolist()
+    assert calls == [(d, 220) for d in done] and done[-1] == 220
 
 
 def test_auto_never_picks_the_simulator(monkeypatch):

@@ -27,6 +27,7 @@ from ._gpu_device import OBJ_MAX, OBJ_SUM
 from ._gpu_kernels import build_kernels
 from .memory import require_memory
 from .problem import Problem, Solution, with_sides
+from .progress import tile_work, work_reporter
 
 __all__ = [
     "auto_accepts",
@@ -189,6 +190,10 @@ def solve(problem: Problem) -> Solution:
     d_pts, d_mask = cuda.to_device(pts), cuda.to_device(mask)
     k.init[_blocks(-(-size * size // threads)), threads](tab, d_pts, n, code, obj, eform)
     launches = 1
+    report = work_reporter(problem)
+    if report is not None:  # splits of the table's tile-diagonals 0 .. d - 1, at [d]
+        grid = tile_work(n, tile).reshape(-(-n // tile), -1)
+        work = np.cumsum([0] + [int(np.trace(grid, e)) for e in range(len(grid))])
     for d in range(nt):
         count = nt - d
         if d >= 2:
@@ -201,9 +206,9 @@ def solve(problem: Problem) -> Solution:
             tab, d_pts, d_mask, has_mask, dim, n, code, obj, eform, d, count
         )
         launches += 1
-        if problem.progress is not None:
+        if report is not None:
             cuda.synchronize()
-            problem.progress(d + 1, nt)
+            report(int(work[min(d + 1, len(work) - 1)]))
 
     cost, tris = _rebuild(k, cuda, tab, d_pts, dim, n, code, obj, eform, threads)
     table = None

@@ -31,6 +31,7 @@ from ..weights import Weight, WeightCode, compiled_weight_error, edge_weight
 from .interrupts import interruptible, is_loaded, watched
 from .memory import require_memory
 from .problem import Problem, Solution, with_sides
+from .progress import table_work, tile_work, work_reporter
 
 __all__ = [
     "SUPPORTS_GATES",
@@ -339,27 +340,17 @@ def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args, thread
     def fill() -> None:
         K.minplus_tiles(T, args.pts, code, args.chords, tile, threads, done, stop)
 
-    report = _Reporter(problem, n)
+    report = work_reporter(problem) or _no_report
     if n**3 / 6 <= config.FAST_WATCH_WORK and is_loaded(K.minplus_tiles):
         fill()
     else:
-        cells = _tile_cells(n, tile)
-        watched(fill, threads, stop, lambda: report.to(int(cells @ done)))
-    report.to(report.total)
+        work = tile_work(n, tile)
+        watched(fill, threads, stop, lambda: report(int(work @ done)))
+    report(table_work(n))
 
 
-def _tile_cells(n: int, tile: int) -> NDArray[np.int64]:
-    """Chords (i, j), ``j - i >= 2``, of each tile (ti, tj) at ``ti * nt + tj``; 0 below.
-
-    >>> _tile_cells(10, 4).reshape(3, 3).tolist()
-    [[3, 15, 8], [0, 3, 7], [0, 0, 0]]
-    """
-    nt = (n + tile - 1) // tile
-    side = np.minimum(n, np.arange(1, nt + 1) * tile) - np.arange(nt) * tile
-    cells = np.triu(np.outer(side, side))
-    cells[np.diag_indices(nt)] = (side - 1) * (side - 2) // 2
-    cells[np.arange(nt - 1), np.arange(1, nt)] -= 1  # the polygon side (i1 - 1, i1)
-    return cells.reshape(-1).astype(np.int64)
+def _no_report(done: int) -> None:
+    """``report(done)`` where nobody listens."""
 
 
 def _fill_generic(
@@ -384,32 +375,15 @@ def _fill_generic(
     def fill() -> None:
         kernel(tables, args.weigh, args.rule, args.chords, tile, stop, reached)
 
-    report = _Reporter(problem, n)
+    report = work_reporter(problem) or _no_report
     if 20 * n**3 / 6 <= config.FAST_WATCH_WORK and is_loaded(kernel):
         fill()
-    else:  # cells of tile-diagonals 0 .. d - 1, for d = reached[0]
-        grid = _tile_cells(n, tile).reshape(nt, nt)
-        cells = np.concatenate(([0], np.cumsum([np.trace(grid, d) for d in range(nt)])))
-        watched(fill, threads, stop, lambda: report.to(int(cells[reached[0]])))
+    else:  # splits of tile-diagonals 0 .. d - 1, for d = reached[0]
+        grid = tile_work(n, tile).reshape(nt, nt)
+        work = np.concatenate(([0], np.cumsum([np.trace(grid, d) for d in range(nt)])))
+        watched(fill, threads, stop, lambda: report(int(work[reached[0]])))
     args.raise_on_nan()
-    report.to(report.total)
-
-
-class _Reporter:
-    """Pass the cells finished so far to ``problem.progress``, each count once, rising."""
-
-    def __init__(self, problem: Problem, n: int) -> None:
-        self.cb = problem.progress
-        self.total = (n - 1) * (n - 2) // 2
-        self.done = 0
-
-    def to(self, cells: int) -> None:
-        """Report ``cells`` done in all, if that is more than reported before."""
-        cells = min(self.total, cells)
-        if cells > self.done:
-            self.done = cells
-            if self.cb is not None:
-                self.cb(self.done, self.total)
+    report(table_work(n))
 
 
 def _export(

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from ..objective import Cost
 from .problem import Problem, Solution
-from .progress import cell_reporter
+from .progress import table_work, work_reporter
 from .recurrence import Recurrence, export_table, new_tables, triangles_from_splits
 
 __all__ = ["solve"]
@@ -35,20 +35,23 @@ def solve(problem: Problem) -> Solution:
     n = problem.n
     rec = Recurrence(problem)
     cost, split = new_tables(problem, _UNSET)
-    report = cell_reporter(problem)
+    report = work_reporter(problem)
 
-    cells = 0
+    cells = work = 0
 
     def store(i: int, j: int, best: Cost, arg: int) -> None:
-        nonlocal cells
+        nonlocal cells, work
         cost[i][j], split[i][j] = best, arg
         cells += 1
+        work += j - i - 1
         if report is not None:
-            report(cells)
+            report(work)
 
     # a look-up answers a cell computed before (sides are set before the recursion)
     requests = rec.top_down(lambda p, q: cost[p][q], store, hits=True)
     misses = cells - 1  # every computed cell but the root was a request that missed
+    if report is not None:
+        report(table_work(n))
 
     total: Cost = cost[0][n - 1]
     table = export_table(cost, split, problem.objective, _UNSET) if problem.keep_table else None

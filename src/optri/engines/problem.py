@@ -38,7 +38,9 @@ class Problem:
         ``allowed[i, j]`` for ``i < j``: may chord (i, j) be used? None means
         every chord (convex polygon). Polygon sides are always allowed.
     progress : callable or None
-        ``progress(done, total)``, called now and then by long-running engines.
+        ``progress(done, total)``, called now and then by long-running engines:
+        split evaluations of the table done and in all
+        (:func:`optri.engines.progress.table_work`).
     keep_table : bool
         Ask the engine for the n x n table (costs above the diagonal, splits
         below) where it can give one.

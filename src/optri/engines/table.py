@@ -9,7 +9,7 @@ presentation). The cell is the same :meth:`Recurrence.cell` memo drives.
 from __future__ import annotations
 
 from .problem import Problem, Solution
-from .progress import cell_reporter
+from .progress import table_work, work_reporter
 from .recurrence import Recurrence, export_table, new_tables, triangles_from_splits
 
 __all__ = ["solve"]
@@ -33,10 +33,10 @@ def solve(problem: Problem) -> Solution:
     n = problem.n
     rec = Recurrence(problem)
     cost, split = new_tables(problem, _UNSET)
-    report = cell_reporter(problem)
+    report = work_reporter(problem)
 
     watch = problem.observer
-    cells = lookups = 0
+    cells = lookups = work = 0
     for i, j in rec.chords():
         frame = rec.cell(i, j)
         try:
@@ -52,8 +52,11 @@ def solve(problem: Problem) -> Solution:
         if watch is not None:
             k = split[i][j]
             watch("store", i, j, k if k >= 0 else None, cost[i][j])
+        work += j - i - 1
         if report is not None:
-            report(cells)
+            report(work)
+    if report is not None:
+        report(table_work(n))
 
     table = export_table(cost, split, problem.objective, _UNSET) if problem.keep_table else None
     tris = triangles_from_splits(lambda i, j: split[i][j], n)
