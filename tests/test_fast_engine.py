@@ -359,7 +359,8 @@ def test_watched_raises_a_real_sigint_only_once_the_fill_has_returned(
 
 def test_a_kernels_first_call_is_watched(monkeypatch: pytest.MonkeyPatch) -> None:
     # the first call of a kernel compiles it or loads it from the disk cache, partly in
-    # llvmlite callbacks that swallow Ctrl-C: it runs in the helper, whatever its size
+    # llvmlite callbacks that swallow Ctrl-C: it runs in the helper, whatever its size;
+    # so does the first call for another table dtype (a new specialization)
     @numba.njit(cache=False)
     def never_called(x):  # type: ignore[no-untyped-def]
         return x + 1
@@ -368,14 +369,34 @@ def test_a_kernels_first_call_is_watched(monkeypatch: pytest.MonkeyPatch) -> Non
     never_called(1)
     assert interrupts.is_loaded(never_called)
 
+    @numba.njit(cache=False)
+    def first_cell(tables):  # type: ignore[no-untyped-def]
+        return tables[0][0, 0]
+
+    first_cell((np.zeros((2, 2)), np.zeros((1, 1))))  # a tuple of tables, as generic_tiles
+    assert interrupts.is_loaded(first_cell, np.float64)
+    assert not interrupts.is_loaded(first_cell, np.float32)
+    first_cell((np.zeros((2, 2), np.float32), np.zeros((1, 1), np.float32)))
+    assert interrupts.is_loaded(first_cell, np.float32)
+
     watched: list[object] = []
+    asked: list[np.dtype] = []
     monkeypatch.setattr(jit, "watched", lambda fill, *rest: (watched.append(fill), fill()))
     pts = convex_polygon(8, 1)
     for loaded in (False, True):
-        monkeypatch.setattr(jit, "is_loaded", lambda kernel, loaded=loaded: loaded)
+
+        def is_loaded(kernel: object, dtype: object, loaded: bool = loaded) -> bool:
+            asked.append(np.dtype(dtype))  # type: ignore[call-overload]
+            return loaded
+
+        monkeypatch.setattr(jit, "is_loaded", is_loaded)
         optri.triangulate(pts, method="fast")  # min-plus
         optri.triangulate(pts, "max_angle", "max", method="fast")  # generic
     assert len(watched) == 2  # both first calls, neither later one
+    for method_args in ((), ("max_angle", "max")):  # each asks for its table's dtype
+        optri.triangulate(pts, *method_args, method="fast", dtype=np.float32)
+        assert asked[-1] == np.float32
+    assert asked[:4] == [np.float64] * 4
 
 
 def test_fast_watched_generic_fill_stops_when_the_caller_raises(

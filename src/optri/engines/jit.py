@@ -328,7 +328,8 @@ def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args, thread
     end of a call for another's last tile (at n = 4000 on the Xeon of
     ``docs/fast-engine.md``, six calls of a few diagonals took 1.03x the time
     of one). Beyond ``config.FAST_WATCH_WORK`` min-plus steps, and on the
-    kernel's first call in the process (:func:`~.interrupts.is_loaded`), the kernel runs in a
+    kernel's first call in the process for this table's dtype
+    (:func:`~.interrupts.is_loaded`), the kernel runs in a
     helper thread while this one reports progress and takes Ctrl-C
     (:func:`~.interrupts.watched`).
     """
@@ -341,7 +342,7 @@ def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args, thread
         K.minplus_tiles(T, args.pts, code, args.chords, tile, threads, done, stop)
 
     report = work_reporter(problem) or _no_report
-    if n**3 / 6 <= config.FAST_WATCH_WORK and is_loaded(K.minplus_tiles):
+    if n**3 / 6 <= config.FAST_WATCH_WORK and is_loaded(K.minplus_tiles, T.dtype):
         fill()
     else:
         work = tile_work(n, tile)
@@ -376,7 +377,7 @@ def _fill_generic(
         kernel(tables, args.weigh, args.rule, args.chords, tile, stop, reached)
 
     report = work_reporter(problem) or _no_report
-    if 20 * n**3 / 6 <= config.FAST_WATCH_WORK and is_loaded(kernel):
+    if 20 * n**3 / 6 <= config.FAST_WATCH_WORK and is_loaded(kernel, tables[0].dtype):
         fill()
     else:  # splits of tile-diagonals 0 .. d - 1, for d = reached[0]
         grid = tile_work(n, tile).reshape(nt, nt)
