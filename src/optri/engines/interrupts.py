@@ -122,20 +122,22 @@ def is_loaded(kernel: Any, dtype: Any = None) -> bool:
         return False
     if dtype is None:
         return True
-    key = (id(kernel), np.dtype(dtype).name)
+    key = (id(kernel), np.dtype(dtype))
     if key in _LOADED:
         return True
+    name = key[1].name
     for signature in kernel.signatures:
         first = signature[0]
         table = first.types[0] if hasattr(first, "types") else first  # a tuple of tables
-        if str(getattr(table, "dtype", "")) == key[1]:
+        if str(getattr(table, "dtype", "")) == name:
             _LOADED.add(key)  # machine code is never unloaded
             return True
     return False
 
 
-#: ``(id(kernel), dtype name)`` found loaded by :func:`is_loaded` (2-3 us a look).
-_LOADED: set[tuple[int, str]] = set()
+#: ``(id(kernel), dtype)`` found loaded by :func:`is_loaded`: a look through the
+#: signatures takes 2-3 us, a look here 0.2 us.
+_LOADED: set[tuple[int, np.dtype[Any]]] = set()
 
 
 def watched(fill: Any, threads: int, stop: Any, poll: Any) -> None:
