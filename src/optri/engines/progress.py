@@ -3,8 +3,8 @@
 Every DP engine reports the split evaluations of its table done so far, out of
 those of the whole table: chord (i, j) takes ``j - i - 1``, so the count grows
 in proportion to the fill's time, whatever order the chords are filled in (by
-length, by tile, by recursion). Counted in chords, a bar read 39-51 % a quarter
-of the way through a fill and 62-73 % halfway; in split evaluations, 20-24 %
+length, by tile, by recursion). Counted in chords, a bar read 38-52 % a quarter
+of the way through a fill and 62-74 % halfway; in split evaluations, 19-24 %
 and 42-49 % (the compiled engine counts a tile once it is finished).
 
 Also the compile hook: :mod:`optri.engines.compiled` calls :func:`announce_compile`
