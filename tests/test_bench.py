@@ -8,6 +8,7 @@ and that every yardstick computes the same optimum as optri.
 from __future__ import annotations
 
 import math
+import os
 import shutil
 from pathlib import Path
 
@@ -17,6 +18,7 @@ from click.testing import CliRunner
 
 import optri
 from optri.bench import BenchRow, convex_polygon
+from optri.bench.compare import machine
 from optri.bench.compiled import YARDSTICKS, build, measure_peak, run_reference
 from optri.bench.naive import min_perimeter
 from optri.cli import main
@@ -97,6 +99,9 @@ def test_bench_cli_tiny_sizes() -> None:
     out = CliRunner().invoke(main, args)
     assert out.exit_code == 0, out.output
     assert "optri bench:" not in out.output  # every yardstick built
+    # the report names its machine first: CPU model and count, optri's register block
+    first = out.output.splitlines()[0]
+    assert first == machine() and f"{os.cpu_count()} CPUs" in first and "x 16 cells" in first
     rows = _rows(out.output)
     assert sorted(rows) == [40, 130]
     for n, row in rows.items():

@@ -1159,4 +1159,12 @@ MUTATIONS: list[Mutation] = [
         (PREDICATES, "-k", "following"),
         "the last vertex's successor is itself, not the first vertex",
     ),
+    M(
+        "bench-forgets-the-machine",
+        "src/optri/bench/compare.py",
+        "        say(machine())\n",
+        "",
+        ("tests/test_bench.py", "-k", "tiny_sizes"),
+        "a benchmark report that does not say which machine it ran on",
+    ),
 ]

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import json
 import os
+import platform
 import resource
 import subprocess
 import sys
@@ -30,7 +31,7 @@ from ..io.files import read_polygon
 from ..solve import triangulate
 from .compiled import Built, build, measure_peak, run_reference
 
-__all__ = ["BenchRow", "convex_polygon", "format_rows", "run_benchmark", "worker"]
+__all__ = ["BenchRow", "convex_polygon", "format_rows", "machine", "run_benchmark", "worker"]
 
 
 @dataclass
@@ -115,9 +116,10 @@ def run_benchmark(
             theirs = build(Path(tmp) / "shared", Path(shared), cc=cc)
             if theirs.note:
                 say(f"optri bench: --shared: {theirs.note}")
+        say(machine())
         say(
-            f"{os.cpu_count()} CPUs, load average {_load():.2f} (fraction of peak is noisy "
-            "on a busy machine: compare figures from one run)"
+            f"load average {_load():.2f} (fraction of peak is noisy on a busy machine: "
+            "compare figures from one run)"
         )
         for n in sizes:
             csv = Path(tmp) / f"poly{n}.csv"
@@ -185,6 +187,26 @@ def format_rows(rows: Sequence[BenchRow], header: bool = True) -> str:
             + (f" {f(r.shared_c_s, '.4f'):>10} {f(frac2, '.1%'):>14}" if shared else "")
         )
     return "\n".join(lines)
+
+
+def machine() -> str:
+    """One line naming this machine: CPU model, CPU count, optri's register block on it.
+
+    >>> "CPUs" in machine()
+    True
+    """
+    model = platform.processor() or platform.machine() or "unknown CPU"
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as f:
+            names = [line.split(":", 1)[1].strip() for line in f if line.startswith("model name")]
+        model = names[0] if names else model
+    except OSError:  # not Linux
+        pass
+    try:
+        from ..engines._llvm import describe_plan  # imports numba
+    except ImportError:  # pragma: no cover - numba is a core dependency
+        return f"{model}, {os.cpu_count()} CPUs"
+    return f"{model}, {os.cpu_count()} CPUs; optri's register block: {describe_plan()}"
 
 
 def _load() -> float:

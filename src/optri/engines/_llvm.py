@@ -31,6 +31,7 @@ from .compiled import kernel
 
 __all__ = [
     "copy_8",
+    "describe_plan",
     "fetch_add",
     "fmin",
     "load_acquire",
@@ -123,6 +124,18 @@ def register_plan(itemsize: int) -> tuple[int, bool]:
 def wide_vectors() -> bool:
     """Whether the register block uses 64-byte vectors on this CPU (``register_plan``)."""
     return register_plan(8)[0] == 64
+
+
+def describe_plan(itemsize: int = 8) -> str:
+    """The far products' register block on this CPU, in words (for benchmark reports).
+
+    >>> "16 cells" in describe_plan()
+    True
+    """
+    width, as_int = register_plan(itemsize)
+    rows = 8 if width == 64 else 4
+    minimum = "integer" if as_int else "float"
+    return f"{rows} x 16 cells in {width}-byte vectors, {minimum} minimum (LLVM CPU {_cpu()[0]})"
 
 
 def _outer(rows: int, cols: int):  # type: ignore[no-untyped-def]
