@@ -258,9 +258,8 @@ def test_fast_watched_fill_reports_progress_and_equals_the_direct_one(
 ) -> None:
     # a long fill (min-plus; generic) runs in a helper thread while this one reports the
     # split evaluations of finished tiles (tile-diagonals): reports rise to the total,
-    # more than once
-    # (fills of about 0.1 s, polled every millisecond), and the optimum is the direct
-    # call's, bit for bit
+    # more than once (fills of about 0.1 s, polled every millisecond), and the optimum is
+    # the direct call's, bit for bit
     pts = convex_polygon(n, 3)
     monkeypatch.setattr(config, "FAST_TILE", tile)
     monkeypatch.setattr(config, "FAST_GENERIC_TILE", tile)
