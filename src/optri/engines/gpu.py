@@ -27,7 +27,7 @@ from ._gpu_device import OBJ_MAX, OBJ_SUM
 from ._gpu_kernels import build_kernels
 from .memory import require_memory
 from .problem import Problem, Solution, with_sides
-from .progress import tile_work, work_reporter
+from .progress import diagonal_work, work_reporter
 
 __all__ = [
     "auto_accepts",
@@ -192,8 +192,7 @@ def solve(problem: Problem) -> Solution:
     launches = 1
     report = work_reporter(problem)
     if report is not None:  # splits of the table's tile-diagonals 0 .. d - 1, at [d]
-        grid = tile_work(n, tile).reshape(-(-n // tile), -1)
-        work = np.cumsum([0] + [int(np.trace(grid, e)) for e in range(len(grid))])
+        work = diagonal_work(n, tile)
     for d in range(nt):
         count = nt - d
         if d >= 2:

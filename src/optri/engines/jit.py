@@ -31,7 +31,7 @@ from ..weights import Weight, WeightCode, compiled_weight_error, edge_weight
 from .interrupts import interruptible, is_loaded, watched
 from .memory import require_memory
 from .problem import Problem, Solution, with_sides
-from .progress import table_work, tile_work, work_reporter
+from .progress import diagonal_work, table_work, tile_work, work_reporter
 
 __all__ = [
     "SUPPORTS_GATES",
@@ -370,7 +370,6 @@ def _fill_generic(
         T[idx, idx + 1] = T[idx + 1, idx] = v
     kernel = args.kernel("generic_tiles")
     tile = int(config.FAST_GENERIC_TILE)
-    nt = (n + tile - 1) // tile
     stop, reached = np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64)
 
     def fill() -> None:
@@ -380,8 +379,7 @@ def _fill_generic(
     if 20 * n**3 / 6 <= config.FAST_WATCH_WORK and is_loaded(kernel, tables[0].dtype):
         fill()
     else:  # splits of tile-diagonals 0 .. d - 1, for d = reached[0]
-        grid = tile_work(n, tile).reshape(nt, nt)
-        work = np.concatenate(([0], np.cumsum([np.trace(grid, d) for d in range(nt)])))
+        work = diagonal_work(n, tile)
         watched(fill, threads, stop, lambda: report(int(work[reached[0]])))
     args.raise_on_nan()
     report(table_work(n))

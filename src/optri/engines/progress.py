@@ -22,7 +22,14 @@ from numpy.typing import NDArray
 
 from .problem import Problem
 
-__all__ = ["announce_compile", "on_compile", "table_work", "tile_work", "work_reporter"]
+__all__ = [
+    "announce_compile",
+    "diagonal_work",
+    "on_compile",
+    "table_work",
+    "tile_work",
+    "work_reporter",
+]
 
 #: Reports per run at most (about): the callback may redraw a bar each time.
 _REPORTS = 200
@@ -81,6 +88,20 @@ def tile_work(n: int, tile: int) -> NDArray[np.int64]:
 
     work = ff(j1 - 1 - i0) - ff(j1 - 1 - i1) - ff(j0 - 1 - i0) + ff(j0 - 1 - i1)
     return work.reshape(-1)
+
+
+def diagonal_work(n: int, tile: int) -> NDArray[np.int64]:
+    """Split evaluations of tile-diagonals ``0 .. d - 1`` at ``[d]``: ``nt + 1`` values.
+
+    For fills that finish a whole tile-diagonal at a time (the generic
+    compiled kernel, the GPU engine).
+
+    >>> diagonal_work(10, 4).tolist()
+    [0, 8, 72, 120]
+    """
+    grid = tile_work(n, tile).reshape(-(-n // tile), -1)
+    per_diagonal = [int(np.trace(grid, d)) for d in range(len(grid))]
+    return np.concatenate(([0], np.cumsum(per_diagonal))).astype(np.int64)
 
 
 def work_reporter(problem: Problem) -> Callable[[int], None] | None:
