@@ -85,6 +85,27 @@ def test_fraction_of_peak_and_ratios() -> None:
     assert BenchRow(10, 0.5, 0.6, None, None, None, 1, 1, None, 0).fraction is None
 
 
+def test_worker_times_warm_calls(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The timed calls come after the warm-up's untimed ones, on the same polygon."""
+    from optri.bench import compare
+
+    csv = _write(tmp_path / "p.csv", convex_polygon(60, 4))
+    sizes: list[int] = []
+    solve = compare.triangulate
+
+    def counted(pts, **kw):  # type: ignore[no-untyped-def]
+        sizes.append(len(pts))
+        return solve(pts, **kw)
+
+    monkeypatch.setattr(compare, "triangulate", counted)
+    cold = compare.worker(str(csv), 2, "float64", warmup=0)
+    assert cold["warm_calls"] == 0 and sizes == [40, 60, 60]  # kernels, then the timed calls
+    sizes.clear()
+    warm = compare.worker(str(csv), 2, "float64", warmup=0.05)
+    assert warm["warm_calls"] >= 1 and sizes == [40] + [60] * (int(warm["warm_calls"]) + 2)
+    assert warm["weight"] == cold["weight"] and warm["seconds"] > 0
+
+
 def _rows(output: str) -> dict[int, list[str]]:
     return {
         int(line.split()[0]): line.split()
@@ -96,6 +117,7 @@ def _rows(output: str) -> dict[int, list[str]]:
 @needs_gcc
 def test_bench_cli_tiny_sizes() -> None:
     args = ["bench", "40", "130", "--naive-max", "40", "--repeats", "1", "--peak-seconds", "0.05"]
+    args += ["--warmup", "0.01"]
     out = CliRunner().invoke(main, args)
     assert out.exit_code == 0, out.output
     assert "optri bench:" not in out.output  # every yardstick built

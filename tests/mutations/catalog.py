@@ -1167,4 +1167,20 @@ MUTATIONS: list[Mutation] = [
         ("tests/test_bench.py", "-k", "tiny_sizes"),
         "a benchmark report that does not say which machine it ran on",
     ),
+    M(
+        "bench-times-cold-calls",
+        "src/optri/bench/compare.py",
+        "while warmup > 0 and (warm_calls == 0 or",
+        "while warmup < 0 and (warm_calls == 0 or",
+        ("tests/test_bench.py", "-k", "warm_calls"),
+        "optri bench times a process's first calls, which pay for fresh memory",
+    ),
+    M(
+        "tile-edges-skip-the-sides",
+        "src/optri/engines/_minplus.py",
+        "b = max(j0, i + 1)",
+        "b = max(j0, i + 2)",
+        (MINPLUS, FAST),
+        "a diagonal tile's edge weights leave out the polygon's sides (j = i + 1)",
+    ),
 ]

@@ -98,8 +98,12 @@ def run_benchmark(
     shared: str | os.PathLike[str] | None = None,
     peak_seconds: float = 1.0,
     cc: str | None = None,
+    warmup: float = 0.25,
 ) -> list[BenchRow]:
     """Time every solver on the same polygon for each n in ``sizes``.
+
+    optri's seconds are the best of ``repeats`` calls after ``warmup`` seconds
+    of untimed ones (see :func:`worker`), as the peak is a rate of a steady run.
 
     ``shared``: a folder with another ``ref_mwt.c`` and ``minplus_peak.c`` (such
     as ``../shared/bench``) to build and run as well, as a cross-check. ``cc``:
@@ -124,7 +128,9 @@ def run_benchmark(
         for n in sizes:
             csv = Path(tmp) / f"poly{n}.csv"
             csv.write_text("".join(f"{x!r},{y!r}\n" for x, y in convex_polygon(n, seed).tolist()))
-            rows.append(_one_size(n, csv, ours, theirs, naive_max, repeats, dtype, peak_seconds))
+            rows.append(
+                _one_size(n, csv, ours, theirs, naive_max, repeats, dtype, peak_seconds, warmup)
+            )
             say(format_rows(rows[-1:], header=len(rows) == 1))
     return rows
 
@@ -138,6 +144,7 @@ def _one_size(
     repeats: int,
     dtype: str,
     peak_seconds: float,
+    warmup: float,
 ) -> BenchRow:
     c = run_reference(ours.ref, csv) if ours.ref else None
     shared_c = run_reference(theirs.ref, csv) if theirs and theirs.ref else None
@@ -146,7 +153,7 @@ def _one_size(
         naive = _seconds([sys.executable, "-m", "optri.bench.naive", str(csv)])
     peak = measure_peak(ours.peak, peak_seconds) if ours.peak else None
     shared_peak = measure_peak(theirs.peak, peak_seconds) if theirs and theirs.peak else None
-    mine = _run_worker(csv, repeats, dtype)
+    mine = _run_worker(csv, repeats, dtype, warmup)
     agrees = None if c is None else abs(mine["weight"] - c[0]) <= 1e-9 * abs(c[0])
     return BenchRow(
         n,
@@ -223,8 +230,8 @@ def _seconds(cmd: list[str]) -> tuple[float, float]:
     return float(out[1]), float(out[2])
 
 
-def _run_worker(csv: Path, repeats: int, dtype: str) -> dict[str, float]:
-    cmd = [sys.executable, "-m", "optri.bench", str(csv), str(repeats), dtype]
+def _run_worker(csv: Path, repeats: int, dtype: str, warmup: float) -> dict[str, float]:
+    cmd = [sys.executable, "-m", "optri.bench", str(csv), str(repeats), dtype, str(warmup)]
     out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
     return json.loads(out.strip().splitlines()[-1])
 
@@ -234,11 +241,25 @@ def _peak_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 / 1e6
 
 
-def worker(csv: str, repeats: int, dtype: str) -> dict[str, float]:
-    """Solve ``csv`` with method="fast" ``repeats`` times in this fresh process."""
+def worker(csv: str, repeats: int, dtype: str, warmup: float = 0.0) -> dict[str, float]:
+    """Solve ``csv`` with method="fast" ``repeats`` times in this fresh process; the best.
+
+    Untimed calls on the same polygon come first, for ``warmup`` seconds (at
+    least one call when ``warmup > 0``). A process's first calls pay for fresh
+    memory: on the Xeon of ``docs/fast-engine.md`` the first two at n = 1000
+    took 10-17 ms against 4.6-4.9 ms for every later one (the C library maps
+    the first table, then grows its heap for the second), so the best of three
+    cold calls was one warm call. Tables above 32 MB (n > 2000) are mapped afresh
+    by every call, warm or not, so there every timed call still pays that first touch.
+    """
     pts = read_polygon(csv)
     triangulate(pts[:40], method="fast", dtype=dtype)  # load the cached kernels
     base = _peak_mb()  # Python, numpy, numba and the kernels: everything but the table
+    warm_calls = 0
+    start = time.perf_counter()
+    while warmup > 0 and (warm_calls == 0 or time.perf_counter() - start < warmup):
+        triangulate(pts, method="fast", dtype=dtype)
+        warm_calls += 1
     best = wall = float("inf")
     weight = float("nan")
     for _ in range(repeats):
@@ -249,4 +270,11 @@ def worker(csv: str, repeats: int, dtype: str) -> dict[str, float]:
         weight = float(tri.weight)  # type: ignore[arg-type]  # scalar objective
         del tri
     peak = _peak_mb()
-    return {"seconds": best, "wall": wall, "weight": weight, "base_mb": base, "peak_mb": peak}
+    return {
+        "seconds": best,
+        "wall": wall,
+        "weight": weight,
+        "base_mb": base,
+        "peak_mb": peak,
+        "warm_calls": warm_calls,
+    }

@@ -23,7 +23,14 @@ __all__ = ["bench"]
     default=3,
     type=click.IntRange(min=1),
     show_default=True,
-    help="Best of this many runs in one process (the first also pays for fresh memory).",
+    help="Best of this many timed runs in one process, after the warm-up.",
+)
+@click.option(
+    "--warmup",
+    default=0.25,
+    type=click.FloatRange(min=0),
+    show_default=True,
+    help="Seconds of untimed runs first (at least one; 0: none), which pay for fresh memory.",
 )
 @click.option("--float32", is_flag=True, help="float32 table.")
 @click.option("--json", "as_json", is_flag=True, help="Print the rows as JSON.")
@@ -43,6 +50,7 @@ def bench(
     quick: bool,
     naive_max: int,
     repeats: int,
+    warmup: float,
     float32: bool,
     as_json: bool,
     shared: str | None,
@@ -59,6 +67,7 @@ def bench(
         chosen,
         naive_max=naive_max,
         repeats=repeats,
+        warmup=warmup,
         dtype="float32" if float32 else "float64",
         log=click.echo if not as_json else lambda line: click.echo(line, err=True),
         shared=shared,
