@@ -100,7 +100,9 @@ def test_register_plan_follows_the_cpu(
     monkeypatch.setattr(_llvm.numba_config, "CPU_NAME", name, raising=False)
     monkeypatch.setattr(_llvm.numba_config, "CPU_FEATURES", features, raising=False)
     assert _llvm.register_plan(8) == plan8 and _llvm.register_plan(4) == plan4
-    assert _llvm.wide_vectors() == (plan8[0] == 64)
+    rows = 8 if plan8[0] == 64 else 4
+    assert _llvm.block_rows() == rows
+    assert _llvm.describe_plan().startswith(f"{rows} x 16 cells in {plan8[0]}-byte vectors")
 
 
 @numba.njit(fastmath=FASTMATH)

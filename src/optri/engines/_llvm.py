@@ -30,6 +30,7 @@ from numba.extending import intrinsic
 from .compiled import kernel
 
 __all__ = [
+    "block_rows",
     "copy_8",
     "describe_plan",
     "fetch_add",
@@ -45,7 +46,6 @@ __all__ = [
     "store_release",
     "transpose_8x8",
     "wait_done",
-    "wide_vectors",
     "yield_cpu",
 ]
 
@@ -121,9 +121,14 @@ def register_plan(itemsize: int) -> tuple[int, bool]:
     return 32, ("+avx512vl" if itemsize == 8 else "+avx2") in features
 
 
-def wide_vectors() -> bool:
-    """Whether the register block uses 64-byte vectors on this CPU (``register_plan``)."""
-    return register_plan(8)[0] == 64
+def block_rows() -> int:
+    """Rows of the dense products' register block on this CPU: 8 with 64-byte vectors, else 4.
+
+    8 x 16 cells fill the 32 vector registers of AVX-512; with 32-byte vectors
+    4 x 16 fill the 16 of AVX2 (``register_plan``; the width does not depend on
+    the table's item size).
+    """
+    return 8 if register_plan(8)[0] == 64 else 4
 
 
 def describe_plan(itemsize: int = 8) -> str:
@@ -133,9 +138,8 @@ def describe_plan(itemsize: int = 8) -> str:
     True
     """
     width, as_int = register_plan(itemsize)
-    rows = 8 if width == 64 else 4
-    minimum = "integer" if as_int else "float"
-    return f"{rows} x 16 cells in {width}-byte vectors, {minimum} minimum (LLVM CPU {_cpu()[0]})"
+    block = f"{block_rows()} x 16 cells in {width}-byte vectors"
+    return f"{block}, {'integer' if as_int else 'float'} minimum (LLVM CPU {_cpu()[0]})"
 
 
 def _outer(rows: int, cols: int):  # type: ignore[no-untyped-def]

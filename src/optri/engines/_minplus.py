@@ -42,6 +42,7 @@ from numba import prange
 
 from ._jit_weights import edge_weight, edge_weight_row
 from ._llvm import (
+    block_rows,
     copy_8,
     fetch_add,
     fmin,
@@ -55,7 +56,6 @@ from ._llvm import (
     store_release,
     transpose_8x8,
     wait_done,
-    wide_vectors,
 )
 from .compiled import kernel
 
@@ -80,9 +80,7 @@ _KBLOCK = 256  # splits per pass of a register block over a far product
 # far products at n = 4000 took 346 ms with it, 357 ms without
 _STRIP = _KBLOCK + 1
 _LEAF = 4  # blocks this small (rows or columns) are solved cell by cell
-# rows of the dense products' register block: 8 x 16 cells fill the 32 vector registers of
-# AVX-512 (64-byte vectors); with 32-byte vectors 4 x 16 fill the 16 of AVX2
-_ROWS = 8 if wide_vectors() else 4
+_ROWS = block_rows()  # rows of the dense products' register block: 8 or 4
 
 
 @kernel(fastmath=FASTMATH, inline="always")
