@@ -315,9 +315,8 @@ def test_fast_watched_fill_stops_when_the_caller_raises(monkeypatch: pytest.Monk
     n = 100
     T = np.full((n, n), np.nan)
     stop = np.ones(1, dtype=np.int64)
-    chords = (np.ones((1, 1), dtype=np.bool_), False)
     pts = np.asfortranarray(convex_polygon(n, 1))
-    _jit_kernels.minplus_tiles(T, pts, 0, chords, 8, 2, fresh(n, 8)[0], stop)
+    _jit_kernels.minplus_tiles(T, pts, 0, None, 8, 2, fresh(n, 8)[0], stop)
     assert np.isnan(T).all()
 
 
@@ -378,24 +377,38 @@ def test_a_kernels_first_call_is_watched(monkeypatch: pytest.MonkeyPatch) -> Non
     first_cell((np.zeros((2, 2), np.float32), np.zeros((1, 1), np.float32)))
     assert interrupts.is_loaded(first_cell, np.float32)
 
+    @numba.njit(cache=False)
+    def masked_cell(table, mask):  # type: ignore[no-untyped-def]
+        return table[0, 0] if mask is None or mask[0, 0] else 0.0
+
+    masked_cell(np.ones((2, 2)), None)  # without a mask: the masked version is not loaded
+    assert interrupts.is_loaded(masked_cell, np.float64, False)
+    assert not interrupts.is_loaded(masked_cell, np.float64, True)
+    masked_cell(np.ones((2, 2)), np.ones((2, 2), dtype=np.bool_))
+    assert interrupts.is_loaded(masked_cell, np.float64, True)
+
     watched: list[object] = []
-    asked: list[np.dtype] = []
+    asked: list[tuple[np.dtype, bool]] = []
     monkeypatch.setattr(jit, "watched", lambda fill, *rest: (watched.append(fill), fill()))
     pts = convex_polygon(8, 1)
     for loaded in (False, True):
 
-        def is_loaded(kernel: object, dtype: object, loaded: bool = loaded) -> bool:
-            asked.append(np.dtype(dtype))  # type: ignore[call-overload]
+        def is_loaded(kernel: object, dtype: object, masked: bool, loaded: bool = loaded) -> bool:
+            asked.append((np.dtype(dtype), masked))  # type: ignore[call-overload]
             return loaded
 
         monkeypatch.setattr(jit, "is_loaded", is_loaded)
         optri.triangulate(pts, method="fast")  # min-plus
         optri.triangulate(pts, "max_angle", "max", method="fast")  # generic
     assert len(watched) == 2  # both first calls, neither later one
+    a = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    star = np.column_stack((np.cos(a), np.sin(a))) * np.where(np.arange(12) % 2, 0.5, 1.0)[:, None]
     for method_args in ((), ("max_angle", "max")):  # each asks for its table's dtype
         optri.triangulate(pts, *method_args, method="fast", dtype=np.float32)
-        assert asked[-1] == np.float32
-    assert asked[:4] == [np.float64] * 4
+        assert asked[-1] == (np.float32, False)
+        optri.triangulate(star, *method_args, method="fast")  # and for a chord mask
+        assert asked[-1] == (np.float64, True)
+    assert asked[:4] == [(np.float64, False)] * 4
 
 
 def test_fast_watched_generic_fill_stops_when_the_caller_raises(

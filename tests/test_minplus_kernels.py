@@ -206,8 +206,7 @@ def test_far_product_equals_numpy(rows: int, dtype: type) -> None:
     sums = (a[:, :, None] + b[None, :, :]).min(axis=1)
     want[ia:ib, ja:jb] = np.minimum(want[ia:ib, ja:jb], sums)
     P = np.full((_minplus._STRIP * 128 // 16, 16), np.nan, dtype=dtype)
-    mask = np.zeros((1, 1), dtype=np.bool_)
-    _minplus._far(T, P, mask, rows, ia, ib, ja, jb, k0, k1)
+    _minplus._far(T, P, rows, ia, ib, ja, jb, k0, k1)
     assert np.array_equal(T, want, equal_nan=True)
 
 
@@ -223,7 +222,7 @@ def test_dense_product_equals_numpy(rows: int, with_mask: bool) -> None:
     T = np.minimum(T, T.T)  # both halves hold a chord's value: cells at the edges read B's
     ia, ib, ja, jb, k0, k1 = 3, 30, 60, 97, 30, 60
     assert (ib - ia) % rows and (jb - ja) % 16
-    mask = rng.random((120, 120)) < 0.05 if with_mask else np.zeros((1, 1), dtype=np.bool_)
+    mask = rng.random((120, 120)) < 0.05 if with_mask else None
     if with_mask:  # a block whose only allowed chord lies in its lower four rows
         mask[ia : ia + 8, ja : ja + 16] = False
         mask[ia + 6, ja + 2] = True
@@ -231,9 +230,9 @@ def test_dense_product_equals_numpy(rows: int, with_mask: bool) -> None:
     want = T.copy()
     sums = (T[ia:ib, k0:k1, None] + T[None, k0:k1, ja:jb]).min(axis=1)
     block = np.minimum(want[ia:ib, ja:jb], sums)
-    _minplus._product(T, mask, with_mask, rows, ia, ib, ja, jb, k0, k1)
+    _minplus._product(T, mask, rows, ia, ib, ja, jb, k0, k1)
     got = T[ia:ib, ja:jb]
-    if with_mask:  # blocks with no allowed cell are skipped: only allowed cells are checked
+    if mask is not None:  # blocks with no allowed cell are skipped: only allowed cells count
         allowed = mask[ia:ib, ja:jb]
         assert allowed.any() and not allowed.all()
         assert np.array_equal(got[allowed], block[allowed])
@@ -255,18 +254,19 @@ def test_fill_writes_only_the_upper_half(n: int, tile: int, use_mask: bool) -> N
 
     pts = np.asfortranarray(_star(n, n) if use_mask else convex_polygon(n, tile))
     rng = np.random.default_rng(n)
-    mask = rng.random((n, n)) < 0.7 if use_mask else np.ones((1, 1), dtype=np.bool_)
+    mask = None
     if use_mask:
+        mask = rng.random((n, n)) < 0.7
         mask |= mask.T
     T = np.full((n, n), np.nan)
     code = int(WeightCode.PERIMETER)
-    _jit_kernels.minplus_tiles(T, pts, code, (mask, use_mask), tile, 2, *_flags(n, tile))
+    _jit_kernels.minplus_tiles(T, pts, code, mask, tile, 2, *_flags(n, tile))
     upper = np.triu_indices(n, 1)
     assert not np.isnan(T[upper]).any()
     assert np.isnan(T[np.tril_indices(n)]).all()
     # and the same upper half as with 4 x 4 tiles, all leaves
     T4 = np.full((n, n), np.nan)
-    _jit_kernels.minplus_tiles(T4, pts, code, (mask, use_mask), 4, 1, *_flags(n, 4))
+    _jit_kernels.minplus_tiles(T4, pts, code, mask, 4, 1, *_flags(n, 4))
     assert np.array_equal(T[upper], T4[upper])
 
 

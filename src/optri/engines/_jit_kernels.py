@@ -141,10 +141,12 @@ def best_split(tables, weigh, rule, i, j):
 
 
 @kernel(parallel=True, nogil=True)
-def generic_tiles(tables, weigh, rule, chords, tile, stop, reached):
+def generic_tiles(tables, weigh, rule, mask, tile, stop, reached):
     """Fill the cost table(s), tile-diagonal by tile-diagonal.
 
-    ``chords = (mask, use_mask)``. Sides must hold the neutral cost already.
+    ``mask``: None (every chord allowed) or a boolean ``n x n`` array of the
+    allowed chords, each its own compiled version (the ``mask is None`` branch
+    is pruned when numba compiles). Sides must hold the neutral cost already.
     Tiles on one tile-diagonal are independent; inside a tile, cells go rows
     upwards, columns rightwards, so both halves of every split are final when read.
     ``reached[0]`` is set to ``d + 1`` once tile-diagonal ``d`` is finished. Runs
@@ -153,7 +155,6 @@ def generic_tiles(tables, weigh, rule, chords, tile, stop, reached):
     weight has returned NaN (``rule[2]``).
     """
     T1, T2 = tables
-    mask, use_mask = chords
     lex, nan = rule[1], rule[2]
     n = T1.shape[0]
     nt = (n + tile - 1) // tile
@@ -165,7 +166,7 @@ def generic_tiles(tables, weigh, rule, chords, tile, stop, reached):
             j0, j1 = (t + d) * tile, min(n, (t + d) * tile + tile)
             for i in range(i1 - 1, i0 - 1, -1):
                 for j in range(max(j0, i + 2), j1):
-                    if use_mask and not mask[i, j]:
+                    if mask is not None and not mask[i, j]:
                         c1, c2 = np.inf, np.inf
                     else:
                         c1, c2, _ = best_split(tables, weigh, rule, i, j)

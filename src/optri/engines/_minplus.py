@@ -105,9 +105,9 @@ def _colmin(best, T, i, j, k0, k1):
 
 
 @kernel(fastmath=FASTMATH, inline="always")
-def _any_allowed(mask, use_mask, i0, i1, j0, j1):
+def _any_allowed(mask, i0, i1, j0, j1):
     """Whether any cell of rows i0..i1-1, columns j0..j1-1 is an allowed chord."""
-    if not use_mask:
+    if mask is None:
         return True
     for i in range(i0, i1):
         for j in range(j0, j1):
@@ -117,12 +117,12 @@ def _any_allowed(mask, use_mask, i0, i1, j0, j1):
 
 
 @kernel(fastmath=FASTMATH, inline="always")
-def _block(T, mask, use_mask, i, j, k0, kn, cols):
+def _block(T, mask, i, j, k0, kn, cols):
     """Register block rows ``i..i+3`` x ``cols`` (16, 8 or 4) columns from ``j``, ``kn`` splits.
 
     Skipped when no cell of it is an allowed chord.
     """
-    if _any_allowed(mask, use_mask, i, i + 4, j, j + cols):
+    if _any_allowed(mask, i, i + 4, j, j + cols):
         if cols == 16:
             outer_4x16(T, i, j, T, i, k0, T, k0, j, kn)
         elif cols == 8:
@@ -132,7 +132,7 @@ def _block(T, mask, use_mask, i, j, k0, kn, cols):
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
-def _product(T, mask, use_mask, rows, ia, ib, ja, jb, k0, k1):
+def _product(T, mask, rows, ia, ib, ja, jb, k0, k1):
     """``T[i, j] = min(T[i, j], min over k0 <= k < k1 of T[i, k] + T[k, j])``.
 
     For rows ``ia <= i < ib``, columns ``ja <= j < jb``; every operand cell
@@ -150,16 +150,16 @@ def _product(T, mask, use_mask, rows, ia, ib, ja, jb, k0, k1):
             kn = min(k1, kb + _KBLOCK) - kb
             for i in range(ia, i8, 8):
                 for j in range(ja, jf, 16):
-                    if _any_allowed(mask, use_mask, i, i + 8, j, j + 16):
+                    if _any_allowed(mask, i, i + 8, j, j + 16):
                         outer_8x16(T, i, j, T, i, kb, T, kb, j, kn)
-        _product4(T, mask, use_mask, ia, i8, jf, jb, k0, k1)
-        _product4(T, mask, use_mask, i8, ib, ja, jb, k0, k1)
+        _product4(T, mask, ia, i8, jf, jb, k0, k1)
+        _product4(T, mask, i8, ib, ja, jb, k0, k1)
     else:
-        _product4(T, mask, use_mask, ia, ib, ja, jb, k0, k1)
+        _product4(T, mask, ia, ib, ja, jb, k0, k1)
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
-def _product4(T, mask, use_mask, ia, ib, ja, jb, k0, k1):
+def _product4(T, mask, ia, ib, ja, jb, k0, k1):
     """``_product`` in 4-row register blocks."""
     if k1 <= k0 or ib <= ia or jb <= ja:
         return
@@ -169,11 +169,11 @@ def _product4(T, mask, use_mask, ia, ib, ja, jb, k0, k1):
         while i + 4 <= ib:
             j = ja
             while j + 16 <= jb:
-                _block(T, mask, use_mask, i, j, kb, ke - kb, 16)
+                _block(T, mask, i, j, kb, ke - kb, 16)
                 j += 16
             for cols in (8, 4):
                 if j + cols <= jb:
-                    _block(T, mask, use_mask, i, j, kb, ke - kb, cols)
+                    _block(T, mask, i, j, kb, ke - kb, cols)
                     j += cols
             for r in range(i, i + 4):
                 for c in range(j, jb):
@@ -185,7 +185,7 @@ def _product4(T, mask, use_mask, ia, ib, ja, jb, k0, k1):
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
-def _far(T, P, mask, rows, ia, ib, ja, jb, k0, k1):
+def _far(T, P, rows, ia, ib, ja, jb, k0, k1):
     """``_product`` of a tile's far splits (no chord mask), from packed rows.
 
     For each block of ``_KBLOCK`` splits, the rows ``B[k, j:j + 16]`` of each
@@ -214,8 +214,8 @@ def _far(T, P, mask, rows, ia, ib, ja, jb, k0, k1):
                     outer_8x16(T, i, ja + 16 * s, T, i, kb, P, s * _STRIP, 0, kn)
                 else:
                     outer_4x16(T, i, ja + 16 * s, T, i, kb, P, s * _STRIP, 0, kn)
-    _product(T, mask, False, rows, ia, ib, jf, jb, k0, k1)
-    _product(T, mask, False, rows, i_f, ib, ja, jf, k0, k1)
+    _product(T, None, rows, ia, ib, jf, jb, k0, k1)
+    _product(T, None, rows, i_f, ib, ja, jf, k0, k1)
 
 
 @kernel(fastmath=FASTMATH, inline="always")
@@ -226,7 +226,7 @@ def _edge(ew, i, j):
 
 
 @kernel(fastmath=FASTMATH, inline="always")
-def _final(T, ew, mask, use_mask, i, j, best):
+def _final(T, ew, mask, i, j, best):
     """Store and return ``E(i, j) = best + 2 e(i, j)`` (a side: ``e``; disallowed: +inf).
 
     ``ew = (W, i0, j0)``: ``e(i, j)`` is ``W[i - i0, j - j0]``. Only
@@ -236,14 +236,14 @@ def _final(T, ew, mask, use_mask, i, j, best):
         v = T.dtype.type(_edge(ew, i, j))
         store_at(T, i, j, v)
         return v
-    return _final_chord(T, ew, mask, use_mask, i, j, best)
+    return _final_chord(T, ew, mask, i, j, best)
 
 
 @kernel(fastmath=FASTMATH, inline="always")
-def _final_chord(T, ew, mask, use_mask, i, j, best):
+def _final_chord(T, ew, mask, i, j, best):
     """``_final`` of a cell that is not a side (``j > i + 1``)."""
     v = best + 2.0 * _edge(ew, i, j)
-    if use_mask and not mask[i, j]:
+    if mask is not None and not mask[i, j]:
         v = np.inf  # not a diagonal: never used
     v = T.dtype.type(v)
     store_at(T, i, j, v)
@@ -251,14 +251,14 @@ def _final_chord(T, ew, mask, use_mask, i, j, best):
 
 
 @kernel(fastmath=FASTMATH, inline="always")
-def _cell(T, ew, mask, use_mask, i, j, b, c):
+def _cell(T, ew, mask, i, j, b, c):
     """Final value of cell (i, j): its splits ``i < k < b`` and ``c <= k < j``, then 2 e.
 
     Every other split must be applied already.
     """
     best = _colmin(T[i, j], T, i, j, i + 1, min(b, j))
     best = _colmin(best, T, i, j, c, j)
-    _final(T, ew, mask, use_mask, i, j, best)
+    _final(T, ew, mask, i, j, best)
 
 
 @kernel(fastmath=FASTMATH, inline="always")
@@ -291,7 +291,7 @@ def _upper4(T, a):
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
-def _leaf4(T, ew, mask, use_mask, a, c):
+def _leaf4(T, ew, mask, a, c):
     """Block rows [a, a + 4) x columns [c, c + 4), ``a + 4 <= c``, in straight-line code.
 
     ``xrq`` is cell (a + r, c + q). Its splits run through the rows' triangle
@@ -308,72 +308,72 @@ def _leaf4(T, ew, mask, use_mask, a, c):
     c1, c2, c3 = c + 1, c + 2, c + 3
     i = a + 3
     t0, t1, t2, t3 = _row4(T, i, c)
-    x30 = _final(T, ew, mask, use_mask, i, c, t0)
-    x31 = _final_chord(T, ew, mask, use_mask, i, c1, fmin(t1, x30 + b01))
-    x32 = _final_chord(T, ew, mask, use_mask, i, c2, _min3(t2, x30 + b02, x31 + b12))
+    x30 = _final(T, ew, mask, i, c, t0)
+    x31 = _final_chord(T, ew, mask, i, c1, fmin(t1, x30 + b01))
+    x32 = _final_chord(T, ew, mask, i, c2, _min3(t2, x30 + b02, x31 + b12))
     m = _min3(t3, x30 + b03, x31 + b13)
-    x33 = _final_chord(T, ew, mask, use_mask, i, c3, fmin(m, x32 + b23))
+    x33 = _final_chord(T, ew, mask, i, c3, fmin(m, x32 + b23))
     i = a + 2
     t0, t1, t2, t3 = _row4(T, i, c)
-    x20 = _final_chord(T, ew, mask, use_mask, i, c, fmin(t0, a23 + x30))
+    x20 = _final_chord(T, ew, mask, i, c, fmin(t0, a23 + x30))
     m = fmin(t1, a23 + x31)
-    x21 = _final_chord(T, ew, mask, use_mask, i, c1, fmin(m, x20 + b01))
+    x21 = _final_chord(T, ew, mask, i, c1, fmin(m, x20 + b01))
     m = _min3(t2, a23 + x32, x20 + b02)
-    x22 = _final_chord(T, ew, mask, use_mask, i, c2, fmin(m, x21 + b12))
+    x22 = _final_chord(T, ew, mask, i, c2, fmin(m, x21 + b12))
     m = _min4(t3, a23 + x33, x20 + b03, x21 + b13)
-    x23 = _final_chord(T, ew, mask, use_mask, i, c3, fmin(m, x22 + b23))
+    x23 = _final_chord(T, ew, mask, i, c3, fmin(m, x22 + b23))
     i = a + 1
     t0, t1, t2, t3 = _row4(T, i, c)
-    x10 = _final_chord(T, ew, mask, use_mask, i, c, _min3(t0, a12 + x20, a13 + x30))
+    x10 = _final_chord(T, ew, mask, i, c, _min3(t0, a12 + x20, a13 + x30))
     m = _min3(t1, a12 + x21, a13 + x31)
-    x11 = _final_chord(T, ew, mask, use_mask, i, c1, fmin(m, x10 + b01))
+    x11 = _final_chord(T, ew, mask, i, c1, fmin(m, x10 + b01))
     m = _min4(t2, a12 + x22, a13 + x32, x10 + b02)
-    x12 = _final_chord(T, ew, mask, use_mask, i, c2, fmin(m, x11 + b12))
+    x12 = _final_chord(T, ew, mask, i, c2, fmin(m, x11 + b12))
     m = fmin(_min3(t3, a12 + x23, a13 + x33), _min3(x10 + b03, x11 + b13, x12 + b23))
-    x13 = _final_chord(T, ew, mask, use_mask, i, c3, m)
+    x13 = _final_chord(T, ew, mask, i, c3, m)
     i = a
     t0, t1, t2, t3 = _row4(T, i, c)
     m = _min4(t0, a01 + x10, a02 + x20, a03 + x30)
-    x00 = _final_chord(T, ew, mask, use_mask, i, c, m)
+    x00 = _final_chord(T, ew, mask, i, c, m)
     m = _min4(t1, a01 + x11, a02 + x21, a03 + x31)
-    x01 = _final_chord(T, ew, mask, use_mask, i, c1, fmin(m, x00 + b01))
+    x01 = _final_chord(T, ew, mask, i, c1, fmin(m, x00 + b01))
     m = fmin(_min4(t2, a01 + x12, a02 + x22, a03 + x32), x00 + b02)
-    x02 = _final_chord(T, ew, mask, use_mask, i, c2, fmin(m, x01 + b12))
+    x02 = _final_chord(T, ew, mask, i, c2, fmin(m, x01 + b12))
     m = fmin(_min4(t3, a01 + x13, a02 + x23, a03 + x33), _min3(x00 + b03, x01 + b13, x02 + b23))
-    _final_chord(T, ew, mask, use_mask, i, c3, m)
+    _final_chord(T, ew, mask, i, c3, m)
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
-def _square8(T, ew, mask, use_mask, a, c):
+def _square8(T, ew, mask, a, c):
     """``_square`` of an 8 x 8 block: four leaves, the products between them inline."""
-    _leaf4(T, ew, mask, use_mask, a + 4, c)
-    _block(T, mask, use_mask, a + 4, c + 4, c, 4, 4)
-    _leaf4(T, ew, mask, use_mask, a + 4, c + 4)
-    _block(T, mask, use_mask, a, c, a + 4, 4, 4)
-    _leaf4(T, ew, mask, use_mask, a, c)
-    _block(T, mask, use_mask, a, c + 4, a + 4, 4, 4)
-    _block(T, mask, use_mask, a, c + 4, c, 4, 4)
-    _leaf4(T, ew, mask, use_mask, a, c + 4)
+    _leaf4(T, ew, mask, a + 4, c)
+    _block(T, mask, a + 4, c + 4, c, 4, 4)
+    _leaf4(T, ew, mask, a + 4, c + 4)
+    _block(T, mask, a, c, a + 4, 4, 4)
+    _leaf4(T, ew, mask, a, c)
+    _block(T, mask, a, c + 4, a + 4, 4, 4)
+    _block(T, mask, a, c + 4, c, 4, 4)
+    _leaf4(T, ew, mask, a, c + 4)
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
-def _square16(T, ew, mask, use_mask, a, c):
+def _square16(T, ew, mask, a, c):
     """``_square`` of a 16 x 16 block: four 8 x 8 blocks, the products between them."""
-    _square8(T, ew, mask, use_mask, a + 8, c)
+    _square8(T, ew, mask, a + 8, c)
     for r in range(a + 8, a + 16, 4):
-        _block(T, mask, use_mask, r, c + 8, c, 8, 8)
-    _square8(T, ew, mask, use_mask, a + 8, c + 8)
+        _block(T, mask, r, c + 8, c, 8, 8)
+    _square8(T, ew, mask, a + 8, c + 8)
     for r in range(a, a + 8, 4):
-        _block(T, mask, use_mask, r, c, a + 8, 8, 8)
-    _square8(T, ew, mask, use_mask, a, c)
+        _block(T, mask, r, c, a + 8, 8, 8)
+    _square8(T, ew, mask, a, c)
     for r in range(a, a + 8, 4):
-        _block(T, mask, use_mask, r, c + 8, a + 8, 8, 8)
-        _block(T, mask, use_mask, r, c + 8, c, 8, 8)
-    _square8(T, ew, mask, use_mask, a, c + 8)
+        _block(T, mask, r, c + 8, a + 8, 8, 8)
+        _block(T, mask, r, c + 8, c, 8, 8)
+    _square8(T, ew, mask, a, c + 8)
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
-def _square(T, ew, mask, use_mask, a, b, c, e):
+def _square(T, ew, mask, a, b, c, e):
     """Finish block rows [a, b) x columns [c, e), ``b <= c``: its near splits.
 
     On entry every split outside ``(a, b) + [c, e)`` is applied, and the
@@ -382,29 +382,29 @@ def _square(T, ew, mask, use_mask, a, b, c, e):
     each, the splits through the quarters already finished, as products.
     """
     if b - a == 16 and e - c == 16:
-        _square16(T, ew, mask, use_mask, a, c)
+        _square16(T, ew, mask, a, c)
         return
     if b - a == 8 and e - c == 8:
-        _square8(T, ew, mask, use_mask, a, c)
+        _square8(T, ew, mask, a, c)
         return
     if b - a == 4 and e - c == 4:
-        _leaf4(T, ew, mask, use_mask, a, c)
+        _leaf4(T, ew, mask, a, c)
         return
     if b - a <= _LEAF or e - c <= _LEAF:
         for i in range(b - 1, a - 1, -1):
             for j in range(c, e):
-                _cell(T, ew, mask, use_mask, i, j, b, c)
+                _cell(T, ew, mask, i, j, b, c)
         return
     m = b - _half(b - a, 4)  # bottom rows [m, b), top rows [a, m)
     m2 = c + _half(e - c, 16)  # left columns [c, m2), right columns [m2, e)
-    _square(T, ew, mask, use_mask, m, b, c, m2)
-    _product(T, mask, use_mask, _ROWS, m, b, m2, e, c, m2)
-    _square(T, ew, mask, use_mask, m, b, m2, e)
-    _product(T, mask, use_mask, _ROWS, a, m, c, m2, m, b)
-    _square(T, ew, mask, use_mask, a, m, c, m2)
-    _product(T, mask, use_mask, _ROWS, a, m, m2, e, m, b)
-    _product(T, mask, use_mask, _ROWS, a, m, m2, e, c, m2)
-    _square(T, ew, mask, use_mask, a, m, m2, e)
+    _square(T, ew, mask, m, b, c, m2)
+    _product(T, mask, _ROWS, m, b, m2, e, c, m2)
+    _square(T, ew, mask, m, b, m2, e)
+    _product(T, mask, _ROWS, a, m, c, m2, m, b)
+    _square(T, ew, mask, a, m, c, m2)
+    _product(T, mask, _ROWS, a, m, m2, e, m, b)
+    _product(T, mask, _ROWS, a, m, m2, e, c, m2)
+    _square(T, ew, mask, a, m, m2, e)
 
 
 @kernel(inline="always")
@@ -428,17 +428,17 @@ def _half(size, unit):
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
-def _triangle(T, ew, mask, use_mask, a, e):
+def _triangle(T, ew, mask, a, e):
     """Finish every chord inside vertices [a, e): two triangles, then the square between."""
     if e - a <= _LEAF:
         for i in range(e - 2, a - 1, -1):
             for j in range(i + 1, e):
-                _cell(T, ew, mask, use_mask, i, j, e, e)
+                _cell(T, ew, mask, i, j, e, e)
         return
     m = a + _half(e - a, 16)
-    _triangle(T, ew, mask, use_mask, a, m)
-    _triangle(T, ew, mask, use_mask, m, e)
-    _square(T, ew, mask, use_mask, a, m, m, e)
+    _triangle(T, ew, mask, a, m)
+    _triangle(T, ew, mask, m, e)
+    _square(T, ew, mask, a, m, m, e)
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
@@ -496,7 +496,7 @@ def tile_edges(W, pts, code, i0, i1, j0, j1):
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
-def _tile(T, pts, code, W, P, mask, use_mask, tile, ti, tj, done, nt):
+def _tile(T, pts, code, W, P, mask, tile, ti, tj, done, nt):
     """Solve tile (ti, tj); ``done[a * nt + b]`` says whether tile (a, b) is finished.
 
     The far splits of two tiles of one column, (ti, tj) with ``tj - ti``
@@ -519,23 +519,23 @@ def _tile(T, pts, code, W, P, mask, use_mask, tile, ti, tj, done, nt):
         for i in range(i0, i1):
             for j in range(i + 2, j1):
                 T[i, j] = np.inf
-        _triangle(T, ew, mask, use_mask, i0, i1)
-    elif use_mask:
+        _triangle(T, ew, mask, i0, i1)
+    elif mask is not None:
         _fill_inf(T, i0, i1, j0, j1)
-        _product(T, mask, use_mask, _ROWS, i0, i1, j0, j1, i1, j0)
+        _product(T, mask, _ROWS, i0, i1, j0, j1, i1, j0)
     elif d % 2 == 1 and d >= 5:  # the tile below applied the shared far splits
-        _far(T, P, mask, _ROWS, i0, i1, j0, j1, i1, i1 + tile)
-        _far(T, P, mask, _ROWS, i0, i1, j0, j1, j0 - tile, j0)
+        _far(T, P, _ROWS, i0, i1, j0, j1, i1, i1 + tile)
+        _far(T, P, _ROWS, i0, i1, j0, j1, j0 - tile, j0)
     elif d % 2 == 0 and d >= 4 and ti >= 1:  # also the shared far splits of the tile above
         _fill_inf(T, i0 - tile, i1, j0, j1)
         wait_done(done, (ti - 1) * nt + tj - 2)
-        _far(T, P, mask, _ROWS, i0 - tile, i1, j0, j1, i1, j0 - tile)
-        _far(T, P, mask, _ROWS, i0, i1, j0, j1, j0 - tile, j0)
+        _far(T, P, _ROWS, i0 - tile, i1, j0, j1, i1, j0 - tile)
+        _far(T, P, _ROWS, i0, i1, j0, j1, j0 - tile, j0)
     else:
         _fill_inf(T, i0, i1, j0, j1)
-        _far(T, P, mask, _ROWS, i0, i1, j0, j1, i1, j0)
+        _far(T, P, _ROWS, i0, i1, j0, j1, i1, j0)
     if d > 0:
-        _square(T, ew, mask, use_mask, i0, i1, j0, j1)
+        _square(T, ew, mask, i0, i1, j0, j1)
 
 
 def worker_bytes(tile: int, itemsize: int) -> int:
@@ -559,11 +559,13 @@ def tile_flags(n: int, tile: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 @kernel(parallel=True, fastmath=FASTMATH, nogil=True)
-def minplus_tiles(T, pts, code, chords, tile, workers, done, stop):
+def minplus_tiles(T, pts, code, mask, tile, workers, done, stop):
     """Fill the E-table (sum, edge weight) above the diagonal, tile by tile.
 
-    ``chords = (mask, use_mask)``: with ``use_mask``, cells where ``mask`` is
-    False get +inf. Each of ``workers`` threads takes the next tile (diagonal
+    ``mask``: None (every chord allowed), or a boolean ``n x n`` array; cells
+    where it is False get +inf. Each is its own compiled version, so that the
+    fill without a mask tests none (the ``mask is None`` branches are pruned
+    when numba compiles). Each of ``workers`` threads takes the next tile (diagonal
     by diagonal) from a shared counter and starts it once the two tiles it
     reads last, left of it and below it, are done (a tile that applies far
     splits of the tile above it also waits for the tile that finishes those
@@ -577,7 +579,6 @@ def minplus_tiles(T, pts, code, chords, tile, workers, done, stop):
     only for tiles taken before it), so the call returns within about one
     tile's time.
     """
-    mask, use_mask = chords
     nt = (T.shape[0] + tile - 1) // tile
     order = np.empty((nt * (nt + 1) // 2, 2), dtype=np.int64)
     m = 0
@@ -588,7 +589,9 @@ def minplus_tiles(T, pts, code, chords, tile, workers, done, stop):
     taken = np.zeros(1, dtype=np.int64)
     scratch = np.empty((workers, tile, tile))  # e(i, j) of the tile a worker is on
     # _far's rows (the chord-mask path multiplies from the table itself)
-    packed = np.empty((workers, 0 if use_mask else _STRIP * (tile // 16), 16), dtype=T.dtype)
+    packed = np.empty(
+        (workers, 0 if mask is not None else _STRIP * (tile // 16), 16), dtype=T.dtype
+    )
     columns = np.asfortranarray(pts)  # each coordinate contiguous: edge rows vectorize
     for w in prange(workers):
         while load_acquire(stop, 0) == 0:
@@ -599,7 +602,7 @@ def minplus_tiles(T, pts, code, chords, tile, workers, done, stop):
             if d > 0:
                 wait_done(done, t * nt + t + d - 1)
                 wait_done(done, (t + 1) * nt + t + d)
-            _tile(T, columns, code, scratch[w], packed[w], mask, use_mask, tile, t, t + d, done, nt)
+            _tile(T, columns, code, scratch[w], packed[w], mask, tile, t, t + d, done, nt)
             store_release(done, t * nt + t + d, 1)
 
 

@@ -21,6 +21,7 @@ ValueError: w
 from __future__ import annotations
 
 import contextlib
+import inspect
 import signal
 import threading
 from collections.abc import Iterator
@@ -94,13 +95,15 @@ def stop_signals_unwind() -> Iterator[None]:
                 signal.signal(sig, handler)
 
 
-def is_loaded(kernel: Any, dtype: Any = None) -> bool:
+def is_loaded(kernel: Any, dtype: Any = None, masked: bool | None = None) -> bool:
     """Whether the numba dispatcher ``kernel`` has machine code in this process already.
 
     With ``dtype``: machine code for tables of that dtype, the type of its first
     argument (a table, or a tuple of tables). A specialization for another
     dtype (a first float32 solve after float64 ones) compiles, or loads from
-    the disk cache, just as a first call does. Anything else (a plain
+    the disk cache, just as a first call does. With ``masked``: also for a
+    chord mask (True: an array) or none (False: None) in its argument named
+    ``mask``, which the fills compile apart. Anything else (a plain
     function: nothing to compile) counts as loaded.
 
     Its first call compiles it or loads it from the disk cache (seconds, or half
@@ -114,6 +117,11 @@ def is_loaded(kernel: Any, dtype: Any = None) -> bool:
     (False, 0.0, True, True)
     >>> is_loaded(first, np.float64), is_loaded(first, np.float32)
     (True, False)
+    >>> pick = numba.njit(lambda t, mask: t[0] if mask is None else t[1])
+    >>> pick(np.zeros(2), None), is_loaded(pick, np.float64, False)
+    (0.0, True)
+    >>> is_loaded(pick, np.float64, True)
+    False
     """
     overloads = getattr(kernel, "overloads", None)
     if overloads is None:
@@ -122,22 +130,30 @@ def is_loaded(kernel: Any, dtype: Any = None) -> bool:
         return False
     if dtype is None:
         return True
-    key = (id(kernel), np.dtype(dtype))
+    key = (id(kernel), np.dtype(dtype), masked)
     if key in _LOADED:
         return True
     name = key[1].name
+    at = None if masked is None else _mask_position(kernel)
     for signature in kernel.signatures:
         first = signature[0]
         table = first.types[0] if hasattr(first, "types") else first  # a tuple of tables
-        if str(getattr(table, "dtype", "")) == name:
+        if str(getattr(table, "dtype", "")) != name:
+            continue
+        if at is None or (str(signature[at]) != "none") == masked:
             _LOADED.add(key)  # machine code is never unloaded
             return True
     return False
 
 
-#: ``(id(kernel), dtype)`` found loaded by :func:`is_loaded`: a look through the
+def _mask_position(kernel: Any) -> int:
+    """The position of ``kernel``'s argument named ``mask``."""
+    return list(inspect.signature(kernel.py_func).parameters).index("mask")
+
+
+#: ``(id(kernel), dtype, masked)`` found loaded by :func:`is_loaded`: a look through the
 #: signatures takes 2-3 us, a look here 0.2 us.
-_LOADED: set[tuple[int, np.dtype[Any]]] = set()
+_LOADED: set[tuple[int, np.dtype[Any], bool | None]] = set()
 
 
 def watched(fill: Any, threads: int, stop: Any, poll: Any) -> None:

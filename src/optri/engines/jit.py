@@ -260,7 +260,7 @@ class _Args:
     """The kernels' packed arguments (see :mod:`optri.engines._jit_kernels`).
 
     ``weigh = (pts, codes, gate, verts, order, wfn1, wfn2, wfng)``,
-    ``rule = (is_max, lex, nan)`` and ``chords = (mask, use_mask)``.
+    ``rule = (is_max, lex, nan)``; ``mask``, the allowed chords, None when all are.
     """
 
     def __init__(self, problem: Problem, kernels: Any) -> None:
@@ -287,10 +287,7 @@ class _Args:
         is_max = np.array([comps[0] == "max", comps[-1] == "max"], dtype=np.bool_)
         self.nan = np.zeros(1, dtype=np.int64)
         self.rule = (is_max, lex, self.nan)
-        if problem.allowed is None:
-            self.chords = (np.ones((1, 1), dtype=np.bool_), False)
-        else:
-            self.chords = (with_sides(problem.allowed), True)
+        self.mask = None if problem.allowed is None else with_sides(problem.allowed)
         self.K = kernels
 
     def kernel(self, name: str) -> Any:
@@ -328,8 +325,8 @@ def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args, thread
     end of a call for another's last tile (at n = 4000 on the Xeon of
     ``docs/fast-engine.md``, six calls of a few diagonals took 1.03x the time
     of one). Beyond ``config.FAST_WATCH_WORK`` min-plus steps, and on the
-    kernel's first call in the process for this table's dtype
-    (:func:`~.interrupts.is_loaded`), the kernel runs in a
+    kernel's first call in the process for this table's dtype, with or without a
+    chord mask (:func:`~.interrupts.is_loaded`), the kernel runs in a
     helper thread while this one reports progress and takes Ctrl-C
     (:func:`~.interrupts.watched`).
     """
@@ -339,10 +336,11 @@ def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args, thread
     done, stop = K.tile_flags(n, tile)
 
     def fill() -> None:
-        K.minplus_tiles(T, args.pts, code, args.chords, tile, threads, done, stop)
+        K.minplus_tiles(T, args.pts, code, args.mask, tile, threads, done, stop)
 
     report = work_reporter(problem) or _no_report
-    if n**3 / 6 <= config.FAST_WATCH_WORK and is_loaded(K.minplus_tiles, T.dtype):
+    loaded = is_loaded(K.minplus_tiles, T.dtype, args.mask is not None)
+    if n**3 / 6 <= config.FAST_WATCH_WORK and loaded:
         fill()
     else:
         work = tile_work(n, tile)
@@ -373,10 +371,11 @@ def _fill_generic(
     stop, reached = np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64)
 
     def fill() -> None:
-        kernel(tables, args.weigh, args.rule, args.chords, tile, stop, reached)
+        kernel(tables, args.weigh, args.rule, args.mask, tile, stop, reached)
 
     report = work_reporter(problem) or _no_report
-    if 20 * n**3 / 6 <= config.FAST_WATCH_WORK and is_loaded(kernel, tables[0].dtype):
+    loaded = is_loaded(kernel, tables[0].dtype, args.mask is not None)
+    if 20 * n**3 / 6 <= config.FAST_WATCH_WORK and loaded:
         fill()
     else:  # splits of tile-diagonals 0 .. d - 1, for d = reached[0]
         work = diagonal_work(n, tile)
