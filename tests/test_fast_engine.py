@@ -199,6 +199,23 @@ def test_fast_memory_estimator_refuses(monkeypatch: pytest.MonkeyPatch) -> None:
     assert jit.estimate_bytes(3000, np.float32) < jit.estimate_bytes(3000)
 
 
+def test_fast_leaves_the_callers_thread_count_alone() -> None:
+    # the engine changes numba's (per calling thread) count only when the problem wants
+    # another one (below config.FAST_PARALLEL_MIN_N: one thread), and always puts it back
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("needs two numba threads")
+    old = numba.get_num_threads()
+    try:
+        for setting in (2, 1):
+            numba.set_num_threads(setting)
+            for n, threads in ((300, 1), (1000, setting)):
+                got = optri.triangulate(convex_polygon(n, 3), method="fast")
+                assert got.stats["threads"] == threads
+                assert numba.get_num_threads() == setting
+    finally:
+        numba.set_num_threads(old)
+
+
 def test_fast_reproducible_across_runs_and_threads() -> None:
     pts = convex_polygon(1000, 7)
     old = numba.get_num_threads()

@@ -952,6 +952,22 @@ MUTATIONS: list[Mutation] = [
         "a projected polygon with holes is solved as one ring of all its vertices",
     ),
     M(
+        "fast-keeps-its-thread-count",
+        "src/optri/engines/jit.py",
+        "        if threads != previous:\n            numba.set_num_threads(previous)",
+        "        pass",
+        (FAST, "-k", "thread_count_alone"),
+        "a solve on fewer threads leaves the caller's numba thread count changed",
+    ),
+    M(
+        "fast-ignores-the-callers-threads",
+        "src/optri/engines/jit.py",
+        "        wanted = available if problem.n >= small else 1",
+        "        wanted = numba.config.NUMBA_NUM_THREADS if problem.n >= small else 1",
+        (FAST, "-k", "thread_count_alone"),
+        "a large solve runs on every thread numba has, not on the caller's setting",
+    ),
+    M(
         "export-not-mirrored",
         "src/optri/engines/jit.py",
         "        K.mirror_table(tables[0])  # split_table",

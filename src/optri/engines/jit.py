@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import importlib.util
 import math
+import sys
 from typing import Any
 
 import numpy as np
@@ -56,6 +57,8 @@ def unavailable() -> str | None:
 
     Looks numba up without importing it (0.3 s), which only a solve needs.
     """
+    if sys.modules.get("numba") is not None:  # imported by an earlier solve
+        return None
     try:
         found = importlib.util.find_spec("numba") is not None
     except (ImportError, ValueError) as exc:
@@ -128,16 +131,17 @@ def solve(problem: Problem) -> Solution:
     n, lex = problem.n, problem.objective.is_lex
     dtype = np.dtype(problem.dtype)
     minplus = _is_minplus(problem)
-    threads = _threads(numba, problem, minplus)
+    previous = numba.get_num_threads()
+    threads = _threads(numba, problem, minplus, previous)
     require_memory(
         estimate_bytes(n, dtype, lex, bool(problem.keep_table))
         + (n * n if problem.allowed is not None else 0)  # a possible copy of the mask
         + (threads * _worker_bytes(n, dtype) if minplus else 0),
-        f"the fast engine's {n} x {n} {dtype} table{'s' if lex else ''}",
+        f"the fast engine's {n} x {n} {dtype.name} table{'s' if lex else ''}",
         "use dtype=float32 (half the memory) or method='gpu'",
     )
-    previous = numba.get_num_threads()
-    numba.set_num_threads(threads)
+    if threads != previous:  # each call of set_num_threads costs 6 us right after a fill
+        numba.set_num_threads(threads)
     try:
         with interruptible():  # Ctrl-C: KeyboardInterrupt; a numba weight's error: itself
             return _solve(K, problem, minplus, threads)
@@ -147,7 +151,8 @@ def solve(problem: Problem) -> Solution:
             raise
         raise wrapped from exc
     finally:
-        numba.set_num_threads(previous)
+        if threads != previous:
+            numba.set_num_threads(previous)
 
 
 def _aligned_table(n: int, dtype: np.dtype[Any]) -> NDArray[Any]:
@@ -184,13 +189,14 @@ def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:
     tables = (_aligned_table(n, dtype), np.empty((n, n) if lex else (1, 1), dtype=dtype))
     T1, T2 = tables
     if minplus:
-        _fill_minplus(K, problem, T1, args, threads)
+        # before the fill, which pushes the interpreter's data out of the caches
         e_last = edge_weight(problem.weights[0].code, args.pts, 0, n - 1)
+        _fill_minplus(K, problem, T1, args, threads)
         cost: Any = float(T1[0, n - 1]) - e_last
     else:
         _fill_generic(problem, tables, args, threads)
         cost = (float(T1[0, n - 1]), float(T2[0, n - 1])) if lex else float(T1[0, n - 1])
-    tris, bad = args.kernel("trace")(tables, args.weigh, args.rule, minplus)
+    tris, bad = args.kernel("trace")(tables, *args.walk(minplus))
     args.raise_on_nan()
     if bad[0] >= 0:
         raise NoTriangulationError(
@@ -205,18 +211,21 @@ def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:
         "minplus": int(minplus),
         "tile": minplus_tile(n) if minplus else int(config.FAST_GENERIC_TILE),
     }
-    return Solution(cost, tris.astype(np.int64), table, stats)
+    return Solution(cost, tris.astype(np.int64, copy=False), table, stats)
 
 
 # --- helpers -----------------------------------------------------------------------
 
 
-def _threads(numba: Any, problem: Problem, minplus: bool) -> int:
-    """Threads for this problem: ``options["threads"]``, else all above the size threshold."""
+def _threads(numba: Any, problem: Problem, minplus: bool, available: int) -> int:
+    """Threads for this problem: ``options["threads"]``, else all above the size threshold.
+
+    ``available``: numba's thread count for the calling thread, read once a call.
+    """
     wanted = problem.options.get("threads")
     if wanted is None:
         small = config.FAST_PARALLEL_MIN_N if minplus else config.FAST_GENERIC_PARALLEL_MIN_N
-        wanted = numba.get_num_threads() if problem.n >= small else 1
+        wanted = available if problem.n >= small else 1
     return max(1, min(int(wanted), numba.config.NUMBA_NUM_THREADS))
 
 
@@ -293,6 +302,10 @@ class _Args:
     def kernel(self, name: str) -> Any:
         """Kernel ``name``; its uncached twin when a user's numba weight is involved."""
         return self.K.uncached(name) if self.custom else getattr(self.K, name)
+
+    def walk(self, minplus: bool) -> tuple[Any, Any]:
+        """``(weigh, rule)`` of ``trace`` and ``split_table``; ``(None, None)``: min-plus."""
+        return (None, None) if minplus else (self.weigh, self.rule)
 
     def raise_on_nan(self) -> None:
         if self.nan[0]:
@@ -397,6 +410,6 @@ def _export(
         K.subtract_edges(out, args.pts, problem.weights[0].code)
         K.mirror_table(tables[0])  # split_table reads column j as row j of the lower half
     out[np.isneginf(out)] = 0.0
-    splits = args.kernel("split_table")(tables, args.weigh, args.rule, minplus)
+    splits = args.kernel("split_table")(tables, *args.walk(minplus))
     out += np.tril(splits.T.astype(np.float64), -1)
     return out

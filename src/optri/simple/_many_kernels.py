@@ -303,10 +303,11 @@ def _optimum(pts, code, is_max, edge, minplus, mask, use_mask):  # type: ignore[
         if minplus:
             _fill_minplus(T, pts, code, mask, use_mask)
             cost = T[0, n - 1] - edge_weight(code, pts, 0, n - 1)
+            tris, bad = trace((T, T), None, None)
         else:
             _fill_cells(T, weigh, rule, mask, use_mask, -np.inf if is_max else 0.0)
             cost = T[0, n - 1]
-        tris, bad = trace((T, T), weigh, rule, minplus)
+            tris, bad = trace((T, T), weigh, rule)
         ok = bad[0] < 0 and nan[0] == 0 and tris.shape[0] == n - 2
     ok = ok and (cost == -np.inf or math.isfinite(cost))
     return cost, tris, ok
