@@ -140,7 +140,7 @@ def solve(problem: Problem) -> Solution:
         f"the fast engine's {n} x {n} {dtype.name} table{'s' if lex else ''}",
         "use dtype=float32 (half the memory) or method='gpu'",
     )
-    if threads != previous:  # each call of set_num_threads costs 6 us right after a fill
+    if threads != previous:  # 6-48 us a call of set_num_threads right after a fill
         numba.set_num_threads(threads)
     try:
         with interruptible():  # Ctrl-C: KeyboardInterrupt; a numba weight's error: itself
