@@ -41,7 +41,7 @@ def _parts(T, pts, W, P, mask, tile, done, part):  # type: ignore[no-untyped-def
         for t in range(nt - d):
             ti, tj = t, t + d
             if part == 0:
-                K._tile(T, pts, 0, W, P, mask, False, tile, ti, tj, done, nt)
+                K._tile(T, pts, 0, W, P, mask, tile, ti, tj, done, nt)
                 continue
             i0, i1 = ti * tile, min(n, ti * tile + tile)
             j0, j1 = tj * tile, min(n, tj * tile + tile)
@@ -49,12 +49,12 @@ def _parts(T, pts, W, P, mask, tile, done, part):  # type: ignore[no-untyped-def
             if part == 1:
                 K.tile_edges(W, pts, 0, i0, i1, j0, j1)
             elif part == 2 and d > 0:
-                K._far(T, P, mask, K._ROWS, i0, i1, j0, j1, i1, j0)
+                K._far(T, P, K._ROWS, i0, i1, j0, j1, i1, j0)
             elif part == 3:
                 if d == 0:
-                    K._triangle(T, ew, mask, False, i0, i1)
+                    K._triangle(T, ew, mask, i0, i1)
                 else:
-                    K._square(T, ew, mask, False, i0, i1, j0, j1)
+                    K._square(T, ew, mask, i0, i1, j0, j1)
 
 
 @njit(fastmath=K.FASTMATH)
@@ -127,7 +127,7 @@ def profile(n: int, rounds: int) -> dict[str, float]:
     """Seconds of the whole one-thread fill and of each part, best of ``rounds``."""
     tile = minplus_tile(n)
     pts = np.asfortranarray(convex_polygon(n))
-    mask = np.zeros((1, 1), dtype=np.bool_)
+    mask = None  # every chord allowed: the fill's maskless version
     T = _aligned_table(n, np.dtype(np.float64))  # as the engine allocates it
     nt = (n + tile - 1) // tile
     done = np.ones(nt * nt, dtype=np.int64)

@@ -224,3 +224,13 @@ def test_bench_parts_counts_near_splits_exactly(n, tile, monkeypatch):
         if k // tile in (i // tile, j // tile)
     )
     assert bench_parts.near_candidates(n, tile) == near
+
+
+def test_bench_parts_runs_against_the_engines_kernels(monkeypatch):
+    # bench_parts calls the fill's private kernels by position: a change of their
+    # signatures must break here, not only when someone next profiles the fill
+    monkeypatch.syspath_prepend(str(REPO / "benchmarks"))
+    bench_parts = importlib.import_module("bench_parts")
+    parts = bench_parts.profile(150, 1)
+    assert list(parts) == ["whole", "edge weights", "far products", "near splits"]
+    assert all(0 < seconds < 60 for seconds in parts.values())
