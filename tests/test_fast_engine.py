@@ -233,6 +233,32 @@ def test_fast_reproducible_across_runs_and_threads() -> None:
     first.check()
 
 
+@pytest.mark.parametrize("n, tile", [(400, 16), (523, 32)])
+def test_two_threads_fill_the_one_thread_table(
+    monkeypatch: pytest.MonkeyPatch, n: int, tile: int
+) -> None:
+    # small tiles: dozens of tile-diagonals and paired tiles, so that the threads meet
+    # where a tile waits for rows or cells another one is still writing (a pair's shared
+    # far splits, the tile below, the left neighbour); one started too early reads an
+    # unfinished cell or loses a minimum to the other thread, and the table differs
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("needs two numba threads")
+    monkeypatch.setattr(config, "FAST_TILE", tile)
+    monkeypatch.setattr(config, "FAST_PARALLEL_MIN_N", 0)
+    pts = convex_polygon(n, 5)
+    old = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        want = optri.triangulate(pts, method="fast", keep_table=True).table
+        numba.set_num_threads(2)
+        for run in range(40):  # a race shows in some runs only
+            got = optri.triangulate(pts, method="fast", keep_table=True)
+            assert got.stats["threads"] == 2
+            assert np.array_equal(got.table, want), run
+    finally:
+        numba.set_num_threads(old)
+
+
 def test_fast_masked_chords_equal_memo() -> None:
     rng = np.random.default_rng(3)
     n = 14

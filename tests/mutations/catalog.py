@@ -1018,18 +1018,44 @@ MUTATIONS: list[Mutation] = [
     M(
         "paired-tile-forgets-the-last-column-tile",
         "src/optri/engines/_minplus.py",
-        "i1, i1 + tile)\n        _far(T, P, _ROWS, i0, i1, j0, j1, j0 - tile, j0)\n",
-        "i1, i1 + tile)\n",
+        "splits\n        _far(T, P, _ROWS, i0, i1, j0, j1, j0 - tile, j0)\n",
+        "splits\n",
         (MINPLUS, "-k", "python_table"),
         "the upper tile of a pair skips the splits its partner could not share",
     ),
     M(
         "pairs-start-a-diagonal-early",
         "src/optri/engines/_minplus.py",
-        "elif d % 2 == 1 and d >= 5:",
-        "elif d % 2 == 1 and d >= 3:",
+        "elif _below_shares(d):",
+        "elif _below_shares(d) or d == 3:",
         (MINPLUS, "-k", "python_table"),
         "a tile on diagonal 3 assumes a partner that applied no splits for it",
+    ),
+    M(
+        "pair-releases-the-tile-above-early",
+        "src/optri/engines/_minplus.py",
+        "        _far(T, P, _ROWS, i0 - tile, i1, j0, j1, i1, j0 - tile)\n"
+        "        store_release(done, tj * nt + ti - 1, 1)",
+        "        store_release(done, tj * nt + ti - 1, 1)\n"
+        "        _far(T, P, _ROWS, i0 - tile, i1, j0, j1, i1, j0 - tile)",
+        (FAST, "-k", "two_threads_fill"),
+        "the tile above starts while its partner still applies their shared splits to its rows",
+    ),
+    M(
+        "tile-above-skips-its-partner",
+        "src/optri/engines/_minplus.py",
+        "        wait_done(done, (ti + 1) * nt + tj)\n",
+        "",
+        (FAST, "-k", "two_threads_fill"),
+        "the tile above reads the rows of the tile below before that tile is finished",
+    ),
+    M(
+        "tile-above-skips-the-shared-splits-flag",
+        "src/optri/engines/_minplus.py",
+        "                    wait_done(done, (t + d) * nt + t)\n",
+        "                    pass\n",
+        (FAST, "-k", "two_threads_fill"),
+        "the tile above starts before its partner has applied their shared splits",
     ),
     M(
         "meminfo-read-as-bytes",

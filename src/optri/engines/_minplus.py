@@ -495,6 +495,17 @@ def tile_edges(W, pts, code, i0, i1, j0, j1):
             edge_weight_row(code, pts, i, b, W[i - i0, b - j0 : j1 - j0])
 
 
+@kernel(inline="always")
+def _below_shares(d):
+    """Whether the tile below a tile on tile-diagonal ``d`` applies their shared far splits.
+
+    Tiles (ti, tj) on an even tile-diagonal ``tj - ti >= 4`` with ``ti >= 1``
+    apply them (see ``_tile``), so every tile on an odd one ``>= 5`` has such a
+    tile below it.
+    """
+    return d % 2 == 1 and d >= 5
+
+
 @kernel(fastmath=FASTMATH, _nrt=False)
 def _tile(T, pts, code, W, P, mask, tile, ti, tj, done, nt):
     """Solve tile (ti, tj); ``done[a * nt + b]`` says whether tile (a, b) is finished.
@@ -508,6 +519,13 @@ def _tile(T, pts, code, W, P, mask, tile, ti, tj, done, nt):
     before) and in the last column tile (its left neighbour, not finished
     before either). The shared splits read the upper tile's rows left of
     ``j0 - tile``, which are final once tile (ti - 1, tj - 2) is done.
+
+    The lower tile sets ``done[tj * nt + ti - 1]`` (below the diagonal, where
+    no tile is) once the shared splits are applied, and the tile above then
+    starts with the splits through its left neighbour, before the tile below
+    is finished: at the end of the fill, where the last tiles have no other
+    work beside them, the tile above no longer waits for all of the one below
+    (two threads, n = 1000: fills 0.97x the time).
     """
     n = T.shape[0]
     i0, i1 = ti * tile, min(n, ti * tile + tile)
@@ -523,13 +541,15 @@ def _tile(T, pts, code, W, P, mask, tile, ti, tj, done, nt):
     elif mask is not None:
         _fill_inf(T, i0, i1, j0, j1)
         _product(T, mask, _ROWS, i0, i1, j0, j1, i1, j0)
-    elif d % 2 == 1 and d >= 5:  # the tile below applied the shared far splits
-        _far(T, P, _ROWS, i0, i1, j0, j1, i1, i1 + tile)
+    elif _below_shares(d):  # the tile below applied the shared far splits
         _far(T, P, _ROWS, i0, i1, j0, j1, j0 - tile, j0)
+        wait_done(done, (ti + 1) * nt + tj)
+        _far(T, P, _ROWS, i0, i1, j0, j1, i1, i1 + tile)
     elif d % 2 == 0 and d >= 4 and ti >= 1:  # also the shared far splits of the tile above
         _fill_inf(T, i0 - tile, i1, j0, j1)
         wait_done(done, (ti - 1) * nt + tj - 2)
         _far(T, P, _ROWS, i0 - tile, i1, j0, j1, i1, j0 - tile)
+        store_release(done, tj * nt + ti - 1, 1)  # the tile above may start
         _far(T, P, _ROWS, i0, i1, j0, j1, j0 - tile, j0)
     else:
         _fill_inf(T, i0, i1, j0, j1)
@@ -552,7 +572,10 @@ def tile_flags(n: int, tile: int) -> tuple[np.ndarray, np.ndarray]:
 
     ``done[ti * nt + tj]`` becomes 1 when tile (ti, tj) is finished (``nt`` tiles
     a side), which a watching thread may read for progress; setting ``stop[0]``
-    to 1 makes the threads take no further tile.
+    to 1 makes the threads take no further tile. ``done[tj * nt + ti]``, below
+    the diagonal, becomes 1 when the far splits that tile (ti, tj) shares with
+    the tile below it are applied (``progress.tile_work`` gives those places
+    no work).
     """
     nt = (n + tile - 1) // tile
     return np.zeros(nt * nt, dtype=np.int64), np.zeros(1, dtype=np.int64)
@@ -569,9 +592,10 @@ def minplus_tiles(T, pts, code, mask, tile, workers, done, stop):
     by diagonal) from a shared counter and starts it once the two tiles it
     reads last, left of it and below it, are done (a tile that applies far
     splits of the tile above it also waits for the tile that finishes those
-    rows; see ``_tile``): no barrier between tile-diagonals, so no thread
-    idles at the end of one. Every wait is for a tile taken earlier, so the
-    earliest unfinished tile never waits.
+    rows; the tile above waits for its left neighbour and those shared
+    splits, and for the tile below only later; see ``_tile``): no barrier
+    between tile-diagonals, so no thread idles at the end of one. Every wait
+    is for a tile taken earlier, so the earliest unfinished tile never waits.
 
     ``done, stop`` are fresh ``tile_flags(n, tile)``. Runs without the GIL:
     another thread may watch ``done`` and set ``stop[0]``, after which no
@@ -601,7 +625,10 @@ def minplus_tiles(T, pts, code, mask, tile, workers, done, stop):
             t, d = order[k, 0], order[k, 1]
             if d > 0:
                 wait_done(done, t * nt + t + d - 1)
-                wait_done(done, (t + 1) * nt + t + d)
+                if mask is None and _below_shares(d):  # only the tile below's shared splits
+                    wait_done(done, (t + d) * nt + t)
+                else:
+                    wait_done(done, (t + 1) * nt + t + d)
             _tile(T, columns, code, scratch[w], packed[w], mask, tile, t, t + d, done, nt)
             store_release(done, t * nt + t + d, 1)
 
