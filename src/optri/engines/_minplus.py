@@ -499,9 +499,9 @@ def tile_edges(W, pts, code, i0, i1, j0, j1):
 def _below_shares(d):
     """Whether the tile below a tile on tile-diagonal ``d`` applies their shared far splits.
 
-    Tiles (ti, tj) on an even tile-diagonal ``tj - ti >= 4`` with ``ti >= 1``
-    apply them (see ``_tile``), so every tile on an odd one ``>= 5`` has such a
-    tile below it.
+    The one definition of the pairs (see ``_tile``): a tile on an odd
+    tile-diagonal ``d >= 5`` and the tile below it, on ``d - 1``, which applies
+    the shared splits and then sets the flag the tile above waits for.
     """
     return d % 2 == 1 and d >= 5
 
@@ -545,7 +545,7 @@ def _tile(T, pts, code, W, P, mask, tile, ti, tj, done, nt):
         _far(T, P, _ROWS, i0, i1, j0, j1, j0 - tile, j0)
         wait_done(done, (ti + 1) * nt + tj)
         _far(T, P, _ROWS, i0, i1, j0, j1, i1, i1 + tile)
-    elif d % 2 == 0 and d >= 4 and ti >= 1:  # also the shared far splits of the tile above
+    elif ti >= 1 and _below_shares(d + 1):  # also the shared far splits of the tile above
         _fill_inf(T, i0 - tile, i1, j0, j1)
         wait_done(done, (ti - 1) * nt + tj - 2)
         _far(T, P, _ROWS, i0 - tile, i1, j0, j1, i1, j0 - tile)
