@@ -29,7 +29,8 @@ from numba import njit
 from optri.bench.compare import convex_polygon
 from optri.engines import _minplus as K
 from optri.engines._llvm import outer_4x16, outer_8x16
-from optri.engines.jit import _aligned_table, minplus_tile
+from optri.engines.jit import minplus_tile
+from optri.engines.memory import new_table
 
 
 @njit(fastmath=K.FASTMATH)
@@ -104,7 +105,7 @@ def peak_rate(rounds: int) -> float:
 def _block_of(rows: int, cols: int) -> np.ndarray:
     """An uninitialized ``rows x cols`` array starting a cache line, as the engine's table."""
     side = math.isqrt(rows * cols - 1) + 1
-    return _aligned_table(side, np.dtype(np.float64)).reshape(-1)[: rows * cols].reshape(rows, cols)
+    return new_table(side, np.dtype(np.float64)).reshape(-1)[: rows * cols].reshape(rows, cols)
 
 
 def near_candidates(n: int, tile: int) -> int:
@@ -128,7 +129,7 @@ def profile(n: int, rounds: int) -> dict[str, float]:
     tile = minplus_tile(n)
     pts = np.asfortranarray(convex_polygon(n))
     mask = None  # every chord allowed: the fill's maskless version
-    T = _aligned_table(n, np.dtype(np.float64))  # as the engine allocates it
+    T = new_table(n, np.dtype(np.float64))  # as the engine allocates it
     nt = (n + tile - 1) // tile
     done = np.ones(nt * nt, dtype=np.int64)
     W = np.empty((tile, tile))

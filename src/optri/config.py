@@ -22,6 +22,13 @@ MEMORY_LIMIT_BYTES: int | None = None
 #: costs 20-80 us, a tenth of a small polygon's solve): Python, numpy and numba already
 #: take several times as much. ``MEMORY_LIMIT_BYTES``, when set, is checked at every size.
 MEMORY_CHECK_MIN_BYTES = 32 << 20
+#: A table of the compiled engine this large or larger is kept this many seconds after
+#: its solve (its pages lazily freed: the kernel takes them back when it needs memory),
+#: for the next solve to reuse instead of fresh pages, which the kernel must zero
+#: (4-7 ms of a 230 ms solve at n = 4000). 0 turns it off. Smaller tables come from
+#: the C library, which reuses their memory anyway.
+TABLE_CACHE_SECONDS = 1.0
+TABLE_CACHE_MIN_BYTES = 32 << 20
 #: Largest n the brute-force oracle accepts (Catalan(n-2) triangulations).
 BRUTE_MAX_N = 13
 #: 3-D input counts as planar (then triangulated as a simple polygon in its own plane) when

@@ -1241,4 +1241,47 @@ MUTATIONS: list[Mutation] = [
         (MINPLUS, FAST),
         "a diagonal tile's edge weights leave out the polygon's sides (j = i + 1)",
     ),
+    # --- the compiled engine's kept tables (tests/test_fast_tables.py) -------------------
+    M(
+        "unpaired-tile-not-set-to-infinity",
+        "src/optri/engines/_minplus.py",
+        "        _fill_inf(T, i0, i1, j0, j1)\n        _far(T, P, _ROWS, i0, i1, j0, j1, i1, j0)\n",
+        "        _far(T, P, _ROWS, i0, i1, j0, j1, i1, j0)\n",
+        ("tests/test_fast_tables.py", "-k", "reused"),
+        "a tile's far products take the minimum with whatever a reused table held",
+    ),
+    M(
+        "kept-table-reused-when-too-small",
+        "src/optri/engines/memory.py",
+        "if buffer is not None and buffer.room >= nbytes:",
+        "if buffer is not None:",
+        ("tests/test_fast_tables.py", "-k", "one_table"),
+        "a kept table smaller than the new one is handed out",
+    ),
+    M(
+        "table-kept-before-its-export",
+        "src/optri/engines/jit.py",
+        "    table = _export(K, problem, tables, args, minplus) if problem.keep_table else None\n"
+        "    release_table(T1)",
+        "    release_table(T1)\n"
+        "    table = _export(K, problem, tables, args, minplus) if problem.keep_table else None",
+        ("tests/test_fast_tables.py", "-k", "failed_solve"),
+        "a table kept for the next solve while the export still reads it",
+    ),
+    M(
+        "table-in-shared-memory",
+        "src/optri/engines/memory.py",
+        "_TableBuffer(-1, nbytes + _HUGE, flags=_PRIVATE)",
+        "_TableBuffer(-1, nbytes + _HUGE)",
+        ("tests/test_fast_tables.py", "-k", "one_table"),
+        "a shared anonymous mapping: no huge pages, no lazy freeing, so never kept",
+    ),
+    M(
+        "kept-table-never-let-go",
+        "src/optri/engines/memory.py",
+        "                old, self.buffer = self.buffer, None\n            del old  # unmapped",
+        "                old = None\n            del old  # unmapped",
+        ("tests/test_fast_tables.py", "-k", "seconds"),
+        "a kept table held for as long as the process runs",
+    ),
 ]

@@ -30,7 +30,7 @@ from .. import config
 from ..errors import EngineUnavailableError, NoTriangulationError, OptriError, WeightError
 from ..weights import Weight, WeightCode, compiled_weight_error, edge_weight
 from .interrupts import interruptible, is_loaded, watched
-from .memory import require_memory
+from .memory import new_table, release_table, require_memory
 from .problem import Problem, Solution, with_sides
 from .progress import diagonal_work, table_work, tile_work, work_reporter
 
@@ -155,23 +155,6 @@ def solve(problem: Problem) -> Solution:
             numba.set_num_threads(previous)
 
 
-def _aligned_table(n: int, dtype: np.dtype[Any]) -> NDArray[Any]:
-    """An uninitialized ``n x n`` table whose first cell starts a 64-byte cache line.
-
-    numpy starts a large block 16 bytes into a page, so the kernels' 64-byte
-    vector loads and stores of table rows would each span two cache lines
-    (1-6 % of the min-plus fill at n = 1000 and 4000, where every row starts
-    a line, in interleaved runs).
-
-    >>> int(_aligned_table(100, np.dtype(np.float64)).ctypes.data % 64)
-    0
-    """
-    spare = 64 // dtype.itemsize
-    block = np.empty(n * n + spare, dtype=dtype)
-    start = (-block.ctypes.data % 64) // dtype.itemsize
-    return block[start : start + n * n].reshape(n, n)
-
-
 def _user_weight_error(problem: Problem, exc: Exception) -> Exception:
     """``exc`` as a :class:`WeightError` when it came from a user's numba weight."""
     if isinstance(exc, OptriError):
@@ -186,7 +169,7 @@ def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:
     n, lex = problem.n, problem.objective.is_lex
     dtype = np.dtype(problem.dtype)
     args = _Args(problem, K)
-    tables = (_aligned_table(n, dtype), np.empty((n, n) if lex else (1, 1), dtype=dtype))
+    tables = (new_table(n, dtype), np.empty((n, n) if lex else (1, 1), dtype=dtype))
     T1, T2 = tables
     if minplus:
         # before the fill, which pushes the interpreter's data out of the caches
@@ -205,6 +188,7 @@ def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:
             (int(bad[0]), int(bad[1])),
         )
     table = _export(K, problem, tables, args, minplus) if problem.keep_table else None
+    release_table(T1)  # read no more; not on an error, where a kernel may still run
     stats = {
         "cells": (n - 1) * (n - 2) // 2,
         "threads": threads,

@@ -12,18 +12,38 @@ cgroup's usage only where it has a limit. That takes 18 us with the files in
 cache and 70-80 us right after a solve at n = 1000 (whose table has pushed them
 out of the CPU's caches): a tenth of a small polygon's solve, for a table far
 smaller than the interpreter itself, so smaller requests are let through.
+
+The compiled engine's tables come from :func:`new_table` and go back through
+:func:`release_table`: a table of at least ``config.TABLE_CACHE_MIN_BYTES`` is kept
+for the next solve for ``config.TABLE_CACHE_SECONDS``, its pages handed back to the
+kernel lazily (``MADV_FREE``), so that back-to-back solves of large polygons skip
+the kernel's zeroing of fresh pages.
 """
 
 from __future__ import annotations
 
 import functools
+import mmap
 import os
+import threading
+import time
 from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
 
 from .. import config
 from ..errors import TableTooLargeError
 
-__all__ = ["available_memory_bytes", "cgroup_room", "require_memory"]
+__all__ = [
+    "available_memory_bytes",
+    "cgroup_room",
+    "clear_table_cache",
+    "new_table",
+    "release_table",
+    "require_memory",
+]
 
 _ROOT = Path("/sys/fs/cgroup")
 #: cgroup v1 reports "no limit" as a number near 2**63 rounded to pages.
@@ -191,3 +211,194 @@ def _physical() -> int:
         return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
     except (ValueError, OSError, AttributeError):
         return 8 << 30
+
+
+# --- the compiled engine's tables ----------------------------------------------------
+
+_MADV_FREE = getattr(mmap, "MADV_FREE", None)  # Linux 4.5+, macOS, the BSDs
+_MADV_HUGEPAGE = getattr(mmap, "MADV_HUGEPAGE", None)  # Linux
+#: private: a shared anonymous mapping (Python's default) is shared memory, which gets
+#: no transparent huge pages and cannot be freed lazily
+_PRIVATE = getattr(mmap, "MAP_PRIVATE", 0) | getattr(mmap, "MAP_ANONYMOUS", 0)
+
+
+_HUGE = 2 << 20  # a transparent huge page of x86-64 and arm64 Linux
+
+
+class _TableBuffer(mmap.mmap):
+    """Anonymous memory of one table: the only buffers :func:`release_table` keeps.
+
+    ``start``: where the table starts, the buffer's first huge-page boundary, so
+    that no 4 KB pages are left at its ends (the mapping is a huge page larger).
+    """
+
+    start = 0
+
+    @property
+    def room(self) -> int:
+        """Bytes from ``start`` to the end."""
+        return len(self) - self.start
+
+
+class _Cache:
+    """At most one released table buffer, kept until a solve takes it or its time is up.
+
+    One daemon thread, started with the first buffer kept, lets a buffer go when its
+    time is up (a thread started per solve took 0.2-0.6 ms on the machine of
+    ``docs/fast-engine.md``, more than marking the pages free).
+    """
+
+    def __init__(self) -> None:
+        self.lock = threading.Lock()
+        self.wake = threading.Condition(self.lock)
+        self.buffer: _TableBuffer | None = None
+        self.deadline = 0.0  # time.monotonic() when the kept buffer is let go
+        self.thread: threading.Thread | None = None
+
+    def take(self, nbytes: int) -> _TableBuffer | None:
+        """The kept buffer if it holds ``nbytes``; else none, and a smaller one is let go."""
+        with self.lock:
+            buffer, self.buffer = self.buffer, None
+        if buffer is not None and buffer.room >= nbytes:
+            return buffer
+        return None  # a smaller buffer is unmapped here, before the new table is made
+
+    def keep(self, buffer: _TableBuffer, seconds: float) -> None:
+        with self.lock:
+            old, self.buffer = self.buffer, buffer
+            self.deadline = time.monotonic() + seconds
+            if self.thread is None:
+                self.thread = threading.Thread(
+                    target=self._expire, name="optri-kept-table", daemon=True
+                )
+                self.thread.start()
+            self.wake.notify()
+        del old  # unmapped outside the lock
+
+    def clear(self) -> None:
+        with self.lock:
+            old, self.buffer = self.buffer, None
+        del old
+
+    def _expire(self) -> None:
+        """The daemon thread: lets the kept buffer go when its time is up."""
+        while True:
+            with self.lock:
+                while self.buffer is None or time.monotonic() < self.deadline:
+                    left = None if self.buffer is None else self.deadline - time.monotonic()
+                    self.wake.wait(left)
+                old, self.buffer = self.buffer, None
+            del old  # unmapped outside the lock
+
+
+_CACHE = _Cache()
+
+
+def _reset_after_fork() -> None:
+    global _CACHE
+    _CACHE = _Cache()  # the parent's lock may have been held; its timer did not follow
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_reset_after_fork)
+
+
+def new_table(n: int, dtype: Any) -> NDArray[Any]:
+    """An uninitialized ``n x n`` table whose first cell starts a 64-byte cache line.
+
+    A table of at least ``config.TABLE_CACHE_MIN_BYTES`` reuses the memory of the
+    last one given to :func:`release_table`, if that is large enough and was
+    released less than ``config.TABLE_CACHE_SECONDS`` ago; a smaller one kept is
+    unmapped first, so that at most one table is held. Its contents are arbitrary:
+    the engines write every cell before they read it.
+
+    Smaller tables come from numpy, whose blocks start 16 bytes into a page: the
+    table starts a few values in, so that the kernels' 64-byte vector loads and
+    stores of a row do not each span two cache lines (1-6 % of the min-plus fill at
+    n = 1000 and 4000, where every row starts a line, in interleaved runs).
+
+    Parameters
+    ----------
+    n : int
+        Rows and columns.
+    dtype : numpy dtype
+        Cell type.
+
+    Returns
+    -------
+    numpy.ndarray
+        C-contiguous, writable, ``(n, n)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> int(new_table(100, np.dtype(np.float64)).ctypes.data % 64)
+    0
+    """
+    dtype = np.dtype(dtype)
+    nbytes = n * n * dtype.itemsize
+    if _cacheable(nbytes):
+        buffer = _CACHE.take(nbytes)
+        if buffer is None:
+            buffer = _TableBuffer(-1, nbytes + _HUGE, flags=_PRIVATE)  # untouched: no memory
+            buffer.start = -np.frombuffer(buffer, np.uint8, 1).ctypes.data % _HUGE
+            _advise(buffer, _MADV_HUGEPAGE)  # as numpy advises its large blocks
+        return np.frombuffer(buffer, dtype, n * n, buffer.start).reshape(n, n)
+    spare = 64 // dtype.itemsize
+    block = np.empty(n * n + spare, dtype=dtype)
+    start = (-block.ctypes.data % 64) // dtype.itemsize
+    return block[start : start + n * n].reshape(n, n)
+
+
+def release_table(table: NDArray[Any]) -> None:
+    """Give back a table of :func:`new_table` that nothing will read or write again.
+
+    Its buffer is kept for the next :func:`new_table` for
+    ``config.TABLE_CACHE_SECONDS``, its pages marked free (``MADV_FREE``): the
+    kernel takes them back whenever it needs memory, and until then a new table
+    reuses them without the kernel zeroing fresh pages (4-7 ms of a 230 ms solve at
+    n = 4000 on the machine of ``docs/fast-engine.md``). The process's resident
+    size keeps counting them until then. Tables from numpy are left to numpy.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> release_table(new_table(10, np.dtype(np.float64)))  # small: numpy's, not kept
+    """
+    base = table.base
+    while isinstance(base, np.ndarray):
+        base = base.base
+    if isinstance(base, memoryview):  # how np.frombuffer holds its buffer
+        base = base.obj
+    if not isinstance(base, _TableBuffer) or not _cacheable(base.room):
+        return
+    if _advise(base, _MADV_FREE):
+        _CACHE.keep(base, float(config.TABLE_CACHE_SECONDS))
+
+
+def clear_table_cache() -> None:
+    """Let go of the table memory kept for the next solve (:func:`release_table`) now.
+
+    Examples
+    --------
+    >>> clear_table_cache()
+    """
+    _CACHE.clear()
+
+
+def _cacheable(nbytes: int) -> bool:
+    return (
+        _MADV_FREE is not None
+        and config.TABLE_CACHE_SECONDS > 0
+        and nbytes >= config.TABLE_CACHE_MIN_BYTES
+    )
+
+
+def _advise(buffer: mmap.mmap, advice: int | None) -> bool:
+    if advice is None:
+        return False
+    try:
+        buffer.madvise(advice)
+    except OSError:  # a kernel without it
+        return False
+    return True
