@@ -296,7 +296,7 @@ _CACHE = _Cache()
 
 def _reset_after_fork() -> None:
     global _CACHE
-    _CACHE = _Cache()  # the parent's lock may have been held; its timer did not follow
+    _CACHE = _Cache()  # the parent's lock may have been held; its thread did not follow
 
 
 if hasattr(os, "register_at_fork"):
@@ -359,6 +359,16 @@ def release_table(table: NDArray[Any]) -> None:
     reuses them without the kernel zeroing fresh pages (4-7 ms of a 230 ms solve at
     n = 4000 on the machine of ``docs/fast-engine.md``). The process's resident
     size keeps counting them until then. Tables from numpy are left to numpy.
+
+    Parameters
+    ----------
+    table : numpy.ndarray
+        A table of :func:`new_table`, or any view of it. The caller must not use it
+        afterwards: the next solve may write it.
+
+    References
+    ----------
+    .. [1] madvise(2), ``MADV_FREE``: https://man7.org/linux/man-pages/man2/madvise.2.html
 
     Examples
     --------
