@@ -10,6 +10,7 @@ small polygons take that path.
 
 from __future__ import annotations
 
+import functools
 import gc
 import json
 import threading
@@ -58,7 +59,8 @@ def _kept() -> memory._TableBuffer | None:
 def _plant(n: int, dtype: type, garbage: str, seed: int = 0) -> memory._TableBuffer:
     """Keep a table buffer for ``n`` vertices whose every byte is ``garbage``."""
     table = memory.new_table(n, np.dtype(dtype))
-    buffer = table.base.base.obj  # frombuffer's memoryview of the mmap
+    buffer = memory._buffer_of(table)
+    assert buffer is not None
     raw = np.frombuffer(buffer, np.uint8)
     raw[:] = GARBAGE[garbage](len(raw), np.random.default_rng(seed))
     del raw
@@ -84,10 +86,15 @@ def _same(a: optri.Triangulation, b: optri.Triangulation) -> None:
         assert np.array_equal(a.table, b.table, equal_nan=True)
 
 
-def _ring(name: str) -> np.ndarray:
-    rings = json.loads(RINGS.read_text())
-    ring = next(r["ring"] for r in rings if r["name"] == name)
-    return np.array(ring, dtype=float)[:-1, :2]
+@functools.cache
+def _simple_ring() -> np.ndarray:
+    """A real non-convex ring of the corpus with 40-200 vertices (its closing vertex off)."""
+    for r in json.loads(RINGS.read_text()):
+        if r["expected"]["simple"] and 40 <= r["expected"]["n"] <= 200:
+            pts = np.array(r["ring"], dtype=float)[:-1, :2]
+            if not optri.as_polygon(pts).convex:
+                return pts
+    raise AssertionError("no such ring")
 
 
 CASES = {  # name: (polygon, triangulate's arguments, its keywords, config.FAST_TILE)
@@ -103,22 +110,9 @@ CASES = {  # name: (polygon, triangulate's arguments, its keywords, config.FAST_
         {},
         None,
     ),
-    "masked-ring": (lambda: _ring(SIMPLE_RING), ("perimeter",), {}, None),
+    "masked-ring": (_simple_ring, ("perimeter",), {}, None),
     "exported-table": (lambda: convex_polygon(60, 6), ("perimeter",), {"keep_table": True}, None),
 }
-
-
-def _simple_ring_name() -> str:
-    """A real non-convex ring of the corpus with 40-200 vertices."""
-    for r in json.loads(RINGS.read_text()):
-        if r["expected"]["simple"] and 40 <= r["expected"]["n"] <= 200:
-            poly = optri.as_polygon(np.array(r["ring"], dtype=float)[:-1, :2])
-            if not poly.convex:
-                return str(r["name"])
-    raise AssertionError("no such ring")
-
-
-SIMPLE_RING = _simple_ring_name()
 
 
 @pytest.mark.parametrize("garbage", sorted(GARBAGE))
@@ -152,7 +146,7 @@ def test_the_cases_reach_their_paths() -> None:
 
 def test_one_table_is_kept_and_a_smaller_one_let_go_first() -> None:
     small = memory.new_table(100, np.float64)
-    buffer = small.base.base.obj
+    buffer = memory._buffer_of(small)
     gone = weakref.ref(buffer)
     memory.release_table(small)
     del small, buffer
@@ -162,7 +156,7 @@ def test_one_table_is_kept_and_a_smaller_one_let_go_first() -> None:
     assert gone() is None and _kept() is None
     memory.release_table(larger)
     again = memory.new_table(900, np.float64)  # fits in the kept one: reused
-    assert again.base.base.obj is larger.base.base.obj and _kept() is None
+    assert memory._buffer_of(again) is memory._buffer_of(larger) and _kept() is None
     assert again.ctypes.data % (2 << 20) == 0  # starts a huge page
     assert again.flags.writeable and again.flags.c_contiguous and again.shape == (900, 900)
 
@@ -170,7 +164,7 @@ def test_one_table_is_kept_and_a_smaller_one_let_go_first() -> None:
 def test_a_kept_table_is_let_go_after_its_seconds(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(config, "TABLE_CACHE_SECONDS", 0.05)
     table = memory.new_table(100, np.float64)
-    gone = weakref.ref(table.base.base.obj)
+    gone = weakref.ref(memory._buffer_of(table))
     memory.release_table(table)
     del table
     assert gone() is not None
@@ -188,7 +182,7 @@ def test_tables_from_numpy_when_not_kept(setting: str, monkeypatch: pytest.Monke
     else:
         monkeypatch.setattr(config, "TABLE_CACHE_MIN_BYTES", 100 * 100 * 8 + 1)
     table = memory.new_table(100, np.float64)
-    assert not isinstance(table.base, memoryview | memory._TableBuffer)
+    assert memory._buffer_of(table) is None
     assert table.ctypes.data % 64 == 0
     memory.release_table(table)
     assert _kept() is None

@@ -375,15 +375,21 @@ def release_table(table: NDArray[Any]) -> None:
     >>> import numpy as np
     >>> release_table(new_table(10, np.dtype(np.float64)))  # small: numpy's, not kept
     """
+    buffer = _buffer_of(table)
+    if buffer is None or not _cacheable(buffer.room):
+        return
+    if _advise(buffer, _MADV_FREE):
+        _CACHE.keep(buffer, float(config.TABLE_CACHE_SECONDS))
+
+
+def _buffer_of(table: NDArray[Any]) -> _TableBuffer | None:
+    """The mapping under a table of :func:`new_table` (or a view of it); None: numpy's."""
     base = table.base
     while isinstance(base, np.ndarray):
         base = base.base
     if isinstance(base, memoryview):  # how np.frombuffer holds its buffer
         base = base.obj
-    if not isinstance(base, _TableBuffer) or not _cacheable(base.room):
-        return
-    if _advise(base, _MADV_FREE):
-        _CACHE.keep(base, float(config.TABLE_CACHE_SECONDS))
+    return base if isinstance(base, _TableBuffer) else None
 
 
 def clear_table_cache() -> None:
