@@ -249,8 +249,10 @@ def worker(csv: str, repeats: int, dtype: str, warmup: float = 0.0) -> dict[str,
     memory: on the Xeon of ``docs/fast-engine.md`` the first two at n = 1000
     took 10-17 ms against 4.6-4.9 ms for every later one (the C library maps
     the first table, then grows its heap for the second), so the best of three
-    cold calls was one warm call. Tables above 32 MB (n > 2000) are mapped afresh
-    by every call, warm or not, so there every timed call still pays that first touch.
+    cold calls was one warm call. Tables of 32 MiB or more (n >= 2048 in
+    float64) are mapped by optri itself, and the last one is kept for the next
+    call (``optri.engines.memory.release_table``), so from the second call on
+    those skip the first touch too.
     """
     pts = read_polygon(csv)
     triangulate(pts[:40], method="fast", dtype=dtype)  # load the cached kernels

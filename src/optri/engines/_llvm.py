@@ -105,7 +105,9 @@ def register_plan(itemsize: int) -> tuple[int, bool]:
     * AVX-512VL on AMD (Zen 4 executes 512-bit instructions as two 256-bit
       halves): 32-byte vectors with the integer minimum, which runs on
       vector ports the floating-point minimum cannot use (1.2-1.45x the
-      float kernel's rate on Zen 4).
+      float kernel's rate on Zen 4). The Intel plan's 8 x 16 blocks of
+      64-byte vectors made whole calls 1.03-1.10x slower there at n = 1000
+      and 2000 (``docs/fast-engine.md``).
     * AVX2: 32-byte vectors; the integer minimum for 32-bit values.
     * Anything else: 32-byte vectors of float minima, split by LLVM as the
       target needs.
