@@ -64,7 +64,42 @@ def test_c_reference_refuses_a_bad_file(built, tmp_path: Path) -> None:
 
 
 def test_peak_run_reports_a_rate(built) -> None:
-    assert measure_peak(built.peak, 0.05) > 0
+    rate = measure_peak(built.peak, 0.05)
+    assert rate is not None and rate > 0
+
+
+def _kernel_lines(peak: Path) -> tuple[int, list[str]]:
+    import subprocess
+
+    done = subprocess.run([str(peak), "0.02", "1"], capture_output=True, text=True)
+    return done.returncode, done.stderr.splitlines()
+
+
+def test_every_peak_kernel_computes_the_plain_product(built) -> None:
+    """Each kernel's product was checked against the plain loop before it was timed."""
+    code, lines = _kernel_lines(built.peak)
+    assert code == 0 and lines
+    for line in lines:
+        name, rate = line.split()
+        assert float(rate) > 0, line
+
+
+@needs_gcc
+def test_peak_leaves_out_kernels_with_a_wrong_product(tmp_path: Path) -> None:
+    """A block that skips the minimum is caught by the check, and no rate is reported."""
+    src = tmp_path / "src"
+    src.mkdir()
+    shutil.copy(YARDSTICKS / "ref_mwt.c", src)
+    text = (YARDSTICKS / "minplus_peak.c").read_text()
+    good = "acc[r][q] = MIN(acc[r][q], ADD(ar, bk[q]));"
+    assert text.count(good) == 1  # the one block every kernel is made of
+    (src / "minplus_peak.c").write_text(text.replace(good, "acc[r][q] = ADD(ar, bk[q]);"))
+    broken = build(tmp_path / "out", source=src)
+    assert broken.peak is not None, broken.note
+    code, lines = _kernel_lines(broken.peak)
+    assert code == 1 and lines[-1] == "minplus_peak: no kernel computed the product right"
+    assert lines[:-1] and all(line.endswith(": wrong product, left out") for line in lines[:-1])
+    assert measure_peak(broken.peak, 0.02) is None  # the report leaves the peak out
 
 
 @pytest.mark.parametrize("k", range(4))

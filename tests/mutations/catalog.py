@@ -1284,4 +1284,20 @@ MUTATIONS: list[Mutation] = [
         ("tests/test_fast_tables.py", "-k", "seconds"),
         "a kept table held for as long as the process runs",
     ),
+    M(
+        "peak-kernel-never-checked",
+        "src/optri/bench/yardsticks/minplus_peak.c",
+        "    return same;",
+        "    return 1 || same;",
+        ("tests/test_bench.py", "-k", "wrong_product"),
+        "the peak times a kernel whose product it never compared with the plain loop",
+    ),
+    M(
+        "peak-reports-a-rate-when-no-kernel-agrees",
+        "src/optri/bench/compiled.py",
+        "        if out.returncode != 0:\n            return None\n",
+        "",
+        ("tests/test_bench.py", "-k", "wrong_product"),
+        "a failed peak run read as a rate (or a traceback) instead of no peak",
+    ),
 ]
