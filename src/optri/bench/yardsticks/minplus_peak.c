@@ -21,8 +21,9 @@
  * Run:    minplus_peak [SECONDS [THREADS]]  (defaults: 1.0 s per kernel, every online CPU)
  * Prints: threads  candidates/s (all threads, wall clock)  per thread  per CPU-second
  *         kernel (of the fastest)  candidates/s of the AVX2 float kernel alone
- * and, on stderr, one line per kernel (or why it was left out). The per-CPU-second figure divides by the CPU time
- * the threads really got, so it stays meaningful on a machine shared with other work. */
+ * and, on stderr, one line per kernel (or why it was left out). The per-CPU-second figure
+ * divides by the CPU time the threads really got, so it stays meaningful on a machine
+ * shared with other work. */
 #define _GNU_SOURCE
 #include <pthread.h>
 #include <stdio.h>
