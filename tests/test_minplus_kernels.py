@@ -78,6 +78,66 @@ def test_register_block_equals_numpy(
         assert np.array_equal(T, want), (i, j, k0, kn)
 
 
+needs_avx512vl = pytest.mark.skipif(
+    not (_llvm._ASM and "+avx512vl" in _llvm._cpu()[1]), reason="needs AVX-512VL"
+)
+
+
+@numba.njit(fastmath=FASTMATH)
+def _compact(C, ci, cj, A, ai, ak, B, bk, bj, kn):  # type: ignore[no-untyped-def]
+    _llvm.outer_4x16_compact(C, ci, cj, A, ai, ak, B, bk, bj, kn)
+
+
+@needs_avx512vl
+@pytest.mark.parametrize("packed", [False, True])
+def test_compact_block_equals_numpy(packed: bool) -> None:
+    """The 4 x 16 block as inline assembly: the same cells as numpy's minimum of the sums.
+
+    Random places in tables of random sizes, ``B`` read from the table itself (the near
+    products, where the block's cells, its ``A`` rows and its ``B`` rows share one
+    array) or from a packed 16-column buffer (the far products), 0 to 40 splits; only
+    the block's 64 cells may change.
+    """
+    rng = np.random.default_rng(7 + packed)
+    for _ in range(60):
+        n = int(rng.integers(24, 200))
+        T = _table(rng, n, np.float64)
+        kn = int(rng.integers(0, min(40, n - 4)))
+        ci, cj = int(rng.integers(0, n - 3)), int(rng.integers(0, n - 15))
+        ai, ak = int(rng.integers(0, n - 3)), int(rng.integers(0, n - kn + 1))
+        P = _table(rng, kn + 16, np.float64)[: kn + 3, :16].copy() if packed else T
+        bk = int(rng.integers(0, len(P) - kn + 1))
+        bj = 0 if packed else int(rng.integers(0, n - 15))
+        want = T.copy()
+        if kn:
+            sums = T[ai : ai + 4, ak : ak + kn, None] + P[None, bk : bk + kn, bj : bj + 16]
+            block = want[ci : ci + 4, cj : cj + 16]
+            want[ci : ci + 4, cj : cj + 16] = np.minimum(block, sums.min(axis=1))
+        _compact(T, ci, cj, T, ai, ak, P, bk, bj, kn)
+        assert np.array_equal(T, want), (n, ci, cj, ai, ak, bk, bj, kn)
+
+
+def test_compact_block_is_the_plan_only_with_avx512vl(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The plan's 4 x 16 float64 block is the assembly one only where the CPU runs it."""
+    text = _llvm._compact_text()
+    assert text.count("vaddpd") == 16 and text.count("vpminsq") == 16
+    assert all(f"%ymm{x}" not in text.split("vpminsq")[0] for x in range(16, 32))  # sums low
+    monkeypatch.setattr(_llvm.numba_config, "CPU_FEATURES", "+avx2,-avx512f", raising=False)
+    monkeypatch.setattr(_llvm, "register_plan", lambda itemsize: (32, True))
+    run = _block_runner(4, 16)  # compiled for a CPU without AVX-512VL: the vector code
+    rng = np.random.default_rng(3)
+    T = _table(rng, 60, np.float64)
+    want = T.copy()
+    sums = (T[2:6, 5:25, None] + T[None, 5:25, 30:46]).min(axis=1)
+    want[2:6, 30:46] = np.minimum(want[2:6, 30:46], sums)
+    run(T, 2, 30, 5, 20)
+    assert np.array_equal(T, want)
+    assert "#APP" not in run.inspect_asm(run.signatures[0])  # no inline assembly
+    if "+avx512vl" in _llvm.llvm.get_host_cpu_features().flatten():
+        compact = _compact.inspect_asm(_compact.signatures[0]) if _compact.signatures else ""
+        assert not compact or "#APP" in compact
+
+
 @pytest.mark.parametrize(
     ("name", "features", "plan8", "plan4"),
     [

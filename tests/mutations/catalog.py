@@ -1285,6 +1285,22 @@ MUTATIONS: list[Mutation] = [
         "a kept table held for as long as the process runs",
     ),
     M(
+        "compact-block-takes-a-wrong-sum",
+        "src/optri/engines/_llvm.py",
+        "last += [(3, 0, _B[0]), (3, 1, _B[1]), (3, 2, _B[2]), (3, 3, _A[3])]",
+        "last += [(3, 0, _B[0]), (3, 1, _B[1]), (3, 2, _B[2]), (3, 3, _A[2])]",
+        ("tests/test_minplus_kernels.py", "-k", "compact"),
+        "the assembly block's last cell takes the minimum with another cell's sum",
+    ),
+    M(
+        "compact-block-without-avx512vl",
+        "src/optri/engines/_llvm.py",
+        'plan = (rows, cols, size, vector_bytes, as_int, _ASM and "+avx512vl" in _cpu()[1])',
+        "plan = (rows, cols, size, vector_bytes, as_int, _ASM)",
+        ("tests/test_minplus_kernels.py", "-k", "compact"),
+        "AVX-512VL assembly compiled for a CPU the features say lacks it",
+    ),
+    M(
         "peak-kernel-never-checked",
         "src/optri/bench/yardsticks/minplus_peak.c",
         "    return same;",
