@@ -9,7 +9,8 @@
   ``register_plan`` picks its vector width and minimum for this CPU. Where the
   plan is 32-byte vectors with the integer minimum on float64 (AMD Zen 4), the
   4 x 16 block's loop is inline assembly with fixed registers instead
-  (``outer_4x16_compact``): the same operations, in fewer bytes.
+  (``outer_4x16_compact``): the same operations, with the sums in the
+  registers that take 4-byte VEX additions.
 * ``copy_8``: eight values of a table row in one vector load and store, with
   which the far product copies its ``B`` operand into a contiguous buffer.
 * ``transpose_8x8``: an 8 x 8 transpose in vector registers, with which an
@@ -260,14 +261,16 @@ def _outer(rows: int, cols: int, compact: bool = False):  # type: ignore[no-unty
 
 
 # The compact 4 x 16 block (AVX-512VL, float64, integer minimum): its loop over the
-# splits as inline assembly with fixed registers, so that it stays small. The 16
+# splits as inline assembly with fixed registers, chosen as follows. The 16
 # accumulators live in ymm16-31, whose integer minimum (vpminsq) needs the EVEX
 # encoding anyway; the row of B, the four broadcasts of A and the sums use ymm0-15, so
 # that every addition has the 4-byte VEX encoding. On the 2-core AMD EPYC (Zen 4) of
 # docs/fast-engine.md the loop LLVM writes from the vector code of ``_outer`` puts the
-# sums in ymm16-31 (6-byte EVEX additions): about 300 bytes a split against 230 here,
-# 2.2e10 candidates/s a core against 2.5e10 (the instruction fetch, 32 bytes a cycle,
-# bounds the longer loop). The additions come ahead of the minima, in the order GCC's
+# sums in ymm16-31 (6-byte EVEX additions) and runs at 2.2e10 candidates/s a core; the
+# same instructions as inline assembly ran at 2.2e10 with LLVM's registers and at 2.5e10
+# with the sums in ymm0-15, as did GCC's kernel (262 bytes a split, against 224 here and
+# 262 for LLVM's loop, so not the length alone: no performance counters there to say
+# more). The additions come ahead of the minima, in the order GCC's
 # scheduled kernel of ``minplus_peak.c`` uses; the sums and the minima are the same
 # operations as ``_outer``'s, so the result is the same, bit for bit.
 _B, _A = ["%ymm0", "%ymm1", "%ymm2", "%ymm3"], ["%ymm4", "%ymm5", "%ymm6", "%ymm7"]
