@@ -1295,8 +1295,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "compact-block-without-avx512vl",
         "src/optri/engines/_llvm.py",
-        'plan = (rows, cols, size, vector_bytes, as_int, _ASM and "+avx512vl" in _cpu()[1])',
-        "plan = (rows, cols, size, vector_bytes, as_int, _ASM)",
+        'return shape and _ASM and "+avx512vl" in _cpu()[1]',
+        "return shape and _ASM",
         ("tests/test_minplus_kernels.py", "-k", "compact"),
         "AVX-512VL assembly compiled for a CPU the features say lacks it",
     ),

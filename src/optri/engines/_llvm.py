@@ -198,9 +198,8 @@ def _outer(rows: int, cols: int, compact: bool = False):  # type: ignore[no-unty
             elt = context.get_data_type(signature.args[0].dtype)
             size = context.get_abi_sizeof(elt)
             vector_bytes, as_int = register_plan(size)
-            plan = (rows, cols, size, vector_bytes, as_int, _ASM and "+avx512vl" in _cpu()[1])
-            if compact or plan == (4, 16, 8, 32, True, True):
-                _compact_4x16(builder, table(0), table(3), table(6), args)
+            if compact or _compact_here(rows, cols, size, (vector_bytes, as_int)):
+                _compact_4x16(builder, (c_data, c_ld), (a_data, a_ld), (b_data, b_ld), args)
                 return context.get_dummy_value()
             lanes = max(1, min(cols, vector_bytes // size))
             vty = ir.VectorType(elt, lanes)
@@ -276,6 +275,16 @@ def _outer(rows: int, cols: int, compact: bool = False):  # type: ignore[no-unty
 _B, _A = ["%ymm0", "%ymm1", "%ymm2", "%ymm3"], ["%ymm4", "%ymm5", "%ymm6", "%ymm7"]
 _T = [f"%ymm{x}" for x in range(8, 16)]
 _C = [f"%ymm{x}" for x in range(16, 32)]
+
+
+def _compact_here(rows: int, cols: int, itemsize: int, plan: tuple[int, bool]) -> bool:
+    """Whether ``_outer``'s block is the compact loop here.
+
+    A float64 4 x 16 block, a plan of 32-byte vectors with the integer minimum, and
+    a target with AVX-512VL that LLVM can assemble for.
+    """
+    shape = (rows, cols, itemsize, plan) == (4, 16, 8, (32, True))
+    return shape and _ASM and "+avx512vl" in _cpu()[1]
 
 
 def _compact_text() -> str:
