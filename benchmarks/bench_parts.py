@@ -53,9 +53,9 @@ def _parts(T, pts, W, P, mask, tile, done, part):  # type: ignore[no-untyped-def
                 K._far(T, P, K._ROWS, i0, i1, j0, j1, i1, j0)
             elif part == 3:
                 if d == 0:
-                    K._triangle(T, ew, mask, i0, i1)
+                    K._triangle(T, ew, mask, P, i0, i1)
                 else:
-                    K._square(T, ew, mask, i0, i1, j0, j1)
+                    K._square(T, ew, mask, P, i0, i1, j0, j1)
 
 
 @njit(fastmath=K.FASTMATH)

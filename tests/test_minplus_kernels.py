@@ -232,12 +232,13 @@ def test_every_tiling_gives_the_same_table(
     first.check(rtol=1e-5 if dtype == "float32" else 1e-9)
 
 
-@pytest.mark.parametrize("n, tile", [(131, 128), (203, 50), (45, 8), (41, 4)])
+@pytest.mark.parametrize("n, tile", [(131, 128), (260, 128), (203, 50), (45, 8), (41, 4)])
 def test_every_cell_equals_the_python_table(
     monkeypatch: pytest.MonkeyPatch, n: int, tile: int
 ) -> None:
     # the paper's table holds the cost of every chord, not only of the optimal ones: a
-    # split forgotten anywhere (a leaf, a 16 x 16 block, a product) shows up here
+    # split forgotten anywhere (a leaf, a 16 x 16 block, a product) shows up here; tile
+    # (0, 1) of n = 260 packs its near products (64 x 64 splits) as the far ones
     monkeypatch.setattr(config, "FAST_TILE", tile)
     pts = convex_polygon(n, tile)
     for weight in ("perimeter", "diagonal"):

@@ -357,10 +357,26 @@ MUTATIONS: list[Mutation] = [
     M(
         "square-skips-a-product",
         "src/optri/engines/_minplus.py",
-        "    _product(T, mask, _ROWS, a, m, m2, e, c, m2)\n",
+        "    _near(T, mask, P, a, m, m2, e, c, m2)\n",
         "",
         (MINPLUS, "-k", "python_table"),
         "the top-right quarter of a block never sees the splits through its bottom-left",
+    ),
+    M(
+        "near-packed-product-drops-a-split",
+        "src/optri/engines/_minplus.py",
+        "_far(T, P, _ROWS, ia, ib, ja, jb, k0, k1)",
+        "_far(T, P, _ROWS, ia, ib, ja, jb, k0, k1 - 1)",
+        (MINPLUS, "-k", "python_table or tiling"),
+        "a near product large enough to be packed forgets its last split",
+    ),
+    M(
+        "near-packed-product-drops-a-strip",
+        "src/optri/engines/_minplus.py",
+        "_far(T, P, _ROWS, ia, ib, ja, jb, k0, k1)",
+        "_far(T, P, _ROWS, ia, ib, ja, jb - 16, k0, k1)",
+        (MINPLUS, "-k", "python_table"),
+        "a near product large enough to be packed forgets its last 16 columns",
     ),
     M(
         "square8-one-leaf",

@@ -22,7 +22,8 @@ finished cells:
   it too, from the same copy (``_tile``);
 * then the "near" splits, by recursive halving of the tile (bottom-left,
   bottom-right, top-left, top-right): before a quarter is solved, the splits
-  through quarters already finished are applied to it as dense products;
+  through quarters already finished are applied to it as dense products (the
+  large ones, ``_PACK`` cells of ``B`` or more, packed as the far ones, ``_near``);
   only blocks of at most ``_LEAF`` rows or columns go cell by cell.
 
 The trace reads the splits of a chord ``(i, j)`` from row ``i`` and column
@@ -79,6 +80,11 @@ _KBLOCK = 256  # splits per pass of a register block over a far product
 # row) do not all fall in one L1 set; on the Xeon of docs/fast-engine.md, one thread's
 # far products at n = 4000 took 346 ms with it, 357 ms without
 _STRIP = _KBLOCK + 1
+# cells of B from which a near product packs B as _far does: on the EPYC of
+# docs/fast-engine.md, B read from the table's rows ran the 4 x 16 block at 2.0e10
+# candidates/s on 64 x 64 x 64 products and 1.7-1.8e10 on 128^3, against 2.3-2.5e10
+# packed, copy included; at 32^3 the copy cost more than it saved (2.1e10 against 2.4e10)
+_PACK = 64 * 64
 _LEAF = 4  # blocks this small (rows or columns) are solved cell by cell
 _ROWS = block_rows()  # rows of the dense products' register block: 8 or 4
 
@@ -186,11 +192,11 @@ def _product4(T, mask, ia, ib, ja, jb, k0, k1):
 
 @kernel(fastmath=FASTMATH, _nrt=False)
 def _far(T, P, rows, ia, ib, ja, jb, k0, k1):
-    """``_product`` of a tile's far splits (no chord mask), from packed rows.
+    """``_product`` of a tile's far splits, or of a large near product, from packed rows.
 
-    For each block of ``_KBLOCK`` splits, the rows ``B[k, j:j + 16]`` of each
-    16-column strip are first copied into ``P``: strip ``s`` at rows
-    ``s * _STRIP`` on, its splits one after another. The copy runs along table
+    No chord mask. For each block of ``_KBLOCK`` splits, the rows
+    ``B[k, j:j + 16]`` of each 16-column strip are first copied into ``P``:
+    strip ``s`` at rows ``s * _STRIP`` on, its splits one after another. The copy runs along table
     rows: row ``k``'s whole strips, one contiguous run of the table which the
     hardware prefetches, go to the ``k``-th row of every strip, 64 bytes at a
     time (``copy_8``). Copied strip by strip instead, one short piece per table
@@ -216,6 +222,19 @@ def _far(T, P, rows, ia, ib, ja, jb, k0, k1):
                     outer_4x16(T, i, ja + 16 * s, T, i, kb, P, s * _STRIP, 0, kn)
     _product(T, None, rows, ia, ib, jf, jb, k0, k1)
     _product(T, None, rows, i_f, ib, ja, jf, k0, k1)
+
+
+@kernel(fastmath=FASTMATH, inline="always")
+def _near(T, mask, P, ia, ib, ja, jb, k0, k1):
+    """``_product`` between the quarters of a block of near splits.
+
+    Without a chord mask, a product whose ``B`` holds ``_PACK`` cells or more is
+    packed first, as the far products' are (``_far``).
+    """
+    if mask is None and (k1 - k0) * (jb - ja) >= _PACK:
+        _far(T, P, _ROWS, ia, ib, ja, jb, k0, k1)
+    else:
+        _product(T, mask, _ROWS, ia, ib, ja, jb, k0, k1)
 
 
 @kernel(fastmath=FASTMATH, inline="always")
@@ -373,7 +392,7 @@ def _square16(T, ew, mask, a, c):
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
-def _square(T, ew, mask, a, b, c, e):
+def _square(T, ew, mask, P, a, b, c, e):
     """Finish block rows [a, b) x columns [c, e), ``b <= c``: its near splits.
 
     On entry every split outside ``(a, b) + [c, e)`` is applied, and the
@@ -397,14 +416,14 @@ def _square(T, ew, mask, a, b, c, e):
         return
     m = b - _half(b - a, 4)  # bottom rows [m, b), top rows [a, m)
     m2 = c + _half(e - c, 16)  # left columns [c, m2), right columns [m2, e)
-    _square(T, ew, mask, m, b, c, m2)
-    _product(T, mask, _ROWS, m, b, m2, e, c, m2)
-    _square(T, ew, mask, m, b, m2, e)
-    _product(T, mask, _ROWS, a, m, c, m2, m, b)
-    _square(T, ew, mask, a, m, c, m2)
-    _product(T, mask, _ROWS, a, m, m2, e, m, b)
-    _product(T, mask, _ROWS, a, m, m2, e, c, m2)
-    _square(T, ew, mask, a, m, m2, e)
+    _square(T, ew, mask, P, m, b, c, m2)
+    _near(T, mask, P, m, b, m2, e, c, m2)
+    _square(T, ew, mask, P, m, b, m2, e)
+    _near(T, mask, P, a, m, c, m2, m, b)
+    _square(T, ew, mask, P, a, m, c, m2)
+    _near(T, mask, P, a, m, m2, e, m, b)
+    _near(T, mask, P, a, m, m2, e, c, m2)
+    _square(T, ew, mask, P, a, m, m2, e)
 
 
 @kernel(inline="always")
@@ -428,7 +447,7 @@ def _half(size, unit):
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
-def _triangle(T, ew, mask, a, e):
+def _triangle(T, ew, mask, P, a, e):
     """Finish every chord inside vertices [a, e): two triangles, then the square between."""
     if e - a <= _LEAF:
         for i in range(e - 2, a - 1, -1):
@@ -436,9 +455,9 @@ def _triangle(T, ew, mask, a, e):
                 _cell(T, ew, mask, i, j, e, e)
         return
     m = a + _half(e - a, 16)
-    _triangle(T, ew, mask, a, m)
-    _triangle(T, ew, mask, m, e)
-    _square(T, ew, mask, a, m, m, e)
+    _triangle(T, ew, mask, P, a, m)
+    _triangle(T, ew, mask, P, m, e)
+    _square(T, ew, mask, P, a, m, m, e)
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
@@ -537,7 +556,7 @@ def _tile(T, pts, code, W, P, mask, tile, ti, tj, done, nt):
         for i in range(i0, i1):
             for j in range(i + 2, j1):
                 T[i, j] = np.inf
-        _triangle(T, ew, mask, i0, i1)
+        _triangle(T, ew, mask, P, i0, i1)
     elif mask is not None:
         _fill_inf(T, i0, i1, j0, j1)
         _product(T, mask, _ROWS, i0, i1, j0, j1, i1, j0)
@@ -555,7 +574,7 @@ def _tile(T, pts, code, W, P, mask, tile, ti, tj, done, nt):
         _fill_inf(T, i0, i1, j0, j1)
         _far(T, P, _ROWS, i0, i1, j0, j1, i1, j0)
     if d > 0:
-        _square(T, ew, mask, i0, i1, j0, j1)
+        _square(T, ew, mask, P, i0, i1, j0, j1)
 
 
 def worker_bytes(tile: int, itemsize: int) -> int:
