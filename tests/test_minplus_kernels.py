@@ -238,7 +238,8 @@ def test_every_cell_equals_the_python_table(
 ) -> None:
     # the paper's table holds the cost of every chord, not only of the optimal ones: a
     # split forgotten anywhere (a leaf, a 16 x 16 block, a product) shows up here; tile
-    # (0, 1) of n = 260 packs its near products (64 x 64 splits) as the far ones
+    # (0, 1) of n = 260 packs the B of its largest near products (64 x 64 cells) as the
+    # far products do
     monkeypatch.setattr(config, "FAST_TILE", tile)
     pts = convex_polygon(n, tile)
     for weight in ("perimeter", "diagonal"):

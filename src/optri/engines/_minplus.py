@@ -196,15 +196,17 @@ def _far(T, P, rows, ia, ib, ja, jb, k0, k1):
 
     No chord mask. For each block of ``_KBLOCK`` splits, the rows
     ``B[k, j:j + 16]`` of each 16-column strip are first copied into ``P``:
-    strip ``s`` at rows ``s * _STRIP`` on, its splits one after another. The copy runs along table
-    rows: row ``k``'s whole strips, one contiguous run of the table which the
-    hardware prefetches, go to the ``k``-th row of every strip, 64 bytes at a
-    time (``copy_8``). Copied strip by strip instead, one short piece per table
-    row, the copy took a quarter of the far product's time on the Xeon of
-    ``docs/fast-engine.md``. The register block, ``rows`` x 16 (``_ROWS``),
-    then reads its ``B`` operand as one contiguous run. Columns and rows
-    beyond whole strips and blocks go through ``_product``. The candidates are
-    the same sums, so the result is the same, bit for bit.
+    strip ``s`` at rows ``s * _STRIP`` on, its splits one after another. The
+    copy runs along table rows: row ``k``'s whole strips, one contiguous run of
+    the table which the hardware prefetches, go to the ``k``-th row of every
+    strip, 64 bytes at a time (``copy_8``). Copied strip by strip instead, one
+    short piece per table row, the copy took a quarter of the far product's
+    time on the Xeon of ``docs/fast-engine.md``. The register block, ``rows``
+    x 16 (``_ROWS``), then reads its ``B`` operand as one contiguous run.
+    Columns and rows beyond whole strips and blocks go through ``_product``.
+    The candidates are the same sums, so the result is the same, bit for bit.
+    ``P`` holds ``_STRIP`` rows for each of a tile's whole strips, enough for
+    any near product of the tile, whose columns are at most the tile's.
     """
     jf = ja + (jb - ja) // 16 * 16
     i_f = ia + (ib - ia) // rows * rows
