@@ -78,9 +78,7 @@ def test_register_block_equals_numpy(
         assert np.array_equal(T, want), (i, j, k0, kn)
 
 
-needs_avx512vl = pytest.mark.skipif(
-    not (_llvm._ASM and "+avx512vl" in _llvm._cpu()[1]), reason="needs AVX-512VL"
-)
+needs_avx512vl = pytest.mark.skipif(not _llvm._compact_runs(), reason="needs AVX-512VL")
 
 
 @numba.njit(fastmath=FASTMATH)

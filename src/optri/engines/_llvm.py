@@ -199,7 +199,8 @@ def _outer(rows: int, cols: int, compact: bool = False):  # type: ignore[no-unty
             size = context.get_abi_sizeof(elt)
             vector_bytes, as_int = register_plan(size)
             if compact or _compact_here(rows, cols, size, (vector_bytes, as_int)):
-                _compact_4x16(builder, (c_data, c_ld), (a_data, a_ld), (b_data, b_ld), args)
+                tables = (c_data, c_ld), (a_data, a_ld), (b_data, b_ld)
+                _compact_4x16(builder, *tables, (ci, cj, ai, ak, bk, bj, kn))
                 return context.get_dummy_value()
             lanes = max(1, min(cols, vector_bytes // size))
             vty = ir.VectorType(elt, lanes)
@@ -281,10 +282,14 @@ def _compact_here(rows: int, cols: int, itemsize: int, plan: tuple[int, bool]) -
     """Whether ``_outer``'s block is the compact loop here.
 
     A float64 4 x 16 block, a plan of 32-byte vectors with the integer minimum, and
-    a target with AVX-512VL that LLVM can assemble for.
+    a target it can run on (``_compact_runs``).
     """
-    shape = (rows, cols, itemsize, plan) == (4, 16, 8, (32, True))
-    return shape and _ASM and "+avx512vl" in _cpu()[1]
+    return (rows, cols, itemsize, plan) == (4, 16, 8, (32, True)) and _compact_runs()
+
+
+def _compact_runs() -> bool:
+    """Whether the compact loop can run here: AVX-512VL, and LLVM can assemble for it."""
+    return _ASM and "+avx512vl" in _cpu()[1]
 
 
 def _compact_text() -> str:
@@ -319,10 +324,14 @@ def _compact_text() -> str:
     return "\n".join(lines)
 
 
-def _compact_4x16(builder, c, a, b, args):  # type: ignore[no-untyped-def]
-    """``_outer(4, 16)``'s block as the compact loop (``c``, ``a``, ``b``: data, row length)."""
+def _compact_4x16(builder, c, a, b, places):  # type: ignore[no-untyped-def]
+    """``_outer(4, 16)``'s block as the compact loop.
+
+    ``c``, ``a``, ``b``: each table's data pointer and row length; ``places``:
+    ``_outer``'s ``(ci, cj, ai, ak, bk, bj, kn)``.
+    """
     (c_data, c_ld), (a_data, a_ld), (b_data, b_ld) = c, a, b
-    ci, cj, ai, ak, bk, bj, kn = (args[k] for k in (1, 2, 4, 5, 7, 8, 9))
+    ci, cj, ai, ak, bk, bj, kn = places
     intp = ci.type
     vty = ir.VectorType(ir.DoubleType(), 4)
     ptr = c_data.type
