@@ -2,9 +2,10 @@
 
 Usage: python benchmarks/bench_fast.py [N ...] [--quick] [--naive-max 500] [--json OUT]
                                        [--shared ../shared/bench]
-Prints n, optri seconds, fraction of the min-plus peak, C seconds, optri/C, naive
-seconds, naive/optri, peak memory, the load average and whether optri's optimum
-equals the C reference's. The yardsticks live in src/optri/bench/yardsticks (C,
+Prints n, optri seconds (its best solve; solves and peak runs take turns, three
+windows each), fraction of the min-plus peak, C seconds, optri/C, naive seconds,
+naive/optri, peak memory, the load average, the number of timed solves and whether
+optri's optimum equals the C reference's. The yardsticks live in src/optri/bench/yardsticks (C,
 built with gcc at run time) and optri.bench.naive (plain Python); see optri.bench.
 """
 
@@ -26,11 +27,15 @@ def main() -> None:
     ap.add_argument(
         "--naive-max", type=int, default=500, help="largest n for the plain-Python recursion"
     )
-    ap.add_argument("--repeats", type=int, default=3, help="best of this many runs in one process")
+    ap.add_argument(
+        "--repeats", type=int, default=3, help="at least this many timed solves (the best counts)"
+    )
     ap.add_argument("--float32", action="store_true", help="float32 table")
     ap.add_argument("--json", dest="json_out", help="also write the rows to this JSON file")
     ap.add_argument("--shared", help="also build and run DIR/ref_mwt.c and DIR/minplus_peak.c")
-    ap.add_argument("--peak-seconds", type=float, default=1.0, help="length of each peak run")
+    ap.add_argument(
+        "--peak-seconds", type=float, default=1.0, help="seconds of each peak kernel, in 3 turns"
+    )
     args = ap.parse_args()
     sizes = args.sizes or (QUICK_SIZES if args.quick else DEFAULT_SIZES)
     rows = run_benchmark(

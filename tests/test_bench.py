@@ -18,7 +18,7 @@ from click.testing import CliRunner
 
 import optri
 from optri.bench import BenchRow, convex_polygon
-from optri.bench.compare import machine
+from optri.bench.compare import Solver, machine
 from optri.bench.compiled import YARDSTICKS, build, measure_peak, run_reference
 from optri.bench.naive import min_perimeter
 from optri.cli import main
@@ -121,7 +121,7 @@ def test_fraction_of_peak_and_ratios() -> None:
 
 
 def test_worker_times_warm_calls(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """The timed calls come after the warm-up's untimed ones, on the same polygon."""
+    """Each window's timed calls come after its warm-up's untimed ones, on the same polygon."""
     from optri.bench import compare
 
     csv = _write(tmp_path / "p.csv", convex_polygon(60, 4))
@@ -133,12 +133,99 @@ def test_worker_times_warm_calls(tmp_path: Path, monkeypatch: pytest.MonkeyPatch
         return solve(pts, **kw)
 
     monkeypatch.setattr(compare, "triangulate", counted)
-    cold = compare.worker(str(csv), 2, "float64", warmup=0)
-    assert cold["warm_calls"] == 0 and sizes == [40, 60, 60]  # kernels, then the timed calls
+    cold = compare.Solver(str(csv), "float64", warmup=0)
+    got = cold.window(0.0, 2)
+    assert cold.warm_calls == 0 and sizes == [40, 60, 60]  # kernels, then the timed calls
+    assert len(got["times"]) == len(got["walls"]) == 2
+    assert all(0 < t <= w for t, w in zip(got["times"], got["walls"]))
     sizes.clear()
-    warm = compare.worker(str(csv), 2, "float64", warmup=0.05)
-    assert warm["warm_calls"] >= 1 and sizes == [40] + [60] * (int(warm["warm_calls"]) + 2)
-    assert warm["weight"] == cold["weight"] and warm["seconds"] > 0
+    warm = compare.Solver(str(csv), "float64", warmup=0.05)
+    assert warm.warm_calls == 0 and sizes == [40]  # the kernels only
+    warm.window(0.0, 2)
+    first = warm.warm_calls
+    assert first >= 1 and sizes == [40] + [60] * (first + 2)
+    warm.window(0.0, 1)  # the next window warms up again
+    assert warm.warm_calls > first and len(sizes) == 1 + warm.warm_calls + 3
+    assert warm.summary()["weight"] == cold.summary()["weight"] > 0
+
+
+def test_solver_window_lasts_its_seconds(tmp_path: Path) -> None:
+    """A window runs calls until its seconds are over, however many calls were asked for."""
+    import time
+
+    solver = Solver(str(_write(tmp_path / "p.csv", convex_polygon(30))), "float64")
+    start = time.perf_counter()
+    got = solver.window(0.05, 1)
+    assert time.perf_counter() - start >= 0.05 and len(got["times"]) > 1
+
+
+def test_serve_answers_each_window(tmp_path: Path) -> None:
+    """The worker's protocol: ready, one JSON line per window, then the summary."""
+    import io
+    import json
+
+    from optri.bench.compare import serve
+
+    csv = _write(tmp_path / "p.csv", convex_polygon(25, 3))
+    out = io.StringIO()
+    serve([str(csv), "float64", "0"], io.StringIO("0 2\n0 1\n"), out)
+    lines = [json.loads(line) for line in out.getvalue().splitlines()]
+    assert lines[0] == {"ready": True}
+    assert [len(w["times"]) for w in lines[1:3]] == [2, 1]
+    want = optri.triangulate(convex_polygon(25, 3), weight="perimeter", method="table").weight
+    assert math.isclose(lines[3]["weight"], want, rel_tol=1e-12)
+    assert lines[3]["peak_mb"] >= lines[3]["base_mb"] > 0 and len(lines) == 4
+
+
+def test_peak_runs_and_solves_take_turns(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each window of solves follows a peak run as long as one of its kernels; bests count."""
+    from optri.bench import compare
+
+    events: list[tuple[str, float]] = []
+    rates = iter([3e9, 5e9, 4e9, 2e9, 2.5e9, 1e9])
+    windows = iter([[0.9, 0.4, 0.8, 0.7], [0.5], [0.6, 0.3]])
+
+    def peak(exe: Path, seconds: float, runs: int = 3) -> float:
+        events.append((exe.name, seconds))
+        assert runs == 1
+        return next(rates)
+
+    class Fake:
+        def __init__(self, csv: Path, dtype: str, warmup: float) -> None:
+            self.result = {"weight": 1.0, "peak_mb": 9.0, "base_mb": 1.0}
+
+        def __enter__(self):  # type: ignore[no-untyped-def]
+            return self
+
+        def __exit__(self, *exc: object) -> None:
+            events.append(("end", 0.0))
+
+        def window(self, seconds: float, calls: int) -> dict[str, list[float]]:
+            events.append((f"solve {calls}", seconds))
+            times = next(windows)
+            return {"times": times, "walls": [t + 1 for t in times]}
+
+    monkeypatch.setattr(compare, "measure_peak", peak)
+    monkeypatch.setattr(compare, "_Worker", Fake)
+    ours = compare.Built(None, tmp_path / "ours")
+    theirs = compare.Built(None, tmp_path / "theirs")
+    plan = compare._Plan(repeats=4, dtype="float64", peak_seconds=0.75, warmup=0, rounds=3)
+    row = compare._one_size(10, tmp_path / "p.csv", ours, theirs, 0, plan)
+    turn = [("ours", 0.25), ("theirs", 0.25), ("solve 2", 0.25)]
+    assert events == [*turn, *turn, *turn, ("end", 0.0)]
+    assert row.optri_s == 0.3 and row.wall_s == 1.3 and row.calls == 7
+    assert row.first_s == 0.4  # the first window's first three calls
+    assert row.peak == 4e9 and row.shared_peak == 5e9  # runs alternate: ours, theirs
+    assert row.table_mb == 8.0 and row.c_s is None and row.agrees is None
+
+
+def test_a_failing_solver_process_is_a_clear_error(tmp_path: Path) -> None:
+    from optri.bench.compare import _Worker
+    from optri.errors import EngineUnavailableError
+
+    (tmp_path / "bad.csv").write_text("0,0\n1,0\n")  # two vertices: not a polygon
+    with pytest.raises(EngineUnavailableError, match="solver process failed: .*"):
+        _Worker(tmp_path / "bad.csv", "float64", 0)
 
 
 def _rows(output: str) -> dict[int, list[str]]:

@@ -1,9 +1,11 @@
-"""``python -m optri.bench CSV REPEATS DTYPE [WARMUP]``: the fresh-process worker of a benchmark."""
+"""``python -m optri.bench CSV DTYPE WARMUP``: the fresh-process worker of a benchmark.
 
-import json
+Reads ``SECONDS CALLS`` lines from stdin, answers JSON lines (see
+:func:`optri.bench.compare.serve`).
+"""
+
 import sys
 
-from .compare import worker
+from .compare import serve
 
-warmup = float(sys.argv[4]) if len(sys.argv) > 4 else 0.0
-print(json.dumps(worker(sys.argv[1], int(sys.argv[2]), sys.argv[3], warmup)))
+serve(sys.argv[1:], sys.stdin, sys.stdout)

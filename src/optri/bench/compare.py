@@ -4,11 +4,13 @@ For each n: a random convex polygon (sorted random angles on an ellipse, written
 to a CSV with every digit, so each solver reads the same doubles), solved by
 the C reference ``yardsticks/ref_mwt.c``, by the plain-Python recursion
 :mod:`optri.bench.naive` (small n only) and by ``method="fast"`` in a fresh
-process (so its peak memory is its own); the peak microbenchmark
-``yardsticks/minplus_peak.c`` runs just before optri, and the fraction of peak
-is ``(n³/6 candidates / optri's seconds) / peak candidates per second``.
-Used by ``optri bench`` and ``benchmarks/bench_fast.py``; ``python -m
-optri.bench`` runs the fresh-process worker.
+process (so its peak memory is its own). The peak microbenchmark
+``yardsticks/minplus_peak.c`` and optri's solves take turns: ``rounds`` windows
+each, a peak run then a window of solves as long as each of the peak's kernels
+ran, so that both are sampled across the same seconds of the machine. The
+fraction of peak is ``(n³/6 candidates / optri's best seconds) / the best peak
+rate``. Used by ``optri bench`` and ``benchmarks/bench_fast.py``; ``python -m
+optri.bench`` runs the fresh-process worker (:func:`serve`).
 """
 
 from __future__ import annotations
@@ -24,24 +26,37 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import IO, Any
 
 import numpy as np
 
+from ..errors import EngineUnavailableError
 from ..io.files import read_polygon
 from ..solve import triangulate
 from .compiled import Built, build, measure_peak, run_reference
 
-__all__ = ["BenchRow", "convex_polygon", "format_rows", "machine", "run_benchmark", "worker"]
+__all__ = [
+    "BenchRow",
+    "Solver",
+    "convex_polygon",
+    "format_rows",
+    "machine",
+    "run_benchmark",
+    "serve",
+]
 
 
 @dataclass
 class BenchRow:
     """One size: seconds of each solver, the peak rate, memory, agreement, load.
 
-    ``optri_s`` is the engine's solve (``Triangulation.seconds``), ``wall_s`` the
-    whole ``triangulate`` call; ``peak`` the min-plus candidates per second
-    measured just before; ``agrees`` whether optri's weight equals the C
-    reference's (relative difference at most 1e-9; None without the C one).
+    ``optri_s`` is the engine's best solve (``Triangulation.seconds``), ``wall_s``
+    the best whole ``triangulate`` call, of ``calls`` timed calls; ``peak`` the
+    best min-plus candidates per second of the peak runs between them; ``first_s``
+    the best of the first window's first three calls (what a benchmark that
+    times three calls in one place would report); ``agrees`` whether optri's
+    weight equals the C reference's (relative difference at most 1e-9; None
+    without the C one).
     """
 
     n: int
@@ -56,6 +71,8 @@ class BenchRow:
     load: float
     shared_c_s: float | None = None
     shared_peak: float | None = None
+    calls: int = 0
+    first_s: float | None = None
 
     @property
     def fraction(self) -> float | None:
@@ -99,15 +116,31 @@ def run_benchmark(
     peak_seconds: float = 1.0,
     cc: str | None = None,
     warmup: float = 0.25,
+    rounds: int = 3,
 ) -> list[BenchRow]:
     """Time every solver on the same polygon for each n in ``sizes``.
 
-    optri's seconds are the best of ``repeats`` calls after ``warmup`` seconds
-    of untimed ones (see :func:`worker`), as the peak is a rate of a steady run.
+    The peak runs and optri's solves take turns, ``rounds`` times: a peak run of
+    ``peak_seconds / rounds`` seconds a kernel (and the shared one's, with
+    ``shared``), then optri's calls for as many seconds, at least
+    ``ceil(repeats / rounds)`` of them. optri's seconds are its best call, the
+    peak the best run of its fastest kernel: both the best the machine gave
+    over the same stretch of time, sampled alike. On a virtual machine a
+    two-thread solve can run at half its speed or less for seconds at a time
+    while a one-thread solve does not slow down (``benchmarks/bench_spells.py``):
+    three solves in one place, 15 ms at n = 1000, could all fall in such a
+    spell while the peak's runs, spread over 11 s, missed it. The calls come
+    after ``warmup`` seconds of untimed ones in each window (see :class:`Solver`).
 
     ``shared``: a folder with another ``ref_mwt.c`` and ``minplus_peak.c`` (such
     as ``../shared/bench``) to build and run as well, as a cross-check. ``cc``:
     the C compiler (default: found on the ``PATH``).
+
+    Examples
+    --------
+    >>> rows = run_benchmark([40], naive_max=0, repeats=1, peak_seconds=0.03, warmup=0)
+    >>> rows[0].n, rows[0].calls >= 3, rows[0].agrees in (True, None)
+    (40, True, True)
     """
     say = log or (lambda _line: None)
     rows = []
@@ -125,50 +158,76 @@ def run_benchmark(
             f"load average {_load():.2f} (fraction of peak is noisy on a busy machine: "
             "compare figures from one run)"
         )
+        say(
+            f"optri s: the best solve of {rounds} windows of {peak_seconds / rounds:.2g} s, "
+            f"each right after a peak run of {peak_seconds / rounds:.2g} s a kernel"
+        )
         for n in sizes:
             csv = Path(tmp) / f"poly{n}.csv"
             csv.write_text("".join(f"{x!r},{y!r}\n" for x, y in convex_polygon(n, seed).tolist()))
-            rows.append(
-                _one_size(n, csv, ours, theirs, naive_max, repeats, dtype, peak_seconds, warmup)
-            )
+            plan = _Plan(repeats, dtype, peak_seconds, warmup, max(1, rounds))
+            rows.append(_one_size(n, csv, ours, theirs, naive_max, plan))
             say(format_rows(rows[-1:], header=len(rows) == 1))
     return rows
 
 
+@dataclass(frozen=True)
+class _Plan:
+    repeats: int
+    dtype: str
+    peak_seconds: float
+    warmup: float
+    rounds: int
+
+
 def _one_size(
-    n: int,
-    csv: Path,
-    ours: Built,
-    theirs: Built | None,
-    naive_max: int,
-    repeats: int,
-    dtype: str,
-    peak_seconds: float,
-    warmup: float,
+    n: int, csv: Path, ours: Built, theirs: Built | None, naive_max: int, plan: _Plan
 ) -> BenchRow:
     c = run_reference(ours.ref, csv) if ours.ref else None
     shared_c = run_reference(theirs.ref, csv) if theirs and theirs.ref else None
     naive = None
     if n <= naive_max:
         naive = _seconds([sys.executable, "-m", "optri.bench.naive", str(csv)])
-    peak = measure_peak(ours.peak, peak_seconds) if ours.peak else None
-    shared_peak = measure_peak(theirs.peak, peak_seconds) if theirs and theirs.peak else None
-    mine = _run_worker(csv, repeats, dtype, warmup)
-    agrees = None if c is None else abs(mine["weight"] - c[0]) <= 1e-9 * abs(c[0])
+    window = plan.peak_seconds / plan.rounds
+    each = -(-plan.repeats // plan.rounds)  # calls a window at least
+    peaks: list[float | None] = []
+    shared_peaks: list[float | None] = []
+    times: list[float] = []
+    walls: list[float] = []
+    with _Worker(csv, plan.dtype, plan.warmup) as mine:
+        for _ in range(plan.rounds):
+            if ours.peak:
+                peaks.append(measure_peak(ours.peak, window, runs=1))
+            if theirs and theirs.peak:
+                shared_peaks.append(measure_peak(theirs.peak, window, runs=1))
+            got = mine.window(window, each)
+            times += got["times"]
+            walls += got["walls"]
+    done = mine.result
+    agrees = None if c is None else abs(done["weight"] - c[0]) <= 1e-9 * abs(c[0])
     return BenchRow(
         n,
-        mine["seconds"],
-        mine["wall"],
+        min(times),
+        min(walls),
         c[1] if c else None,
         naive[1] if naive else None,
-        peak,
-        mine["peak_mb"],
-        mine["peak_mb"] - mine["base_mb"],
+        _best(peaks),
+        done["peak_mb"],
+        done["peak_mb"] - done["base_mb"],
         agrees,
         _load(),
         shared_c[1] if shared_c else None,
-        shared_peak,
+        _best(shared_peaks),
+        len(times),
+        min(times[:3]),
     )
+
+
+def _best(rates: list[float | None]) -> float | None:
+    """The highest rate; None when there was none or a run failed (a broken build)."""
+    if not rates or any(r is None for r in rates):
+        return None
+    return max(r for r in rates if r is not None)
 
 
 def format_rows(rows: Sequence[BenchRow], header: bool = True) -> str:
@@ -190,7 +249,7 @@ def format_rows(rows: Sequence[BenchRow], header: bool = True) -> str:
         lines.append(
             f"{r.n:>6} {r.optri_s:>9.4f} {f(r.fraction, '.1%'):>7} {f(r.c_s, '.4f'):>9} "
             f"{f(r.c_ratio, '.3f'):>7} {f(r.naive_s, '.3f'):>8} {f(r.naive_ratio, '.0f'):>11} "
-            f"{r.peak_mb:>8.1f} {r.table_mb:>9.1f} {r.load:>5.2f} {f(r.agrees, ''):>5}"
+            f"{r.peak_mb:>8.1f} {r.table_mb:>9.1f} {r.load:>5.2f} {r.calls:>5} {f(r.agrees, ''):>5}"
             + (f" {f(r.shared_c_s, '.4f'):>10} {f(frac2, '.1%'):>14}" if shared else "")
         )
     return "\n".join(lines)
@@ -230,10 +289,50 @@ def _seconds(cmd: list[str]) -> tuple[float, float]:
     return float(out[1]), float(out[2])
 
 
-def _run_worker(csv: Path, repeats: int, dtype: str, warmup: float) -> dict[str, float]:
-    cmd = [sys.executable, "-m", "optri.bench", str(csv), str(repeats), dtype, str(warmup)]
-    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
-    return json.loads(out.strip().splitlines()[-1])
+class _Worker:
+    """The parent's side of :func:`serve`: one fresh process, asked for windows of solves."""
+
+    def __init__(self, csv: Path, dtype: str, warmup: float) -> None:
+        cmd = [sys.executable, "-m", "optri.bench", str(csv), dtype, str(warmup)]
+        self.proc = subprocess.Popen(
+            cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+        )
+        self.result: dict[str, float] = {}
+        self._read()  # ready: the kernels loaded
+
+    def window(self, seconds: float, calls: int) -> dict[str, list[float]]:
+        assert self.proc.stdin is not None
+        self.proc.stdin.write(f"{seconds!r} {calls}\n")
+        self.proc.stdin.flush()
+        return self._read()
+
+    def _read(self) -> dict[str, Any]:
+        assert self.proc.stdout is not None
+        line = self.proc.stdout.readline()
+        if not line:
+            self.proc.wait()
+            assert self.proc.stderr is not None
+            why = (self.proc.stderr.read().strip().splitlines() or ["no output"])[-1]
+            raise EngineUnavailableError(f"the benchmark's solver process failed: {why}")
+        out: dict[str, Any] = json.loads(line)
+        return out
+
+    def __enter__(self) -> _Worker:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        assert self.proc.stdin is not None
+        try:
+            self.proc.stdin.close()  # end of the windows: the process reports its memory
+            if exc[0] is None:
+                self.result = self._read()
+        finally:
+            if self.proc.poll() is None and exc[0] is not None:
+                self.proc.kill()
+            self.proc.wait()
+            for f in (self.proc.stdout, self.proc.stderr):
+                if f is not None:
+                    f.close()
 
 
 def _peak_mb() -> float:
@@ -241,42 +340,90 @@ def _peak_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 / 1e6
 
 
-def worker(csv: str, repeats: int, dtype: str, warmup: float = 0.0) -> dict[str, float]:
-    """Solve ``csv`` with method="fast" ``repeats`` times in this fresh process; the best.
+class Solver:
+    """Solves one polygon with method="fast" in this fresh process, in timed windows.
 
-    Untimed calls on the same polygon come first, for ``warmup`` seconds (at
-    least one call when ``warmup > 0``). A process's first calls pay for fresh
+    Each window starts with untimed calls on the same polygon, for ``warmup``
+    seconds (at least one call when ``warmup > 0``). A process's first calls pay for fresh
     memory: on the Xeon of ``docs/fast-engine.md`` the first two at n = 1000
     took 10-17 ms against 4.6-4.9 ms for every later one (the C library maps
     the first table, then grows its heap for the second), so the best of three
     cold calls was one warm call. Tables of 32 MiB or more (n >= 2048 in
     float64) are mapped by optri itself, and the last one is kept for the next
     call (``optri.engines.memory.release_table``), so from the second call on
-    those skip the first touch too.
+    those skip the first touch too; but only for a second, and a peak run
+    between two windows takes longer: without a warm-up of its own, each
+    window's first call at n = 4000 took 0.35-0.40 s on the EPYC of
+    ``docs/fast-engine.md`` against 0.25-0.27 s for the next ones.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> csv = os.path.join(tempfile.mkdtemp(), "p.csv")
+    >>> np.savetxt(csv, convex_polygon(50), fmt="%.17g", delimiter=",")
+    >>> got = Solver(csv, "float64", warmup=0).window(0.0, 2)
+    >>> len(got["times"])
+    2
     """
-    pts = read_polygon(csv)
-    triangulate(pts[:40], method="fast", dtype=dtype)  # load the cached kernels
-    base = _peak_mb()  # Python, numpy, numba and the kernels: everything but the table
-    warm_calls = 0
-    start = time.perf_counter()
-    while warmup > 0 and (warm_calls == 0 or time.perf_counter() - start < warmup):
-        triangulate(pts, method="fast", dtype=dtype)
-        warm_calls += 1
-    best = wall = float("inf")
-    weight = float("nan")
-    for _ in range(repeats):
+
+    def __init__(self, csv: str, dtype: str, warmup: float = 0.0) -> None:
+        self.pts = read_polygon(csv)
+        self.dtype = dtype
+        self.warmup = warmup
+        triangulate(self.pts[:40], method="fast", dtype=dtype)  # load the cached kernels
+        self.base_mb = _peak_mb()  # Python, numpy, numba, the kernels: all but the table
+        self.warm_calls = 0
+        self.weight = float("nan")
+
+    def window(self, seconds: float, calls: int) -> dict[str, list[float]]:
+        """Timed calls for ``seconds``, at least ``calls``, after the warm-up's untimed ones.
+
+        Returns each timed call's solve seconds (``times``) and whole-call seconds
+        (``walls``).
+        """
         start = time.perf_counter()
-        tri = triangulate(pts, method="fast", dtype=dtype)
-        wall = min(wall, time.perf_counter() - start)
-        best = min(best, tri.seconds)
-        weight = float(tri.weight)  # type: ignore[arg-type]  # scalar objective
-        del tri
-    peak = _peak_mb()
-    return {
-        "seconds": best,
-        "wall": wall,
-        "weight": weight,
-        "base_mb": base,
-        "peak_mb": peak,
-        "warm_calls": warm_calls,
-    }
+        warm = 0
+        while self.warmup > 0 and (warm == 0 or time.perf_counter() - start < self.warmup):
+            triangulate(self.pts, method="fast", dtype=self.dtype)
+            warm += 1
+        self.warm_calls += warm
+        times: list[float] = []
+        walls: list[float] = []
+        start = time.perf_counter()
+        while len(times) < calls or time.perf_counter() - start < seconds:
+            began = time.perf_counter()
+            tri = triangulate(self.pts, method="fast", dtype=self.dtype)
+            walls.append(time.perf_counter() - began)
+            times.append(tri.seconds)
+            self.weight = float(tri.weight)  # type: ignore[arg-type]  # scalar objective
+            del tri
+        return {"times": times, "walls": walls}
+
+    def summary(self) -> dict[str, float]:
+        """The optimum, memory before the first table and at the end, the warm-up's calls."""
+        return {
+            "weight": self.weight,
+            "base_mb": self.base_mb,
+            "peak_mb": _peak_mb(),
+            "warm_calls": self.warm_calls,
+        }
+
+
+def serve(argv: Sequence[str], commands: IO[str], out: IO[str]) -> None:
+    """The fresh-process worker: ``argv`` = CSV DTYPE WARMUP; one JSON line per reply.
+
+    A line ``{"ready": true}`` once the kernels are loaded;
+    then for each command line ``SECONDS CALLS`` the window's seconds
+    (:meth:`Solver.window`); at the end of the commands, :meth:`Solver.summary`.
+    """
+    solver = Solver(argv[0], argv[1], float(argv[2]))
+
+    def reply(obj: object) -> None:
+        out.write(json.dumps(obj) + "\n")
+        out.flush()
+
+    reply({"ready": True})
+    for line in commands:
+        seconds, calls = line.split()
+        reply(solver.window(float(seconds), int(calls)))
+    reply(solver.summary())

@@ -23,7 +23,7 @@ __all__ = ["bench"]
     default=3,
     type=click.IntRange(min=1),
     show_default=True,
-    help="Best of this many timed runs in one process, after the warm-up.",
+    help="At least this many timed solves in one process, after the warm-up (the best counts).",
 )
 @click.option(
     "--warmup",
@@ -43,7 +43,7 @@ __all__ = ["bench"]
     "--peak-seconds",
     default=1.0,
     show_default=True,
-    help="Seconds of peak measurement per size (the best of three runs).",
+    help="Seconds each peak kernel runs per size, in three windows between the solves.",
 )
 def bench(
     sizes: tuple[int, ...],
@@ -60,7 +60,9 @@ def bench(
 
     SIZES default to 500 1000 2000 4000. The C yardsticks ship with optri and are
     built with gcc (or cc) at run time; without a compiler their columns stay empty.
-    "of peak" is (n^3/6 / optri seconds) / the min-plus peak rate measured just before.
+    "of peak" is (n^3/6 / optri's best seconds) / the best min-plus peak rate, the two
+    measured in turns over the same seconds: three peak runs, each followed by a window of
+    solves as long as each of its kernels ran.
     """
     chosen = sizes or ((100, 200, 500) if quick else (500, 1000, 2000, 4000))
     rows = run_benchmark(
