@@ -173,6 +173,8 @@ def run_benchmark(
 
 @dataclass(frozen=True)
 class _Plan:
+    """How one size is timed: :func:`run_benchmark`'s arguments of that name."""
+
     repeats: int
     dtype: str
     peak_seconds: float
@@ -294,11 +296,17 @@ class _Worker:
 
     def __init__(self, csv: Path, dtype: str, warmup: float) -> None:
         cmd = [sys.executable, "-m", "optri.bench", str(csv), dtype, str(warmup)]
+        # stderr to a file: a pipe nobody reads while the windows run could fill and stall
+        self.errors = tempfile.TemporaryFile("w+")
         self.proc = subprocess.Popen(
-            cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+            cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self.errors, text=True
         )
         self.result: dict[str, float] = {}
-        self._read()  # ready: the kernels loaded
+        try:
+            self._read()  # ready: the kernels loaded
+        except BaseException:
+            self.__exit__(EngineUnavailableError)
+            raise
 
     def window(self, seconds: float, calls: int) -> dict[str, list[float]]:
         assert self.proc.stdin is not None
@@ -311,8 +319,8 @@ class _Worker:
         line = self.proc.stdout.readline()
         if not line:
             self.proc.wait()
-            assert self.proc.stderr is not None
-            why = (self.proc.stderr.read().strip().splitlines() or ["no output"])[-1]
+            self.errors.seek(0)
+            why = (self.errors.read().strip().splitlines() or ["no output"])[-1]
             raise EngineUnavailableError(f"the benchmark's solver process failed: {why}")
         out: dict[str, Any] = json.loads(line)
         return out
@@ -330,9 +338,9 @@ class _Worker:
             if self.proc.poll() is None and exc[0] is not None:
                 self.proc.kill()
             self.proc.wait()
-            for f in (self.proc.stdout, self.proc.stderr):
-                if f is not None:
-                    f.close()
+            if self.proc.stdout is not None:
+                self.proc.stdout.close()
+            self.errors.close()
 
 
 def _peak_mb() -> float:
