@@ -2,7 +2,7 @@
 
 Usage: python benchmarks/bench_fast.py [N ...] [--quick] [--naive-max 500] [--json OUT]
                                        [--shared ../shared/bench]
-Prints n, optri seconds (its best solve; solves and peak runs take turns, three
+Prints n, optri seconds (its best solve; solves and peak runs take turns, --rounds
 windows each), fraction of the min-plus peak, C seconds, optri/C, naive seconds,
 naive/optri, peak memory, the load average, the number of timed solves and whether
 optri's optimum equals the C reference's. The yardsticks live in src/optri/bench/yardsticks (C,
@@ -34,8 +34,9 @@ def main() -> None:
     ap.add_argument("--json", dest="json_out", help="also write the rows to this JSON file")
     ap.add_argument("--shared", help="also build and run DIR/ref_mwt.c and DIR/minplus_peak.c")
     ap.add_argument(
-        "--peak-seconds", type=float, default=1.0, help="seconds of each peak kernel, in 3 turns"
+        "--peak-seconds", type=float, default=1.0, help="seconds of each peak kernel, all turns"
     )
+    ap.add_argument("--rounds", type=int, default=3, help="turns of peak runs and solves (3)")
     args = ap.parse_args()
     sizes = args.sizes or (QUICK_SIZES if args.quick else DEFAULT_SIZES)
     rows = run_benchmark(
@@ -46,6 +47,7 @@ def main() -> None:
         log=print,
         shared=args.shared,
         peak_seconds=args.peak_seconds,
+        rounds=args.rounds,
     )
     if args.json_out:
         with open(args.json_out, "w") as fh:

@@ -280,3 +280,16 @@ def test_bench_json_and_shared_cross_check(tmp_path: Path) -> None:
     (row,) = json.loads(out.stdout.strip().splitlines()[-1])
     assert row["agrees"] is True and row["shared_c_s"] >= 0 and row["shared_peak"] > 0
     assert row["fraction"] == pytest.approx(50**3 / 6 / row["optri_s"] / row["peak"])
+
+
+def test_bench_cli_rounds(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """--rounds windows of solves, each at least ceil(--repeats / --rounds) solves long."""
+    import json
+
+    monkeypatch.setenv("PATH", str(tmp_path))  # no compiler: no peak runs between windows
+    monkeypatch.delenv("CC", raising=False)
+    args = ["bench", "40", "--naive-max", "0", "--repeats", "4", "--rounds", "2"]
+    out = CliRunner().invoke(main, [*args, "--peak-seconds", "0", "--warmup", "0", "--json"])
+    assert out.exit_code == 0, out.output
+    (row,) = json.loads(out.stdout.strip().splitlines()[-1])
+    assert row["calls"] == 4 and row["peak"] is None  # 2 solves in each of 2 windows

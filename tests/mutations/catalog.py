@@ -1266,6 +1266,14 @@ MUTATIONS: list[Mutation] = [
         "the peak measured once, before the solves, instead of in turn with them",
     ),
     M(
+        "bench-cli-ignores-rounds",
+        "src/optri/cli/bench_cmd.py",
+        "        rounds=rounds,",
+        "        rounds=3,",
+        ("tests/test_bench.py", "-k", "cli_rounds"),
+        "optri bench --rounds N takes three turns whatever N is",
+    ),
+    M(
         "bench-best-window-only",
         "src/optri/bench/compare.py",
         '            times += got["times"]',

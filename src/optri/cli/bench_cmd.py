@@ -43,7 +43,14 @@ __all__ = ["bench"]
     "--peak-seconds",
     default=1.0,
     show_default=True,
-    help="Seconds each peak kernel runs per size, in three windows between the solves.",
+    help="Seconds each peak kernel runs per size, spread over the rounds.",
+)
+@click.option(
+    "--rounds",
+    default=3,
+    type=click.IntRange(min=1),
+    show_default=True,
+    help="Turns per size: a peak run, then a window of solves as long as one kernel's run.",
 )
 def bench(
     sizes: tuple[int, ...],
@@ -55,14 +62,15 @@ def bench(
     as_json: bool,
     shared: str | None,
     peak_seconds: float,
+    rounds: int,
 ) -> None:
     """Time method='fast', the C reference and the Python recursion on the same polygons.
 
     SIZES default to 500 1000 2000 4000. The C yardsticks ship with optri and are
     built with gcc (or cc) at run time; without a compiler their columns stay empty.
     "of peak" is (n^3/6 / optri's best seconds) / the best min-plus peak rate, the two
-    measured in turns over the same seconds: three peak runs, each followed by a window of
-    solves as long as each of its kernels ran.
+    measured in turns over the same seconds: --rounds peak runs, each followed by a window
+    of solves as long as each of its kernels ran.
     """
     chosen = sizes or ((100, 200, 500) if quick else (500, 1000, 2000, 4000))
     rows = run_benchmark(
@@ -74,6 +82,7 @@ def bench(
         log=click.echo if not as_json else lambda line: click.echo(line, err=True),
         shared=shared,
         peak_seconds=peak_seconds,
+        rounds=rounds,
     )
     if as_json:
         click.echo(json.dumps([r.to_dict() for r in rows]))
