@@ -289,7 +289,13 @@ def test_bench_cli_rounds(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> No
     monkeypatch.setenv("PATH", str(tmp_path))  # no compiler: no peak runs between windows
     monkeypatch.delenv("CC", raising=False)
     args = ["bench", "40", "--naive-max", "0", "--repeats", "4", "--rounds", "2"]
-    out = CliRunner().invoke(main, [*args, "--peak-seconds", "0", "--warmup", "0", "--json"])
+    out = CliRunner().invoke(main, [*args, "--peak-seconds", "1e-6", "--warmup", "0", "--json"])
     assert out.exit_code == 0, out.output
     (row,) = json.loads(out.stdout.strip().splitlines()[-1])
     assert row["calls"] == 4 and row["peak"] is None  # 2 solves in each of 2 windows
+
+
+@pytest.mark.parametrize("bad", ["0", "-1", "x"])
+def test_bench_cli_refuses_bad_peak_seconds(bad: str) -> None:
+    out = CliRunner().invoke(main, ["bench", "40", "--peak-seconds", bad])
+    assert out.exit_code == 2 and "--peak-seconds" in out.output

@@ -42,6 +42,7 @@ __all__ = ["bench"]
 @click.option(
     "--peak-seconds",
     default=1.0,
+    type=click.FloatRange(min=0, min_open=True),
     show_default=True,
     help="Seconds each peak kernel runs per size, spread over the rounds.",
 )
