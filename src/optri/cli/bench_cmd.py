@@ -30,7 +30,10 @@ __all__ = ["bench"]
     default=0.25,
     type=click.FloatRange(min=0),
     show_default=True,
-    help="Seconds of untimed runs first (at least one; 0: none), which pay for fresh memory.",
+    help=(
+        "Seconds of untimed solves before each window of timed ones (at least one; 0: none), "
+        "which pay for fresh memory."
+    ),
 )
 @click.option("--float32", is_flag=True, help="float32 table.")
 @click.option("--json", "as_json", is_flag=True, help="Print the rows as JSON.")
