@@ -158,14 +158,15 @@ def run_benchmark(
             f"load average {_load():.2f} (fraction of peak is noisy on a busy machine: "
             "compare figures from one run)"
         )
+        plan = _Plan(repeats, dtype, peak_seconds, warmup, max(1, rounds))
+        window = plan.peak_seconds / plan.rounds
         say(
-            f"optri s: the best solve of {rounds} windows of {peak_seconds / rounds:.2g} s, "
-            f"each right after a peak run of {peak_seconds / rounds:.2g} s a kernel"
+            f"optri s: the best solve of {plan.rounds} windows of {window:.2g} s, "
+            f"each right after a peak run of {window:.2g} s a kernel"
         )
         for n in sizes:
             csv = Path(tmp) / f"poly{n}.csv"
             csv.write_text("".join(f"{x!r},{y!r}\n" for x, y in convex_polygon(n, seed).tolist()))
-            plan = _Plan(repeats, dtype, peak_seconds, warmup, max(1, rounds))
             rows.append(_one_size(n, csv, ours, theirs, naive_max, plan))
             say(format_rows(rows[-1:], header=len(rows) == 1))
     return rows
@@ -305,7 +306,7 @@ class _Worker:
         try:
             self._read()  # ready: the kernels loaded
         except BaseException:
-            self.__exit__(EngineUnavailableError)
+            self._close(failed=True)
             raise
 
     def window(self, seconds: float, calls: int) -> dict[str, list[float]]:
@@ -329,13 +330,17 @@ class _Worker:
         return self
 
     def __exit__(self, *exc: object) -> None:
+        self._close(failed=exc[0] is not None)
+
+    def _close(self, failed: bool) -> None:
+        """End the process: after its summary (into ``result``), or killed on a failure."""
         assert self.proc.stdin is not None
         try:
             self.proc.stdin.close()  # end of the windows: the process reports its memory
-            if exc[0] is None:
+            if not failed:
                 self.result = self._read()
         finally:
-            if self.proc.poll() is None and exc[0] is not None:
+            if failed and self.proc.poll() is None:
                 self.proc.kill()
             self.proc.wait()
             if self.proc.stdout is not None:
