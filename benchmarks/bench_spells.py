@@ -1,32 +1,63 @@
-"""The machine's spells: method="fast" on two threads and on one, in turns, for a while.
+"""The machine's spells: method="fast" on two threads and on one, beside the state of the CPUs.
 
 Usage: python benchmarks/bench_spells.py [--n 1000] [--seconds 120] [--calls 20]
 
 Over ``--seconds``, takes turns between the best of ``--calls`` solves on every
-thread and the best of half as many on one thread, on the same polygon, and
-prints each pair with its ratio (two threads' time / one thread's). On a quiet
-machine the ratio holds near 0.5; where a virtual machine's CPU is taken away
-for a while, the two-thread solves, whose threads wait for each other's tiles,
-slow down while the one-thread ones do not. The summary counts the pairs whose
-two-thread time is over 1.2x the best seen. ``optri bench`` interleaves its
-solves with the peak runs for that reason (``docs/fast-engine.md``, "Why the
-solves and the peak take turns").
+thread, the best of half as many on one thread, on the same polygon, and (where a
+C compiler is found) two of optri's own yardsticks: ``crosscore.c``, the GB/s at
+which one CPU reads 4 MB another has just written, and a 0.1 s run of
+``minplus_peak.c`` on every CPU. Prints each turn, then the turns split by the
+cross-core rate: under ``SPELL_TRANSFER`` (0.6) of its best, or not.
+
+On the 2-core AMD EPYC of ``docs/fast-engine.md`` the cross-core rate is about 78
+GB/s, or, in spells of seconds to minutes, about 28 GB/s; in those spells, and only
+in them, the two-thread solves at n = 1000 took 6.0 ms instead of 4.8, while the
+one-thread solves and the peak, whose threads share nothing, kept their speed: the
+host then seemingly runs the two CPUs on cores that share no cache. ``optri bench``
+interleaves its solves with the peak runs, and probes the cross-core rate after each
+window, for that reason (``docs/fast-engine.md``, "Why the solves and the peak take
+turns").
 """
 
 from __future__ import annotations
 
 import argparse
 import statistics
+import subprocess
+import tempfile
 import time
+from pathlib import Path
 
 import numba
 
 from optri import triangulate
 from optri.bench import convex_polygon
+from optri.bench.compare import SPELL_TRANSFER
+from optri.bench.compiled import build, measure_transfer
 
 
 def best(pts: object, calls: int) -> float:
     return min(triangulate(pts, method="fast").seconds for _ in range(calls))
+
+
+def peak_rate(exe: Path | None) -> float | None:
+    if exe is None:
+        return None
+    out = subprocess.run([str(exe), "0.1"], capture_output=True, text=True)
+    return float(out.stdout.split()[1]) if out.returncode == 0 else None
+
+
+def summary(name: str, turns: list[tuple[float, float, float | None, float | None]]) -> str:
+    if not turns:
+        return f"{name}: no turns"
+    twos, ones = [t[0] for t in turns], [t[1] for t in turns]
+    peaks = [t[3] for t in turns if t[3] is not None]
+    line = (
+        f"{name}: {len(turns)} turns; {statistics.median(twos) * 1e3:.2f} ms on every thread "
+        f"(median; {min(twos) * 1e3:.2f}-{max(twos) * 1e3:.2f}), "
+        f"{statistics.median(ones) * 1e3:.2f} ms on one"
+    )
+    return line + (f"; peak {statistics.median(peaks):.3g} candidates/s" if peaks else "")
 
 
 def main() -> None:
@@ -38,28 +69,38 @@ def main() -> None:
     pts = convex_polygon(args.n)
     threads = numba.get_num_threads()
     best(pts, 20)  # load the kernels, warm the memory
-    pairs = []
-    print(f"n = {args.n}; best of {args.calls} on {threads} threads, of {args.calls // 2} on 1")
-    print(f"{'s':>5} {'threads ms':>10} {'one ms':>8} {'ratio':>6}")
-    start = time.perf_counter()
-    while time.perf_counter() - start < args.seconds:
-        at = time.perf_counter() - start
-        two = best(pts, args.calls)
-        numba.set_num_threads(1)
-        one = best(pts, max(1, args.calls // 2))
-        numba.set_num_threads(threads)
-        pairs.append((two, one))
-        print(f"{at:>5.0f} {two * 1e3:>10.2f} {one * 1e3:>8.2f} {two / one:>6.2f}", flush=True)
-    twos = [p[0] for p in pairs]
-    ones = [p[1] for p in pairs]
-    slow2 = sum(t > 1.2 * min(twos) for t in twos)
-    slow1 = sum(t > 1.2 * min(ones) for t in ones)
-    print(
-        f"{len(pairs)} pairs; {threads} threads: best {min(twos) * 1e3:.2f} ms, median "
-        f"{statistics.median(twos) * 1e3:.2f}, max {max(twos) * 1e3:.2f}, over 1.2x the best "
-        f"in {slow2}; one thread: best {min(ones) * 1e3:.2f} ms, median "
-        f"{statistics.median(ones) * 1e3:.2f}, max {max(ones) * 1e3:.2f}, over 1.2x in {slow1}"
-    )
+    turns: list[tuple[float, float, float | None, float | None]] = []
+    with tempfile.TemporaryDirectory(prefix="optri-spells-") as tmp:
+        built = build(Path(tmp))
+        if built.note:
+            print(f"bench_spells: {built.note}")
+        print(f"n = {args.n}; best of {args.calls} on {threads} threads, of {args.calls // 2} on 1")
+        head = f"{'s':>5} {'threads ms':>10} {'one ms':>8} {'ratio':>6}"
+        print(f"{head} {'xfer GB/s':>9} {'peak':>9}")
+        start = time.perf_counter()
+        while time.perf_counter() - start < args.seconds:
+            at = time.perf_counter() - start
+            xfer = measure_transfer(built.probe) if built.probe else None
+            two = best(pts, args.calls)
+            numba.set_num_threads(1)
+            one = best(pts, max(1, args.calls // 2))
+            numba.set_num_threads(threads)
+            peak = peak_rate(built.peak)
+            turns.append((two, one, xfer, peak))
+            x = "-" if xfer is None else f"{xfer:.1f}"
+            p = "-" if peak is None else f"{peak:.3g}"
+            print(
+                f"{at:>5.0f} {two * 1e3:>10.2f} {one * 1e3:>8.2f} {two / one:>6.2f} {x:>9} {p:>9}",
+                flush=True,
+            )
+    top = max((t[2] for t in turns if t[2] is not None), default=None)
+    if top is None:
+        print(summary("all", turns))
+        return
+    cut = SPELL_TRANSFER * top
+    print(f"cross-core rate: best {top:.1f} GB/s; a spell below {cut:.1f}")
+    print(summary("spells", [t for t in turns if t[2] is not None and t[2] < cut]))
+    print(summary("the rest", [t for t in turns if t[2] is None or t[2] >= cut]))
 
 
 if __name__ == "__main__":

@@ -19,7 +19,13 @@ from click.testing import CliRunner
 import optri
 from optri.bench import BenchRow, convex_polygon
 from optri.bench.compare import Solver, machine
-from optri.bench.compiled import YARDSTICKS, build, measure_peak, run_reference
+from optri.bench.compiled import (
+    YARDSTICKS,
+    build,
+    measure_peak,
+    measure_transfer,
+    run_reference,
+)
 from optri.bench.naive import min_perimeter
 from optri.cli import main
 
@@ -39,6 +45,7 @@ def built(tmp_path_factory: pytest.TempPathFactory):
         pytest.skip("gcc not installed")
     out = build(tmp_path_factory.mktemp("yardsticks"))
     assert out.note is None and out.ref is not None and out.peak is not None, out.note
+    assert out.probe is not None
     return out
 
 
@@ -110,7 +117,75 @@ def test_naive_recursion_equals_optri(k: int) -> None:
 
 
 def test_sources_ship_in_the_package() -> None:
-    assert sorted(p.name for p in YARDSTICKS.glob("*.c")) == ["minplus_peak.c", "ref_mwt.c"]
+    want = ["crosscore.c", "minplus_peak.c", "ref_mwt.c"]
+    assert sorted(p.name for p in YARDSTICKS.glob("*.c")) == want
+
+
+two_cpus = pytest.mark.skipif(
+    len(os.sched_getaffinity(0)) < 2, reason="the cross-core probe needs two CPUs"
+)
+
+
+@two_cpus
+def test_transfer_probe_reports_two_rates(built) -> None:
+    """crosscore: GB/s read across two CPUs and on one, the reader on another CPU."""
+    import subprocess
+
+    out = subprocess.run([str(built.probe), "1", "2"], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    cross, local, writer, reader = out.stdout.split()
+    assert float(cross) > 0 and float(local) > 0
+    cpus = sorted(os.sched_getaffinity(0))
+    assert (int(writer), int(reader)) == (cpus[0], cpus[1])  # pinned to the first two
+    assert measure_transfer(built.probe) is not None and measure_transfer(built.probe) > 0
+
+
+def test_transfer_probe_needs_two_cpus(built) -> None:
+    """On one CPU the probe says why and exits 1, and the report leaves the column empty."""
+    import subprocess
+
+    one = {min(os.sched_getaffinity(0))}
+    out = subprocess.run(
+        [str(built.probe)],
+        capture_output=True,
+        text=True,
+        preexec_fn=lambda: os.sched_setaffinity(0, one),
+    )
+    assert out.returncode == 1 and out.stdout == ""
+    assert out.stderr.strip() == "crosscore: this process may run on one CPU only"
+    bad = subprocess.run([str(built.probe), "0"], capture_output=True, text=True)
+    assert bad.returncode == 2 and "usage" in bad.stderr
+
+
+def test_a_shared_folder_without_the_probe_builds_without_it(built, tmp_path: Path) -> None:
+    other = tmp_path / "other"
+    other.mkdir()
+    for name in ("ref_mwt.c", "minplus_peak.c"):
+        shutil.copy(YARDSTICKS / name, other / name)
+    got = build(tmp_path / "out", other)
+    assert got.note is None and got.peak is not None and got.probe is None
+
+
+@pytest.mark.parametrize(
+    ("n", "transfer", "best", "spell"),
+    [
+        (1000, 28.0, 78.0, True),
+        (4000, 46.0, 78.0, True),  # just under 0.6 of the best
+        (1000, 47.0, 78.0, False),  # just over
+        (1000, 78.0, 78.0, False),
+        (500, 28.0, 78.0, False),  # one thread below FAST_PARALLEL_MIN_N: spells do not matter
+        (1000, None, 78.0, False),  # no probe
+        (1000, 28.0, None, False),
+    ],
+)
+def test_spell_note(n: int, transfer: float | None, best: float | None, spell: bool) -> None:
+    from optri.bench.compare import spell_note
+
+    row = BenchRow(n, 0.006, 0.006, None, None, 5e10, 1, 1, None, 0, transfer_gbs=transfer)
+    note = spell_note(row, best)
+    assert (note is not None) == spell
+    if note:
+        assert note.startswith(f"n = {n}: measured in a spell") and f"{transfer:.0f} GB/s" in note
 
 
 def test_fraction_of_peak_and_ratios() -> None:
@@ -205,18 +280,27 @@ def test_peak_runs_and_solves_take_turns(tmp_path: Path, monkeypatch: pytest.Mon
             times = next(windows)
             return {"times": times, "walls": [t + 1 for t in times]}
 
+    transfers = iter([70.0, 80.0, 30.0])
+
+    def probe(exe: Path) -> float:
+        events.append((exe.name, 0.0))
+        return next(transfers)
+
     monkeypatch.setattr(compare, "measure_peak", peak)
+    monkeypatch.setattr(compare, "measure_transfer", probe)
     monkeypatch.setattr(compare, "_Worker", Fake)
-    ours = compare.Built(None, tmp_path / "ours")
+    ours = compare.Built(None, tmp_path / "ours", probe=tmp_path / "probe")
     theirs = compare.Built(None, tmp_path / "theirs")
     plan = compare._Plan(repeats=4, dtype="float64", peak_seconds=0.75, warmup=0, rounds=3)
     row = compare._one_size(10, tmp_path / "p.csv", ours, theirs, 0, plan)
-    turn = [("ours", 0.25), ("theirs", 0.25), ("solve 2", 0.25)]
+    turn = [("ours", 0.25), ("theirs", 0.25), ("solve 2", 0.25), ("probe", 0.0)]
     assert events == [*turn, *turn, *turn, ("end", 0.0)]
     assert row.optri_s == 0.3 and row.wall_s == 1.3 and row.calls == 7
     assert row.first_s == 0.4  # the first window's first three calls
     assert row.peak == 4e9 and row.shared_peak == 5e9  # runs alternate: ours, theirs
     assert row.table_mb == 8.0 and row.c_s is None and row.agrees is None
+    # the probe right after the window of the best solve (the third), and the best probe
+    assert row.transfer_gbs == 30.0 and row.transfer_max_gbs == 80.0
 
 
 def test_a_failing_solver_process_is_a_clear_error(tmp_path: Path) -> None:

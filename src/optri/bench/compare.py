@@ -9,7 +9,11 @@ process (so its peak memory is its own). The peak microbenchmark
 each, a peak run then a window of solves as long as each of the peak's kernels
 ran, so that both are sampled across the same seconds of the machine. The
 fraction of peak is ``(n³/6 candidates / optri's best seconds) / the best peak
-rate``. Used by ``optri bench`` and ``benchmarks/bench_fast.py``; ``python -m
+rate``. After each window, ``yardsticks/crosscore.c`` measures how fast one CPU
+reads what another has just written: where that is slow beside a size's best
+solves, the report says the row was measured in one of the machine's spells, which
+slow optri's two threads (they read each other's tiles) and not the peak's (they
+share nothing). Used by ``optri bench`` and ``benchmarks/bench_fast.py``; ``python -m
 optri.bench`` runs the fresh-process worker (:func:`serve`).
 """
 
@@ -30,10 +34,11 @@ from typing import IO, Any
 
 import numpy as np
 
+from .. import config
 from ..errors import EngineUnavailableError
 from ..io.files import read_polygon
 from ..solve import triangulate
-from .compiled import Built, build, measure_peak, run_reference
+from .compiled import Built, build, measure_peak, measure_transfer, run_reference
 
 __all__ = [
     "BenchRow",
@@ -43,7 +48,13 @@ __all__ = [
     "machine",
     "run_benchmark",
     "serve",
+    "spell_note",
 ]
+
+#: A size's best solves count as measured in a spell where one CPU read another's
+#: writes at less than this fraction of the run's best rate (``crosscore.c``): on the
+#: EPYC of ``docs/fast-engine.md`` the rate is about 78 GB/s, or about 28 in a spell.
+SPELL_TRANSFER = 0.6
 
 
 @dataclass
@@ -56,7 +67,10 @@ class BenchRow:
     the best of the first window's first three calls (what a benchmark that
     times three calls in one place would report); ``agrees`` whether optri's
     weight equals the C reference's (relative difference at most 1e-9; None
-    without the C one).
+    without the C one). ``transfer_gbs`` is the GB/s at which one CPU read
+    what another had just written, measured right after the window of the best
+    solve, ``transfer_max_gbs`` the best of the size's windows (None without
+    ``crosscore.c``'s program, or on one CPU).
     """
 
     n: int
@@ -73,6 +87,8 @@ class BenchRow:
     shared_peak: float | None = None
     calls: int = 0
     first_s: float | None = None
+    transfer_gbs: float | None = None
+    transfer_max_gbs: float | None = None
 
     @property
     def fraction(self) -> float | None:
@@ -169,7 +185,40 @@ def run_benchmark(
             csv.write_text("".join(f"{x!r},{y!r}\n" for x, y in convex_polygon(n, seed).tolist()))
             rows.append(_one_size(n, csv, ours, theirs, naive_max, plan))
             say(format_rows(rows[-1:], header=len(rows) == 1))
+            seen = [r.transfer_max_gbs for r in rows if r.transfer_max_gbs is not None]
+            note = spell_note(rows[-1], max(seen, default=None))
+            if note:
+                say(note)
     return rows
+
+
+def spell_note(row: BenchRow, best_gbs: float | None) -> str | None:
+    """One line when ``row``'s best solves were measured in a spell of the machine.
+
+    A spell: one CPU read another's writes at less than :data:`SPELL_TRANSFER`
+    of ``best_gbs`` (the run's best) right after the window of the size's best
+    solve, at a size the engine solves on more than one thread. Its two threads
+    read each other's finished tiles and slow down; the peak's threads share
+    nothing and do not, so the fraction of peak reads low for the machine's
+    sake, not the engine's (``docs/fast-engine.md``). None otherwise.
+
+    >>> row = BenchRow(1000, 0.006, 0.006, None, None, 5e10, 1, 1, None, 0, transfer_gbs=28)
+    >>> spell_note(row, 78.0).startswith("n = 1000: measured in a spell")
+    True
+    >>> spell_note(row, 40.0) is None
+    True
+    """
+    if row.transfer_gbs is None or best_gbs is None or row.n < config.FAST_PARALLEL_MIN_N:
+        return None
+    if row.transfer_gbs >= SPELL_TRANSFER * best_gbs:
+        return None
+    return (
+        f"n = {row.n}: measured in a spell of this machine: one CPU read another's writes "
+        f"at {row.transfer_gbs:.0f} GB/s beside the best solves, {best_gbs:.0f} GB/s at best "
+        "in this run; optri's two threads, which read each other's tiles, slow down in "
+        "such spells and the peak does not, so the fraction of peak reads low "
+        "(docs/fast-engine.md)"
+    )
 
 
 @dataclass(frozen=True)
@@ -197,6 +246,8 @@ def _one_size(
     shared_peaks: list[float | None] = []
     times: list[float] = []
     walls: list[float] = []
+    bests: list[float] = []  # each window's best solve
+    transfers: list[float | None] = []  # the probe right after each window
     with _Worker(csv, plan.dtype, plan.warmup) as mine:
         for _ in range(plan.rounds):
             if ours.peak:
@@ -206,6 +257,9 @@ def _one_size(
             got = mine.window(window, each)
             times += got["times"]
             walls += got["walls"]
+            bests.append(min(got["times"]))
+            if ours.probe:
+                transfers.append(measure_transfer(ours.probe))
     done = mine.result
     agrees = None if c is None else abs(done["weight"] - c[0]) <= 1e-9 * abs(c[0])
     return BenchRow(
@@ -223,6 +277,8 @@ def _one_size(
         _best(shared_peaks),
         len(times),
         min(times[:3]),
+        transfers[bests.index(min(bests))] if transfers else None,
+        max((t for t in transfers if t is not None), default=None),
     )
 
 
@@ -240,7 +296,8 @@ def format_rows(rows: Sequence[BenchRow], header: bool = True) -> str:
     if header:
         lines.append(
             f"{'n':>6} {'optri s':>9} {'of peak':>7} {'C s':>9} {'optri/C':>7} {'naive s':>8} "
-            f"{'naive/optri':>11} {'peak MB':>8} {'+table MB':>9} {'load':>5} {'same':>5}"
+            f"{'naive/optri':>11} {'peak MB':>8} {'+table MB':>9} {'load':>5} {'calls':>5} "
+            f"{'xfer':>5} {'same':>5}"
             + (f" {'shared C s':>10} {'of shared peak':>14}" if shared else "")
         )
 
@@ -252,7 +309,8 @@ def format_rows(rows: Sequence[BenchRow], header: bool = True) -> str:
         lines.append(
             f"{r.n:>6} {r.optri_s:>9.4f} {f(r.fraction, '.1%'):>7} {f(r.c_s, '.4f'):>9} "
             f"{f(r.c_ratio, '.3f'):>7} {f(r.naive_s, '.3f'):>8} {f(r.naive_ratio, '.0f'):>11} "
-            f"{r.peak_mb:>8.1f} {r.table_mb:>9.1f} {r.load:>5.2f} {r.calls:>5} {f(r.agrees, ''):>5}"
+            f"{r.peak_mb:>8.1f} {r.table_mb:>9.1f} {r.load:>5.2f} {r.calls:>5} "
+            f"{f(r.transfer_gbs, '.0f'):>5} {f(r.agrees, ''):>5}"
             + (f" {f(r.shared_c_s, '.4f'):>10} {f(frac2, '.1%'):>14}" if shared else "")
         )
     return "\n".join(lines)

@@ -1,13 +1,15 @@
 """The C yardsticks shipped with optri: found, built with the system's C compiler, run.
 
-``optri/bench/yardsticks/`` holds two C programs written for this project:
-``ref_mwt.c``, the textbook O(n³) dynamic programme (one thread, untiled), and
+``optri/bench/yardsticks/`` holds three C programs written for this project:
+``ref_mwt.c``, the textbook O(n³) dynamic programme (one thread, untiled),
 ``minplus_peak.c``, the machine's min-plus ceiling (register-blocked, cache-resident
-64 × 64 tiles, every core). They are compiled at run time into a scratch folder
-(``gcc``, else ``cc``, else ``$CC``); without a compiler the benchmark still runs its
-Python parts and says once why the C columns are empty. A folder of other
+64 × 64 tiles, every core), and ``crosscore.c``, how fast one CPU reads what another
+has just written (the machine's state, which the peak cannot see). They are compiled
+at run time into a scratch folder (``gcc``, else ``cc``, else ``$CC``); without a
+compiler the benchmark still runs its Python parts and says once why the C columns
+are empty. A folder of other
 yardsticks with the same two file names and output formats (``--shared DIR``)
-is built the same way, as a cross-check.
+is built the same way, as a cross-check (``crosscore.c`` where it has one).
 """
 
 from __future__ import annotations
@@ -18,21 +20,33 @@ import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["YARDSTICKS", "Built", "build", "find_compiler", "measure_peak", "run_reference"]
+__all__ = [
+    "YARDSTICKS",
+    "Built",
+    "build",
+    "find_compiler",
+    "measure_peak",
+    "measure_transfer",
+    "run_reference",
+]
 
 #: The yardsticks' sources, inside the installed package.
 YARDSTICKS = Path(__file__).resolve().with_name("yardsticks")
-_REF, _PEAK = "ref_mwt.c", "minplus_peak.c"
+_REF, _PEAK, _PROBE = "ref_mwt.c", "minplus_peak.c", "crosscore.c"
 _FLAGS = ["-O3", "-march=native", "-ffast-math"]
 
 
 @dataclass(frozen=True)
 class Built:
-    """Paths of the built programs (None when not built) and why not, in one line."""
+    """Paths of the built programs (None when not built) and why not, in one line.
+
+    ``probe`` is ``crosscore.c``'s program, built where the folder has its source.
+    """
 
     ref: Path | None
     peak: Path | None
     note: str | None = None
+    probe: Path | None = None
 
 
 def find_compiler() -> str | None:
@@ -45,7 +59,7 @@ def find_compiler() -> str | None:
 
 
 def build(out: Path, source: Path = YARDSTICKS, cc: str | None = None) -> Built:
-    """Compile ``ref_mwt.c`` and ``minplus_peak.c`` of ``source`` into ``out``.
+    """Compile ``ref_mwt.c``, ``minplus_peak.c`` (and ``crosscore.c``) of ``source`` into ``out``.
 
     >>> import tempfile
     >>> with tempfile.TemporaryDirectory() as tmp:
@@ -67,7 +81,10 @@ def build(out: Path, source: Path = YARDSTICKS, cc: str | None = None) -> Built:
     peak = _compile(
         cc, source / _PEAK, out / "minplus_peak", [*_FLAGS, "-pthread", "-fopenmp"], notes
     )
-    return Built(ref, peak, "; ".join(notes) or None)
+    probe = None
+    if (source / _PROBE).is_file():
+        probe = _compile(cc, source / _PROBE, out / "crosscore", [*_FLAGS, "-pthread"], notes)
+    return Built(ref, peak, "; ".join(notes) or None, probe)
 
 
 def _compile(cc: str, src: Path, exe: Path, flags: list[str], notes: list[str]) -> Path | None:
@@ -108,3 +125,15 @@ def measure_peak(exe: Path, seconds: float = 1.0, runs: int = 3) -> float | None
             return None
         rates.append(float(out.stdout.split()[1]))
     return max(rates)
+
+
+def measure_transfer(exe: Path) -> float | None:
+    """GB/s at which one CPU reads 4 MB that another has just written (``crosscore.c``).
+
+    The best of five rounds of a few milliseconds each. None where the program
+    cannot measure it: one CPU only (it exits with status 1 and says so).
+    """
+    out = subprocess.run([str(exe)], capture_output=True, text=True)
+    if out.returncode != 0:
+        return None
+    return float(out.stdout.split()[0])

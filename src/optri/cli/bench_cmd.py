@@ -74,7 +74,11 @@ def bench(
     built with gcc (or cc) at run time; without a compiler their columns stay empty.
     "of peak" is (n^3/6 / optri's best seconds) / the best min-plus peak rate, the two
     measured in turns over the same seconds: --rounds peak runs, each followed by a window
-    of solves as long as each of its kernels ran.
+    of solves as long as each of its kernels ran. "calls" counts the timed solves; "xfer"
+    is the GB/s at which one CPU read what another had just written, right after the
+    window of the best solve: where it is well below the run's best, a note says the
+    row was measured in a spell of the machine, which slows optri's two threads and not
+    the peak's.
     """
     chosen = sizes or ((100, 200, 500) if quick else (500, 1000, 2000, 4000))
     rows = run_benchmark(
