@@ -10,10 +10,11 @@ which one CPU reads 4 MB another has just written, and a 0.1 s run of
 cross-core rate: under ``SPELL_TRANSFER`` (0.6) of its best, or not.
 
 On the 2-core AMD EPYC of ``docs/fast-engine.md`` the cross-core rate is about 78
-GB/s, or, in spells of seconds to minutes, about 28 GB/s; in those spells, and only
-in them, the two-thread solves at n = 1000 took 6.0 ms instead of 4.8, while the
-one-thread solves and the peak, whose threads share nothing, kept their speed: the
-host then seemingly runs the two CPUs on cores that share no cache. ``optri bench``
+GB/s, or, in spells of seconds to minutes, about 28 GB/s. In those spells the
+two-thread solves at n = 1000 took 6.0 ms instead of 4.8, while the one-thread solves
+and the peak, whose threads share nothing, kept their speed: the host then seemingly
+runs the two CPUs on cores that share no cache. (Turns in which all three slow down
+are other work on the host, which the peak sees too.) ``optri bench``
 interleaves its solves with the peak runs, and probes the cross-core rate after each
 window, for that reason (``docs/fast-engine.md``, "Why the solves and the peak take
 turns").
