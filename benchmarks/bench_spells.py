@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import statistics
-import subprocess
 import tempfile
 import time
 from pathlib import Path
@@ -34,18 +33,11 @@ import numba
 from optri import triangulate
 from optri.bench import convex_polygon
 from optri.bench.compare import SPELL_TRANSFER
-from optri.bench.compiled import build, measure_transfer
+from optri.bench.compiled import build, measure_peak, measure_transfer
 
 
 def best(pts: object, calls: int) -> float:
     return min(triangulate(pts, method="fast").seconds for _ in range(calls))
-
-
-def peak_rate(exe: Path | None) -> float | None:
-    if exe is None:
-        return None
-    out = subprocess.run([str(exe), "0.1"], capture_output=True, text=True)
-    return float(out.stdout.split()[1]) if out.returncode == 0 else None
 
 
 def summary(name: str, turns: list[tuple[float, float, float | None, float | None]]) -> str:
@@ -86,7 +78,7 @@ def main() -> None:
             numba.set_num_threads(1)
             one = best(pts, max(1, args.calls // 2))
             numba.set_num_threads(threads)
-            peak = peak_rate(built.peak)
+            peak = measure_peak(built.peak, 0.1, runs=1) if built.peak else None
             turns.append((two, one, xfer, peak))
             x = "-" if xfer is None else f"{xfer:.1f}"
             p = "-" if peak is None else f"{peak:.3g}"

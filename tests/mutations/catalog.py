@@ -1252,8 +1252,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "bench-solves-in-short-windows",
         "src/optri/bench/compare.py",
-        "got = mine.window(window, each)",
-        "got = mine.window(0.0, each)",
+        "got = mine.window(plan.window, plan.calls)",
+        "got = mine.window(0.0, plan.calls)",
         ("tests/test_bench.py", "-k", "take_turns"),
         "optri's solves sampled over less time than each peak kernel, the spells not evened out",
     ),

@@ -175,10 +175,9 @@ def run_benchmark(
             "compare figures from one run)"
         )
         plan = _Plan(repeats, dtype, peak_seconds, warmup, max(1, rounds))
-        window = plan.peak_seconds / plan.rounds
         say(
-            f"optri s: the best solve of {plan.rounds} windows of {window:.2g} s, "
-            f"each right after a peak run of {window:.2g} s a kernel"
+            f"optri s: the best solve of {plan.rounds} windows of {plan.window:.2g} s, "
+            f"each right after a peak run of {plan.window:.2g} s a kernel"
         )
         for n in sizes:
             csv = Path(tmp) / f"poly{n}.csv"
@@ -231,6 +230,16 @@ class _Plan:
     warmup: float
     rounds: int
 
+    @property
+    def window(self) -> float:
+        """Seconds of each peak run (a kernel) and of each window of solves."""
+        return self.peak_seconds / self.rounds
+
+    @property
+    def calls(self) -> int:
+        """Timed solves a window at least: ``ceil(repeats / rounds)``."""
+        return -(-self.repeats // self.rounds)
+
 
 def _one_size(
     n: int, csv: Path, ours: Built, theirs: Built | None, naive_max: int, plan: _Plan
@@ -240,8 +249,6 @@ def _one_size(
     naive = None
     if n <= naive_max:
         naive = _seconds([sys.executable, "-m", "optri.bench.naive", str(csv)])
-    window = plan.peak_seconds / plan.rounds
-    each = -(-plan.repeats // plan.rounds)  # calls a window at least
     peaks: list[float | None] = []
     shared_peaks: list[float | None] = []
     times: list[float] = []
@@ -251,10 +258,10 @@ def _one_size(
     with _Worker(csv, plan.dtype, plan.warmup) as mine:
         for _ in range(plan.rounds):
             if ours.peak:
-                peaks.append(measure_peak(ours.peak, window, runs=1))
+                peaks.append(measure_peak(ours.peak, plan.window, runs=1))
             if theirs and theirs.peak:
-                shared_peaks.append(measure_peak(theirs.peak, window, runs=1))
-            got = mine.window(window, each)
+                shared_peaks.append(measure_peak(theirs.peak, plan.window, runs=1))
+            got = mine.window(plan.window, plan.calls)
             times += got["times"]
             walls += got["walls"]
             bests.append(min(got["times"]))
