@@ -15,6 +15,7 @@ import argparse
 import json
 
 from optri.bench import run_benchmark
+from optri.errors import InvalidParameterError
 
 DEFAULT_SIZES = (500, 1000, 2000, 4000)
 QUICK_SIZES = (100, 200, 500)
@@ -39,16 +40,19 @@ def main() -> None:
     ap.add_argument("--rounds", type=int, default=3, help="turns of peak runs and solves (3)")
     args = ap.parse_args()
     sizes = args.sizes or (QUICK_SIZES if args.quick else DEFAULT_SIZES)
-    rows = run_benchmark(
-        sizes,
-        naive_max=args.naive_max,
-        repeats=args.repeats,
-        dtype="float32" if args.float32 else "float64",
-        log=print,
-        shared=args.shared,
-        peak_seconds=args.peak_seconds,
-        rounds=args.rounds,
-    )
+    try:
+        rows = run_benchmark(
+            sizes,
+            naive_max=args.naive_max,
+            repeats=args.repeats,
+            dtype="float32" if args.float32 else "float64",
+            log=print,
+            shared=args.shared,
+            peak_seconds=args.peak_seconds,
+            rounds=args.rounds,
+        )
+    except InvalidParameterError as exc:  # e.g. --rounds 0: one line and status 2
+        ap.error(str(exc))
     if args.json_out:
         with open(args.json_out, "w") as fh:
             json.dump([r.to_dict() for r in rows], fh, indent=1)

@@ -387,3 +387,50 @@ def test_bench_cli_rounds(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> No
 def test_bench_cli_refuses_bad_peak_seconds(bad: str) -> None:
     out = CliRunner().invoke(main, ["bench", "40", "--peak-seconds", bad])
     assert out.exit_code == 2 and "--peak-seconds" in out.output
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "says"),
+    [
+        ({"peak_seconds": 0}, "peak_seconds must be a positive number of seconds, got 0"),
+        ({"peak_seconds": None}, "peak_seconds must be a positive number of seconds"),
+        ({"warmup": -0.5}, "warmup must be 0 or a positive number of seconds, got -0.5"),
+        ({"rounds": 0}, "rounds must be at least 1, got 0"),
+        ({"repeats": 0}, "repeats must be at least 1, got 0"),
+        ({"naive_max": -1}, "naive_max must be at least 0, got -1"),
+        ({"sizes": [40, 2]}, "each size must be at least 3, got 2"),
+        ({"dtype": "float16"}, "unknown dtype 'float16'"),
+    ],
+)
+def test_run_benchmark_refuses_bad_parameters_before_any_work(
+    monkeypatch: pytest.MonkeyPatch, kwargs: dict[str, object], says: str
+) -> None:
+    """A peak of 0 s used to leave the fraction of peak empty without a word; now refused."""
+    from optri.bench import compare
+    from optri.errors import InvalidParameterError
+
+    def no_build(*_args: object, **_kwargs: object) -> None:
+        raise AssertionError("built the yardsticks before checking the parameters")
+
+    monkeypatch.setattr(compare, "build", no_build)
+    given = {"sizes": [40], **kwargs}
+    with pytest.raises(InvalidParameterError, match=says.replace("(", r"\(")):
+        compare.run_benchmark(**given)  # type: ignore[arg-type]
+
+
+def test_bench_fast_script_refuses_bad_rounds() -> None:
+    """``benchmarks/bench_fast.py --rounds 0`` says why and exits 2 (it used to clamp to 1)."""
+    import subprocess
+    import sys
+
+    script = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_fast.py"
+    done = subprocess.run(
+        [sys.executable, str(script), "40", "--rounds", "0"], capture_output=True, text=True
+    )
+    assert done.returncode == 2, done.stderr
+    assert "rounds must be at least 1, got 0" in done.stderr and "Traceback" not in done.stderr
+
+
+def test_bench_cli_refuses_negative_naive_max() -> None:
+    out = CliRunner().invoke(main, ["bench", "40", "--naive-max", "-1"])
+    assert out.exit_code == 2 and "--naive-max" in out.output

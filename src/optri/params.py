@@ -20,7 +20,7 @@ import math
 import numbers
 import random
 from collections.abc import Callable
-from typing import Any
+from typing import Any, Literal, overload
 
 import numpy as np
 
@@ -63,21 +63,41 @@ def check_count(value: Any, name: str, minimum: int = 1, maximum: int | None = N
     return value
 
 
-def check_seconds(value: Any, name: str) -> float | None:
-    """None, or a positive finite number of seconds as a float.
+@overload
+def check_seconds(
+    value: Any, name: str, allow_none: Literal[False], allow_zero: bool = False
+) -> float: ...
+
+
+@overload
+def check_seconds(
+    value: Any, name: str, allow_none: bool = True, allow_zero: bool = False
+) -> float | None: ...
+
+
+def check_seconds(
+    value: Any, name: str, allow_none: bool = True, allow_zero: bool = False
+) -> float | None:
+    """None (where allowed), or a positive finite number of seconds as a float.
+
+    ``allow_zero``: 0 is accepted as well.
 
     >>> check_seconds(-1, "time_limit")
     Traceback (most recent call last):
     ...
     optri.errors.InvalidParameterError: time_limit must be a positive number of seconds, got -1
+    >>> check_seconds(0, "warmup", allow_none=False, allow_zero=True)
+    0.0
     """
-    if value is None:
+    if value is None and allow_none:
         return None
+    what = "0 or a positive number" if allow_zero else "a positive number"
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise ParameterTypeError(f"{name} must be a number of seconds or None, got {_shown(value)}")
+        alone = f"{what} of seconds" if not allow_none else "a number of seconds or None"
+        raise ParameterTypeError(f"{name} must be {alone}, got {_shown(value)}")
     seconds = float(value)
-    if not (math.isfinite(seconds) and seconds > 0):
-        raise InvalidParameterError(f"{name} must be a positive number of seconds, got {value}")
+    if not (math.isfinite(seconds) and (seconds > 0 or (allow_zero and seconds == 0))):
+        raise InvalidParameterError(f"{name} must be {what} of seconds, got {value}")
     return seconds
 
 

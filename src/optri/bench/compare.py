@@ -37,6 +37,7 @@ import numpy as np
 from .. import config
 from ..errors import EngineUnavailableError
 from ..io.files import read_polygon
+from ..params import check_choice, check_count, check_seconds
 from ..solve import triangulate
 from .compiled import Built, build, measure_peak, measure_transfer, run_reference
 
@@ -152,6 +153,12 @@ def run_benchmark(
     as ``../shared/bench``) to build and run as well, as a cross-check. ``cc``:
     the C compiler (default: found on the ``PATH``).
 
+    Raises :class:`~optri.errors.InvalidParameterError` before any work where a
+    size is below 3, ``repeats`` or ``rounds`` below 1, ``naive_max`` or
+    ``warmup`` negative, ``peak_seconds`` not positive (the peak programme
+    would not run, and the fraction of peak would be left out without a word)
+    or ``dtype`` neither ``"float64"`` nor ``"float32"``.
+
     Examples
     --------
     >>> rows = run_benchmark([40], naive_max=0, repeats=1, peak_seconds=0.03, warmup=0)
@@ -159,6 +166,15 @@ def run_benchmark(
     (40, True, True)
     """
     say = log or (lambda _line: None)
+    sizes = [check_count(n, "each size", minimum=3) for n in sizes]
+    naive_max = check_count(naive_max, "naive_max", minimum=0)
+    plan = _Plan(
+        check_count(repeats, "repeats"),
+        check_choice(dtype, "dtype", ("float64", "float32")),
+        check_seconds(peak_seconds, "peak_seconds", allow_none=False),
+        check_seconds(warmup, "warmup", allow_none=False, allow_zero=True),
+        check_count(rounds, "rounds"),
+    )
     rows = []
     with tempfile.TemporaryDirectory(prefix="optri-bench-") as tmp:
         ours = build(Path(tmp) / "ours", cc=cc)
@@ -174,7 +190,6 @@ def run_benchmark(
             f"load average {_load():.2f} (fraction of peak is noisy on a busy machine: "
             "compare figures from one run)"
         )
-        plan = _Plan(repeats, dtype, peak_seconds, warmup, max(1, rounds))
         say(
             f"optri s: the best solve of {plan.rounds} windows of {plan.window:.2g} s, "
             f"each right after a peak run of {plan.window:.2g} s a kernel"

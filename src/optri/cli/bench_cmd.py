@@ -16,7 +16,11 @@ __all__ = ["bench"]
 @click.argument("sizes", nargs=-1, type=click.IntRange(min=3))
 @click.option("--quick", is_flag=True, help="Small sizes only (100 200 500).")
 @click.option(
-    "--naive-max", default=500, show_default=True, help="Largest n for the plain-Python recursion."
+    "--naive-max",
+    default=500,
+    type=click.IntRange(min=0),
+    show_default=True,
+    help="Largest n for the plain-Python recursion.",
 )
 @click.option(
     "--repeats",
