@@ -385,3 +385,35 @@ def test_trace_reads_the_upper_half_splits(n: int) -> None:
             want = -1 if np.isinf(sums.min()) else i + 1 + int(np.argmin(sums))
             assert _jit_kernels.minplus_split(T, i, j, False) == want, (i, j)
             assert _jit_kernels.minplus_split(M, i, j, True) == want, (i, j)
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_tile_edges_claims_the_tile_lines_and_changes_nothing(dtype: type) -> None:
+    """With the table, ``tile_edges`` asks for the tile's lines to be written, nothing more.
+
+    The claims are prefetches for writing (``claim_at``): the same edge weights,
+    the table untouched, and on an x86-64 CPU with ``prfchw`` the compiled
+    kernel holds ``prefetchw`` instructions, which it lacks without the table.
+    """
+    from optri.engines._minplus import tile_edges
+
+    pts = np.asfortranarray(convex_polygon(70, 2))
+    T = np.random.default_rng(3).uniform(0, 1, (70, 70)).astype(dtype)
+    before = T.copy()
+    for i0, i1, j0, j1, above in [(0, 16, 0, 16, 0), (16, 32, 48, 70, 16), (32, 48, 50, 70, 0)]:
+        plain, claimed = np.full((16, 22), -1.0), np.full((16, 22), -1.0)
+        tile_edges(plain, pts, 0, i0, i1, j0, j1)
+        tile_edges(claimed, pts, 0, i0, i1, j0, j1, T, above)
+        assert plain.tobytes() == claimed.tobytes()
+    assert T.tobytes() == before.tobytes()
+    import llvmlite.binding as ll
+
+    if ll.get_process_triple().startswith("x86_64") and ll.get_host_cpu_features().get("prfchw"):
+        fresh = numba.njit(fastmath=FASTMATH)(tile_edges.py_func)  # the cached one hides its code
+        fresh(plain, pts, 0, 0, 16, 0, 16)
+        fresh(plain, pts, 0, 0, 16, 0, 16, T, 0)
+        asm = {
+            isinstance(sig[7], numba.types.Array): fresh.inspect_asm(sig)
+            for sig in fresh.signatures
+        }
+        assert "prefetchw" in asm[True] and "prefetchw" not in asm[False]

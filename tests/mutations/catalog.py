@@ -1338,6 +1338,15 @@ MUTATIONS: list[Mutation] = [
         "0 s accepted where only a positive number of seconds makes sense",
     ),
     M(
+        "claim-reads-not-writes",
+        "src/optri/engines/_llvm.py",
+        "[ptr, ir.Constant(i32, 1), ir.Constant(i32, 3), ir.Constant(i32, 1)]",
+        "[ptr, ir.Constant(i32, 0), ir.Constant(i32, 3), ir.Constant(i32, 1)]",
+        ("tests/test_minplus_kernels.py", "-k", "claims"),
+        "the tile's lines prefetched for reading: the other CPU's copies stay, and the "
+        "first stores still wait for their invalidation",
+    ),
+    M(
         "tile-edges-skip-the-sides",
         "src/optri/engines/_minplus.py",
         "b = max(j0, i + 1)",
