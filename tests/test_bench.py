@@ -161,6 +161,32 @@ def test_transfer_probe_needs_two_cpus(built) -> None:
     assert bad.returncode == 2 and "usage" in bad.stderr
 
 
+@pytest.mark.skipif(not _cpus(), reason="no CPU affinity to narrow on this system")
+def test_rewrite_probe_prints_two_costs_and_refuses(built) -> None:
+    """``crosscore rewrite``: ns a line for stores after the other CPU read, and alone.
+
+    It backs docs/fast-engine.md's account of the spells (and ``claim_at``'s).
+    """
+    import subprocess
+
+    bad = subprocess.run([str(built.probe), "rewrite", "0"], capture_output=True, text=True)
+    assert bad.returncode == 2 and "usage" in bad.stderr
+    one = {_cpus()[0]}
+    alone = subprocess.run(
+        [str(built.probe), "rewrite", "4"],
+        capture_output=True,
+        text=True,
+        preexec_fn=lambda: os.sched_setaffinity(0, one),
+    )
+    assert alone.returncode == 1 and alone.stdout == ""
+    assert alone.stderr.strip() == "crosscore: this process may run on one CPU only"
+    if len(_cpus()) >= 2:
+        out = subprocess.run([str(built.probe), "rewrite", "4"], capture_output=True, text=True)
+        assert out.returncode == 0, out.stderr
+        shared, own = map(float, out.stdout.split())
+        assert shared > 0 and own > 0
+
+
 def test_a_shared_folder_without_the_probe_builds_without_it(built, tmp_path: Path) -> None:
     other = tmp_path / "other"
     other.mkdir()

@@ -8,7 +8,6 @@ and no setuptools deprecation warning while building.
 from __future__ import annotations
 
 import importlib
-import os
 import re
 import shutil
 import subprocess
@@ -235,30 +234,3 @@ def test_bench_parts_runs_against_the_engines_kernels(monkeypatch):
     parts = bench_parts.profile(150, 1)
     assert list(parts) == ["whole", "edge weights", "far products", "near splits"]
     assert all(0 < seconds < 60 for seconds in parts.values())
-
-
-@pytest.mark.skipif(
-    shutil.which("gcc") is None or not sys.platform.startswith("linux"),
-    reason="gcc on Linux (CPU affinity) needed",
-)
-def test_rewrite_shared_probe_builds_runs_and_refuses(tmp_path):
-    # benchmarks/rewrite_shared.c backs docs/fast-engine.md's account of the spells;
-    # it must build with the flags its header gives, print two costs and refuse cleanly
-    exe = tmp_path / "rewrite_shared"
-    src = REPO / "benchmarks" / "rewrite_shared.c"
-    build = ["gcc", "-O2", "-Wall", "-Wextra", "-Werror", "-pthread", str(src), "-o", str(exe)]
-    subprocess.run(build, check=True, capture_output=True)
-    bad = subprocess.run([str(exe), "0"], capture_output=True, text=True)
-    assert bad.returncode == 2 and "usage" in bad.stderr
-    cpus = sorted(os.sched_getaffinity(0))
-    alone = subprocess.run(
-        [str(exe), "4"],
-        capture_output=True,
-        text=True,
-        preexec_fn=lambda: os.sched_setaffinity(0, cpus[:1]),
-    )
-    assert alone.returncode == 1 and "needs two CPUs" in alone.stderr
-    if len(cpus) >= 2:
-        out = subprocess.run([str(exe), "4"], capture_output=True, text=True, check=True)
-        shared, own = map(float, out.stdout.split())
-        assert shared > 0 and own > 0

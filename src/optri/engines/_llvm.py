@@ -495,7 +495,7 @@ def claim_at(typingctx, arr, i, j):
     it and nothing changes but timing. On the EPYC of ``docs/fast-engine.md``, in
     its spells, the first store to a line the other CPU had read cost 12.7 ns a
     line in a sweep, against 3.6 outside them and 0.6 for a line no other CPU
-    had read (``benchmarks/rewrite_shared.c``, 64 KB): the fill rewrites lines both
+    had read (``crosscore.c rewrite``, 64 KB): the fill rewrites lines both
     threads read in the solve before.
     """
     if not _c_table(arr):
