@@ -529,13 +529,12 @@ def tile_edges(W, pts, code, i0, i1, j0, j1, T=None, above=0):
     (medians of 291-1,931 turns in alternating processes).
     """
     for i in range(i0, i1):
+        if T is not None and above > 0:
+            _claim_row(T, i - above, j0, j1)
         b = max(j0, i + 1)
-        if T is not None:
-            if b < j1:
-                _claim_row(T, i, b, j1)
-            if above > 0:
-                _claim_row(T, i - above, j0, j1)
         if b < j1:
+            if T is not None:
+                _claim_row(T, i, b, j1)
             edge_weight_row(code, pts, i, b, W[i - i0, b - j0 : j1 - j0])
 
 
@@ -575,6 +574,7 @@ def _tile(T, pts, code, W, P, mask, tile, ti, tj, done, nt):
     i0, i1 = ti * tile, min(n, ti * tile + tile)
     j0, j1 = tj * tile, min(n, tj * tile + tile)
     d = tj - ti
+    # the lower tile of a pair applies the shared far splits to the tile above's rows too
     above = tile if mask is None and ti >= 1 and _below_shares(d + 1) else 0
     tile_edges(W, pts, code, i0, i1, j0, j1, T, above)
     ew = (W, i0, j0)
@@ -590,7 +590,7 @@ def _tile(T, pts, code, W, P, mask, tile, ti, tj, done, nt):
         _far(T, P, _ROWS, i0, i1, j0, j1, j0 - tile, j0)
         wait_done(done, (ti + 1) * nt + tj)
         _far(T, P, _ROWS, i0, i1, j0, j1, i1, i1 + tile)
-    elif ti >= 1 and _below_shares(d + 1):  # also the shared far splits of the tile above
+    elif above > 0:  # also the shared far splits of the tile above
         _fill_inf(T, i0 - tile, i1, j0, j1)
         wait_done(done, (ti - 1) * nt + tj - 2)
         _far(T, P, _ROWS, i0 - tile, i1, j0, j1, i1, j0 - tile)
