@@ -14,12 +14,16 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import optri
+from cli_run import checkout_env
 from optri import config
 from optri.bench.compare import convex_polygon
 
@@ -417,3 +421,40 @@ def test_tile_edges_claims_the_tile_lines_and_changes_nothing(dtype: type) -> No
             for sig in fresh.signatures
         }
         assert "prefetchw" in asm[True] and "prefetchw" not in asm[False]
+
+
+_FRESH_TILE = """
+import sys
+import numpy as np
+from optri.engines import _minplus as M
+
+n, tile = 70, 16
+nt = (n + tile - 1) // tile
+T = np.zeros((n, n))
+W, P = np.empty((tile, tile)), np.empty((M._STRIP, 16))
+done = np.ones(nt * nt, dtype=np.int64)
+pts = np.asfortranarray(np.random.default_rng(1).uniform(0, 1, (n, 2)))
+M._tile(T, pts, 0, W, P, None, tile, 0, 1, done, nt)
+print(M._tile.inspect_asm(M._tile.signatures[0]).count("prefetchw"))
+"""
+
+
+def test_the_fill_claims_its_tile_lines(tmp_path) -> None:
+    """A tile's compiled code holds the claims of ``tile_edges``: the fill really makes them.
+
+    The cached kernels hide their code, so a fresh process compiles ``_tile``
+    (and what it calls) into an empty cache directory, about 11 s here. Without
+    the table passed on to ``tile_edges``, the code holds no ``prefetchw``.
+    """
+    import llvmlite.binding as ll
+
+    if not (
+        ll.get_process_triple().startswith("x86_64") and ll.get_host_cpu_features().get("prfchw")
+    ):
+        pytest.skip("prefetch for writing is an x86-64 instruction (prfchw)")
+    env = checkout_env(NUMBA_CACHE_DIR=str(tmp_path / "cache"))  # fresh: numba must compile
+    got = subprocess.run(
+        [sys.executable, "-c", _FRESH_TILE], capture_output=True, text=True, env=env, timeout=600
+    )
+    assert got.returncode == 0, got.stderr
+    assert int(got.stdout) > 0

@@ -1347,6 +1347,14 @@ MUTATIONS: list[Mutation] = [
         "first stores still wait for their invalidation",
     ),
     M(
+        "tile-claims-nothing",
+        "src/optri/engines/_minplus.py",
+        "tile_edges(W, pts, code, i0, i1, j0, j1, T, above)",
+        "tile_edges(W, pts, code, i0, i1, j0, j1)",
+        (MINPLUS, "-k", "fill_claims"),
+        "the fill computes its edge weights without the table: no tile claims its lines",
+    ),
+    M(
         "tile-edges-skip-the-sides",
         "src/optri/engines/_minplus.py",
         "b = max(j0, i + 1)",
