@@ -1,6 +1,6 @@
 """The machine's spells: method="fast" on two threads and on one, beside the state of the CPUs.
 
-Usage: python benchmarks/bench_spells.py [--n 1000] [--seconds 120] [--calls 20]
+Usage: python benchmarks/bench_spells.py [--n 1000] [--seconds 120] [--calls 20] [--base REV]
 
 Over ``--seconds``, takes turns between the best of ``--calls`` solves on every
 thread, the best of half as many on one thread, on the same polygon, and (where a
@@ -18,12 +18,24 @@ are other work on the host, which the peak sees too.) ``optri bench``
 interleaves its solves with the peak runs, and probes the cross-core rate after each
 window, for that reason (``docs/fast-engine.md``, "Why the solves and the peak take
 turns").
+
+With ``--base REV`` it compares two versions instead: this checkout and the
+package at git revision ``REV`` (``git archive``, as in ``bench_exact.py``), each in
+a child process of its own that loads its kernels once (its own numba cache) and
+then answers turns: the probe, then that version's best of ``--calls`` solves on
+every thread, the two versions one after the other. The summary gives each
+version's median best solve in spells and outside them, so a change is judged in
+both states, on the same polygon and in the same minutes.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+import os
 import statistics
+import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -34,6 +46,21 @@ from optri import triangulate
 from optri.bench import convex_polygon
 from optri.bench.compare import SPELL_TRANSFER
 from optri.bench.compiled import build, measure_peak, measure_transfer
+
+#: a version's child: loads its kernels, prints the weight, then per line "CALLS" the best
+CHILD = r"""
+import json, sys
+import optri
+from optri.bench.compare import convex_polygon
+
+pts = convex_polygon(int(sys.argv[1]))
+weight = optri.triangulate(pts, method="fast").weight
+for _ in range(10):
+    optri.triangulate(pts, method="fast")
+print(json.dumps(weight), flush=True)
+for line in sys.stdin:
+    print(min(optri.triangulate(pts, method="fast").seconds for _ in range(int(line))), flush=True)
+"""
 
 
 def best(pts: object, calls: int) -> float:
@@ -53,12 +80,67 @@ def summary(name: str, turns: list[tuple[float, float, float | None, float | Non
     return line + (f"; peak {statistics.median(peaks):.3g} candidates/s" if peaks else "")
 
 
+def by_state(turns: list[tuple[float, float]], cut: float) -> str:
+    """Median best solve (ms) of the turns in spells and outside them, with their counts."""
+
+    def med(v: list[float]) -> str:
+        return f"{statistics.median(v) * 1e3:.3f} ms ({len(v)} turns)" if v else "-"
+
+    spells = [t for t, x in turns if x < cut]
+    rest = [t for t, x in turns if x >= cut]
+    return f"spells {med(spells)}, outside {med(rest)}"
+
+
+def compare(args: argparse.Namespace) -> None:
+    """Turns of this checkout against ``args.base``, each tagged by the cross-core rate."""
+    from bench_exact import ROOT, export
+
+    with tempfile.TemporaryDirectory(prefix="optri-spells-") as tmp:
+        built = build(Path(tmp))
+        if built.probe is None:
+            raise SystemExit(f"bench_spells: --base needs the cross-core probe ({built.note})")
+        versions = {args.base: export(args.base, Path(tmp)), "checkout": ROOT / "src"}
+        children = {}
+        for name, src in versions.items():
+            cache = Path(tmp) / f"cache-{len(children)}"
+            env = dict(os.environ, PYTHONPATH=str(src), NUMBA_CACHE_DIR=str(cache))
+            children[name] = subprocess.Popen(
+                [sys.executable, "-c", CHILD, str(args.n)],
+                stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, env=env,
+            )  # fmt: skip
+        weights = {name: json.loads(c.stdout.readline()) for name, c in children.items()}
+        if len(set(weights.values())) != 1:
+            raise SystemExit(f"bench_spells: the versions' weights differ: {weights}")
+        print(f"n = {args.n}; best of {args.calls} on every thread; weight {weights[args.base]}")
+        turns: dict[str, list[tuple[float, float]]] = {name: [] for name in children}
+        start = time.perf_counter()
+        while time.perf_counter() - start < args.seconds:
+            for name, child in children.items():
+                xfer = measure_transfer(built.probe)
+                child.stdin.write(f"{args.calls}\n")  # type: ignore[union-attr]
+                child.stdin.flush()  # type: ignore[union-attr]
+                best_s = float(child.stdout.readline())  # type: ignore[union-attr]
+                turns[name].append((best_s, xfer if xfer is not None else 0.0))
+        for child in children.values():
+            child.stdin.close()  # type: ignore[union-attr]
+            child.wait()
+    top = max(x for name in turns for _, x in turns[name])
+    cut = SPELL_TRANSFER * top
+    print(f"cross-core rate: best {top:.1f} GB/s; a spell below {cut:.1f}")
+    for name, tt in turns.items():
+        print(f"{name}: {by_state(tt, cut)}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--n", type=int, default=1000, help="polygon size (default 1000)")
     ap.add_argument("--seconds", type=float, default=120.0, help="how long (default 120)")
     ap.add_argument("--calls", type=int, default=20, help="solves per two-thread best (20)")
+    ap.add_argument("--base", help="compare this checkout with the package at git revision REV")
     args = ap.parse_args()
+    if args.base:
+        compare(args)
+        return
     pts = convex_polygon(args.n)
     threads = numba.get_num_threads()
     best(pts, 20)  # load the kernels, warm the memory
