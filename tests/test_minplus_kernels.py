@@ -37,8 +37,8 @@ from optri.engines._minplus import tile_flags as _flags  # noqa: E402
 SHAPES = [(4, 4), (4, 8), (4, 16), (8, 16)]
 
 
-def _block_runner(rows: int, cols: int):  # type: ignore[no-untyped-def]
-    block = _llvm._outer(rows, cols)
+def _block_runner(rows: int, cols: int, fresh: bool = False):  # type: ignore[no-untyped-def]
+    block = _llvm._outer(rows, cols, fresh=fresh)
 
     @numba.njit(fastmath=FASTMATH)
     def run(T, i, j, k0, kn):  # type: ignore[no-untyped-def]
@@ -55,6 +55,24 @@ def _table(rng: np.random.Generator, n: int, dtype: type) -> np.ndarray:
     return T.astype(dtype)
 
 
+def _block_want(T, ci, cj, A, ai, ak, B, bk, bj, kn, shape, fresh):  # type: ignore[no-untyped-def]
+    """What a register block leaves in ``T``: numpy's minimum of the same sums.
+
+    ``fresh``: the block's cells start from +inf, so whatever they held is gone
+    (+inf where there are no splits).
+    """
+    rows, cols = shape
+    want = T.copy()
+    block = want[ci : ci + rows, cj : cj + cols]
+    start = np.full_like(block, np.inf) if fresh else block
+    if kn:
+        sums = A[ai : ai + rows, ak : ak + kn, None] + B[None, bk : bk + kn, bj : bj + cols]
+        start = np.minimum(start, sums.min(axis=1))
+    want[ci : ci + rows, cj : cj + cols] = start
+    return want
+
+
+@pytest.mark.parametrize("fresh", [False, True])
 @pytest.mark.parametrize("vector_bytes", [32, 64])
 @pytest.mark.parametrize("as_int", [True, False])
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
@@ -65,19 +83,16 @@ def test_register_block_equals_numpy(
     dtype: type,
     as_int: bool,
     vector_bytes: int,
+    fresh: bool,
 ) -> None:
+    # fresh: the far products' first block of splits, which writes its cells unread
     monkeypatch.setattr(_llvm, "register_plan", lambda itemsize: (vector_bytes, as_int))
     rows, cols = shape
-    run = _block_runner(rows, cols)
+    run = _block_runner(rows, cols, fresh)
     rng = np.random.default_rng(rows * cols)
     for i, j, k0, kn in [(0, 40, 10, 30), (3, 33, 7, 1), (10, 50, 20, 0), (5, 44, 9, 25)]:
         T = _table(rng, 70, dtype)
-        want = T.copy()
-        a = T[i : i + rows, k0 : k0 + kn]  # A[r, t]
-        b = T[k0 : k0 + kn, j : j + cols]  # B[t, q]
-        if kn:
-            sums = (a[:, :, None] + b[None, :, :]).min(axis=1)
-            want[i : i + rows, j : j + cols] = np.minimum(want[i : i + rows, j : j + cols], sums)
+        want = _block_want(T, i, j, T, i, k0, T, k0, j, kn, shape, fresh)
         run(T, i, j, k0, kn)
         assert np.array_equal(T, want), (i, j, k0, kn)
 
@@ -90,16 +105,27 @@ def _compact(C, ci, cj, A, ai, ak, B, bk, bj, kn):  # type: ignore[no-untyped-de
     _llvm.outer_4x16_compact(C, ci, cj, A, ai, ak, B, bk, bj, kn)
 
 
+_compact_fresh_block = _llvm._outer(4, 16, compact=True, fresh=True)
+
+
+@numba.njit(fastmath=FASTMATH)
+def _compact_fresh(C, ci, cj, A, ai, ak, B, bk, bj, kn):  # type: ignore[no-untyped-def]
+    _compact_fresh_block(C, ci, cj, A, ai, ak, B, bk, bj, kn)
+
+
 @needs_avx512vl
+@pytest.mark.parametrize("fresh", [False, True])
 @pytest.mark.parametrize("packed", [False, True])
-def test_compact_block_equals_numpy(packed: bool) -> None:
+def test_compact_block_equals_numpy(packed: bool, fresh: bool) -> None:
     """The 4 x 16 block as inline assembly: the same cells as numpy's minimum of the sums.
 
     Random places in tables of random sizes, ``B`` read from the table itself (the near
     products, where the block's cells, its ``A`` rows and its ``B`` rows share one
     array) or from a packed 16-column buffer (the far products), 0 to 40 splits; only
-    the block's 64 cells may change.
+    the block's 64 cells may change. ``fresh``: the cells start from +inf, not from
+    the table (+inf with no splits).
     """
+    block = _compact_fresh if fresh else _compact
     rng = np.random.default_rng(7 + packed)
     for _ in range(60):
         n = int(rng.integers(24, 200))
@@ -110,12 +136,10 @@ def test_compact_block_equals_numpy(packed: bool) -> None:
         P = _table(rng, kn + 16, np.float64)[: kn + 3, :16].copy() if packed else T
         bk = int(rng.integers(0, len(P) - kn + 1))
         bj = 0 if packed else int(rng.integers(0, n - 15))
-        want = T.copy()
-        if kn:
-            sums = T[ai : ai + 4, ak : ak + kn, None] + P[None, bk : bk + kn, bj : bj + 16]
-            block = want[ci : ci + 4, cj : cj + 16]
-            want[ci : ci + 4, cj : cj + 16] = np.minimum(block, sums.min(axis=1))
-        _compact(T, ci, cj, T, ai, ak, P, bk, bj, kn)
+        if rng.random() < 0.15:
+            kn = 0  # no splits: only a fresh block writes (+inf)
+        want = _block_want(T, ci, cj, T, ai, ak, P, bk, bj, kn, (4, 16), fresh)
+        block(T, ci, cj, T, ai, ak, P, bk, bj, kn)
         assert np.array_equal(T, want), (n, ci, cj, ai, ak, bk, bj, kn)
 
 
@@ -252,11 +276,13 @@ def test_every_cell_equals_the_python_table(
         assert abs(a.weight - b.weight) <= 1e-9 * abs(b.weight)
 
 
+@pytest.mark.parametrize("fresh", [False, True])
 @pytest.mark.parametrize("rows", [4, 8])
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
-def test_far_product_equals_numpy(rows: int, dtype: type) -> None:
+def test_far_product_equals_numpy(rows: int, dtype: type, fresh: bool) -> None:
     # the far product packs B from the table's rows above the diagonal: rows and columns
-    # past whole blocks and strips, and more than one block of splits (> _KBLOCK)
+    # past whole blocks and strips, and more than one block of splits (> _KBLOCK);
+    # fresh (a tile's first far product), the cells' old values take no part
     from optri.engines import _minplus
 
     rng = np.random.default_rng(rows)
@@ -265,12 +291,14 @@ def test_far_product_equals_numpy(rows: int, dtype: type) -> None:
     ia, ib, ja, jb = 5, 30, 380, 417
     k0, k1 = ib, ja
     assert k1 - k0 > _minplus._KBLOCK and (ib - ia) % rows and (jb - ja) % 16
+    if fresh:  # old values far below any sum: a cell that kept one shows it
+        T[ia:ib, ja:jb] = np.where(rng.random((ib - ia, jb - ja)) < 0.5, 0.0, -1.0)
     want = T.copy()
     a, b = T[ia:ib, k0:k1], T[k0:k1, ja:jb]
     sums = (a[:, :, None] + b[None, :, :]).min(axis=1)
-    want[ia:ib, ja:jb] = np.minimum(want[ia:ib, ja:jb], sums)
+    want[ia:ib, ja:jb] = sums if fresh else np.minimum(want[ia:ib, ja:jb], sums)
     P = np.full((_minplus._STRIP * 128 // 16, 16), np.nan, dtype=dtype)
-    _minplus._far(T, P, rows, ia, ib, ja, jb, k0, k1)
+    _minplus._far(T, P, rows, ia, ib, ja, jb, k0, k1, fresh)
     assert np.array_equal(T, want, equal_nan=True)
 
 

@@ -46,7 +46,9 @@ __all__ = [
     "outer_4x8",
     "outer_4x16",
     "outer_4x16_compact",
+    "outer_4x16_fresh",
     "outer_8x16",
+    "outer_8x16_fresh",
     "register_plan",
     "store_at",
     "store_release",
@@ -166,7 +168,7 @@ def describe_plan(itemsize: int = 8) -> str:
     return f"{block}, {'integer' if as_int else 'float'} minimum (LLVM CPU {_cpu()[0]})"
 
 
-def _outer(rows: int, cols: int, compact: bool = False):  # type: ignore[no-untyped-def]
+def _outer(rows: int, cols: int, compact: bool = False, fresh: bool = False):  # type: ignore[no-untyped-def]
     """An intrinsic ``outer(C, ci, cj, A, ai, ak, B, bk, bj, kn)``: one register block.
 
     On C-contiguous 2-D tables (``C``, ``A`` and ``B`` may be one array), for
@@ -177,6 +179,10 @@ def _outer(rows: int, cols: int, compact: bool = False):  # type: ignore[no-unty
     Every candidate is the same single addition as in any other order, and
     the minimum is exact, so the result does not depend on the order of
     evaluation.
+
+    ``fresh``: the block starts from +inf instead of from ``C``, which it then
+    only writes: the cells' first stores need not wait for their lines to be
+    read (or taken from another CPU) before the block's work.
     """
 
     @intrinsic
@@ -201,7 +207,7 @@ def _outer(rows: int, cols: int, compact: bool = False):  # type: ignore[no-unty
             vector_bytes, as_int = register_plan(size)
             if compact or _compact_here(rows, cols, size, (vector_bytes, as_int)):
                 tables = (c_data, c_ld), (a_data, a_ld), (b_data, b_ld)
-                _compact_4x16(builder, *tables, (ci, cj, ai, ak, bk, bj, kn))
+                _compact_4x16(builder, *tables, (ci, cj, ai, ak, bk, bj, kn), fresh)
                 return context.get_dummy_value()
             lanes = max(1, min(cols, vector_bytes // size))
             vty = ir.VectorType(elt, lanes)
@@ -226,11 +232,13 @@ def _outer(rows: int, cols: int, compact: bool = False):  # type: ignore[no-unty
             c_rows = [builder.add(ci, const(r)) for r in range(rows)]
             a_rows = [builder.add(ai, const(r)) for r in range(rows)]
             slots = []
+            inf = builder.bitcast(ir.Constant(vty, [float("inf")] * lanes), mty)
             for r in range(rows):
                 for v in range(vecs):
                     slot = cgutils.alloca_once(builder, mty)  # promoted to a register
                     ptr = vec_at(c_data, c_ld, c_rows[r], cj, v)
-                    builder.store(builder.bitcast(builder.load(ptr, align=size), mty), slot)
+                    start = inf if fresh else builder.load(ptr, align=size)
+                    builder.store(builder.bitcast(start, mty), slot)
                     slots.append(slot)
             undef = ir.Constant(vty, ir.Undefined)
             splat = ir.Constant(ir.VectorType(ir.IntType(32), lanes), [0] * lanes)
@@ -325,11 +333,12 @@ def _compact_text() -> str:
     return "\n".join(lines)
 
 
-def _compact_4x16(builder, c, a, b, places):  # type: ignore[no-untyped-def]
+def _compact_4x16(builder, c, a, b, places, fresh=False):  # type: ignore[no-untyped-def]
     """``_outer(4, 16)``'s block as the compact loop.
 
     ``c``, ``a``, ``b``: each table's data pointer and row length; ``places``:
-    ``_outer``'s ``(ci, cj, ai, ak, bk, bj, kn)``.
+    ``_outer``'s ``(ci, cj, ai, ak, bk, bj, kn)``; ``fresh``: start from +inf, not
+    from ``C``.
     """
     (c_data, c_ld), (a_data, a_ld), (b_data, b_ld) = c, a, b
     ci, cj, ai, ak, bk, bj, kn = places
@@ -346,8 +355,13 @@ def _compact_4x16(builder, c, a, b, places):  # type: ignore[no-untyped-def]
         for v in range(4):
             p = _cell(builder, c_data, c_ld, row, builder.add(cj, const(4 * v)))
             cells.append(builder.bitcast(p, vty.as_pointer()))
+    inf = ir.Constant(vty, [float("inf")] * 4)
+    if fresh:  # no splits: the block is +inf
+        with builder.if_then(builder.icmp_signed("<=", kn, const(0))):
+            for p in cells:
+                builder.store(inf, p, align=8)
     with builder.if_then(builder.icmp_signed(">", kn, const(0))):
-        acc = [builder.load(p, align=8) for p in cells]
+        acc = [inf] * 16 if fresh else [builder.load(p, align=8) for p in cells]
         rows = [_cell(builder, a_data, a_ld, builder.add(ai, const(r)), ak) for r in range(4)]
         brow = _cell(builder, b_data, b_ld, bk, bj)
         count = builder.mul(kn, const(-8))
@@ -521,6 +535,9 @@ outer_4x16_compact = _outer(4, 16, compact=True)  # always the compact loop (AVX
 outer_4x8 = _outer(4, 8)
 outer_4x4 = _outer(4, 4)
 outer_8x16 = _outer(8, 16)  # the far product's block where vectors are 64 bytes wide
+# the far products' first blocks of splits, which write a tile's cells without reading them
+outer_4x16_fresh = _outer(4, 16, fresh=True)
+outer_8x16_fresh = _outer(8, 16, fresh=True)
 
 
 def _item_pointer(context, builder, signature, args):  # type: ignore[no-untyped-def]

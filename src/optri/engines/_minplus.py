@@ -53,7 +53,9 @@ from ._llvm import (
     outer_4x4,
     outer_4x8,
     outer_4x16,
+    outer_4x16_fresh,
     outer_8x16,
+    outer_8x16_fresh,
     store_at,
     store_release,
     transpose_8x8,
@@ -192,7 +194,7 @@ def _product4(T, mask, ia, ib, ja, jb, k0, k1):
 
 
 @kernel(fastmath=FASTMATH, _nrt=False)
-def _far(T, P, rows, ia, ib, ja, jb, k0, k1):
+def _far(T, P, rows, ia, ib, ja, jb, k0, k1, fresh=False):
     """``_product`` of a tile's far splits, or of a large near product, from packed rows.
 
     No chord mask. For each block of ``_KBLOCK`` splits, the rows
@@ -208,19 +210,34 @@ def _far(T, P, rows, ia, ib, ja, jb, k0, k1):
     The candidates are the same sums, so the result is the same, bit for bit.
     ``P`` holds ``_STRIP`` rows for each of a tile's whole strips, enough for
     any near product of the tile, whose columns are at most the tile's.
+
+    ``fresh`` (with ``k0 < k1``): the cells start from +inf, not from the table,
+    whose values are not read: the first block of splits writes the whole
+    strips without loading them (``outer_4x16_fresh``), and only the cells
+    beyond them are set to +inf first. A tile's first far product so needs no
+    pass of its own that sets the tile to +inf, whose stores, one cache line
+    after another, each waited for the line to be taken from the other CPU.
     """
     jf = ja + (jb - ja) // 16 * 16
     i_f = ia + (ib - ia) // rows * rows
+    if fresh:
+        _fill_inf(T, ia, ib, jf, jb)
+        _fill_inf(T, i_f, ib, ja, jf)
     for kb in range(k0, k1, _KBLOCK):
         kn = min(k1, kb + _KBLOCK) - kb
         for t in range(kn):  # row kb + t of B, whole strips, into each strip's run
             for s in range((jf - ja) // 16):
                 copy_8(T, kb + t, ja + 16 * s, P, s * _STRIP + t, 0)
                 copy_8(T, kb + t, ja + 16 * s + 8, P, s * _STRIP + t, 8)
+        first = fresh and kb == k0
         for i in range(ia, i_f, rows):
             for s in range((jf - ja) // 16):
-                if rows == 8:
+                if rows == 8 and first:
+                    outer_8x16_fresh(T, i, ja + 16 * s, T, i, kb, P, s * _STRIP, 0, kn)
+                elif rows == 8:
                     outer_8x16(T, i, ja + 16 * s, T, i, kb, P, s * _STRIP, 0, kn)
+                elif first:
+                    outer_4x16_fresh(T, i, ja + 16 * s, T, i, kb, P, s * _STRIP, 0, kn)
                 else:
                     outer_4x16(T, i, ja + 16 * s, T, i, kb, P, s * _STRIP, 0, kn)
     _product(T, None, rows, ia, ib, jf, jb, k0, k1)
@@ -591,14 +608,14 @@ def _tile(T, pts, code, W, P, mask, tile, ti, tj, done, nt):
         wait_done(done, (ti + 1) * nt + tj)
         _far(T, P, _ROWS, i0, i1, j0, j1, i1, i1 + tile)
     elif above > 0:  # also the shared far splits of the tile above
-        _fill_inf(T, i0 - tile, i1, j0, j1)
         wait_done(done, (ti - 1) * nt + tj - 2)
-        _far(T, P, _ROWS, i0 - tile, i1, j0, j1, i1, j0 - tile)
+        _far(T, P, _ROWS, i0 - tile, i1, j0, j1, i1, j0 - tile, True)
         store_release(done, tj * nt + ti - 1, 1)  # the tile above may start
         _far(T, P, _ROWS, i0, i1, j0, j1, j0 - tile, j0)
-    else:
+    elif d > 1:
+        _far(T, P, _ROWS, i0, i1, j0, j1, i1, j0, True)
+    else:  # next to the diagonal: near splits only
         _fill_inf(T, i0, i1, j0, j1)
-        _far(T, P, _ROWS, i0, i1, j0, j1, i1, j0)
     if d > 0:
         _square(T, ew, mask, P, i0, i1, j0, j1)
 
