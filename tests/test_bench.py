@@ -460,3 +460,25 @@ def test_bench_fast_script_refuses_bad_rounds() -> None:
 def test_bench_cli_refuses_negative_naive_max() -> None:
     out = CliRunner().invoke(main, ["bench", "40", "--naive-max", "-1"])
     assert out.exit_code == 2 and "--naive-max" in out.output
+
+
+def test_a_spell_before_the_usual_rate_is_noted_after_the_last_size(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A run that starts in a spell notes its rows once a later size shows the usual rate."""
+    from optri.bench import compare
+
+    rates = {1000: 34.0, 2000: 31.0, 4000: 78.0, 8000: 29.0}
+
+    def one_size(n, *_args):  # type: ignore[no-untyped-def]
+        x = rates[n]
+        return BenchRow(n, 0.006, 0.006, None, None, 5e10, 1, 1, None, 0, None, None, 3, None, x, x)
+
+    monkeypatch.setattr(compare, "build", lambda *_a, **_k: compare.Built(None, None, None, None))
+    monkeypatch.setattr(compare, "_one_size", one_size)
+    lines: list[str] = []
+    compare.run_benchmark(list(rates), naive_max=0, log=lines.append)
+    notes = [line for line in lines if "measured in a spell" in line]
+    # 8000 as it comes (78 seen before it); 1000 and 2000 after the last size, in order
+    assert [note.split(":")[0] for note in notes] == ["n = 8000", "n = 1000", "n = 2000"]
+    assert lines[-2:] == notes[1:] and all("78 GB/s at best" in note for note in notes)

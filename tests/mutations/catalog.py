@@ -1306,6 +1306,22 @@ MUTATIONS: list[Mutation] = [
         "any cross-core rate below the run's best read as a spell",
     ),
     M(
+        "bench-no-late-spell-notes",
+        "src/optri/bench/compare.py",
+        "note = None if k in noted else spell_note(row, _best_transfer(rows))",
+        "note = None",
+        ("tests/test_bench.py", "-k", "spell"),
+        "a row measured in a spell before the run saw the usual rate is never noted",
+    ),
+    M(
+        "bench-late-spell-notes-twice",
+        "src/optri/bench/compare.py",
+        "note = None if k in noted else spell_note(row, _best_transfer(rows))",
+        "note = spell_note(row, _best_transfer(rows))",
+        ("tests/test_bench.py", "-k", "spell"),
+        "a row noted as it came is noted again after the last size",
+    ),
+    M(
         "crosscore-reads-on-one-cpu",
         "src/optri/bench/yardsticks/crosscore.c",
         "theirs = only(reader_cpu)",
