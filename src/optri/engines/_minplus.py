@@ -213,10 +213,11 @@ def _far(T, P, rows, ia, ib, ja, jb, k0, k1, fresh=False):
 
     ``fresh`` (with ``k0 < k1``): the cells start from +inf, not from the table,
     whose values are not read: the first block of splits writes the whole
-    strips without loading them (``outer_4x16_fresh``), and only the cells
-    beyond them are set to +inf first. A tile's first far product so needs no
-    pass of its own that sets the tile to +inf, whose stores, one cache line
-    after another, each waited for the line to be taken from the other CPU.
+    strips without loading them (``outer_4x16_fresh``, ``outer_8x16_fresh``),
+    and only the cells beyond them are set to +inf first. A tile's first far
+    product so needs no pass of its own that sets the tile to +inf, whose
+    stores, one cache line after another, each waited for the line to be taken
+    from the other CPU.
     """
     jf = ja + (jb - ja) // 16 * 16
     i_f = ia + (ib - ia) // rows * rows
