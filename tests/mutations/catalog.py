@@ -1308,7 +1308,7 @@ MUTATIONS: list[Mutation] = [
     M(
         "bench-no-late-spell-notes",
         "src/optri/bench/compare.py",
-        "note = None if k in noted else spell_note(row, _best_transfer(rows))",
+        "note = None if k in noted else spell_note(row, best_gbs)",
         "note = None",
         ("tests/test_bench.py", "-k", "spell"),
         "a row measured in a spell before the run saw the usual rate is never noted",
@@ -1316,8 +1316,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "bench-late-spell-notes-twice",
         "src/optri/bench/compare.py",
-        "note = None if k in noted else spell_note(row, _best_transfer(rows))",
-        "note = spell_note(row, _best_transfer(rows))",
+        "note = None if k in noted else spell_note(row, best_gbs)",
+        "note = spell_note(row, best_gbs)",
         ("tests/test_bench.py", "-k", "spell"),
         "a row noted as it came is noted again after the last size",
     ),

@@ -205,8 +205,9 @@ def run_benchmark(
                 noted.add(len(rows) - 1)
                 say(note)
         # a row measured in a spell before the run had seen the machine's usual rate
+        best_gbs = _best_transfer(rows)
         for k, row in enumerate(rows):
-            note = None if k in noted else spell_note(row, _best_transfer(rows))
+            note = None if k in noted else spell_note(row, best_gbs)
             if note:
                 say(note)
     return rows
