@@ -12,7 +12,7 @@ BASE   := $(VENV)/.installed-base
 STAMP  := $(VENV)/.installed
 OUT    := demo-output
 
-.PHONY: demo test lint bench clean browser docs
+.PHONY: demo test lint bench clean browser docs core
 
 $(BASE): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -56,6 +56,13 @@ bench: $(STAMP)
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks examples docs
 	$(BIN)/mypy src/optri
+
+# the compiled core built in place (src/optri/_core*.so), for working on the C++ with
+# PYTHONPATH=src and no reinstall; `pip install -e .` builds it into the virtualenv instead
+core: $(STAMP)
+	cmake -S . -B build/dev -G Ninja -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(CURDIR)/$(BIN)/python
+	cmake --build build/dev
+	cp build/dev/_core*.so src/optri/
 
 clean:
 	rm -rf $(VENV) $(OUT) .numba-cache .pytest_cache docs/_build docs/api docs/auto_gallery \

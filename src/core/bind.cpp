@@ -1,0 +1,10 @@
+// One line a part: a part's bind_<part> adds its functions to optri._core.
+#include "bind.hpp"
+
+namespace optri {
+
+void bind_all(nanobind::module_& m) {
+    (void)m;
+}
+
+}  // namespace optri

@@ -1,0 +1,10 @@
+// The parts of the core, each bound by a function defined beside its code.
+#pragma once
+
+#include <nanobind/nanobind.h>
+
+namespace optri {
+
+void bind_all(nanobind::module_& m);
+
+}  // namespace optri
