@@ -3,8 +3,10 @@
 #               plot it, and reproduce the paper's tables into demo-output/
 #   make test   set up .venv, lint (ruff, mypy), run the whole test suite, build the docs
 #   make docs   build the documentation site into docs/_build/html (warnings are errors)
-# make demo installs the package alone (numpy, numba, matplotlib, click, rich); make test
-# and make docs add the dev extra (tests, linters, docs toolchain, every optional feature).
+# make demo installs the package alone (numpy, matplotlib, click, rich) and builds its
+# compiled core; make test and make docs add the dev extra (tests, linters, docs toolchain,
+# every optional feature). The checkout is used from src/ (a path file in .venv, the core
+# built in place as src/optri/_core*.so), so PYTHONPATH=src always means this checkout.
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
@@ -14,17 +16,38 @@ OUT    := demo-output
 
 .PHONY: demo test lint bench clean browser docs core
 
+CORE   := src/optri/.core-built
+CORE_SOURCES := CMakeLists.txt $(shell find src/core -name '*.cpp' -o -name '*.hpp' 2>/dev/null)
+
+# pip install -e . brings the dependencies and proves the package builds; its import hook
+# is then replaced by a plain path file to src/ (the hook would shadow PYTHONPATH)
 $(BASE): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e .
+	$(BIN)/python -m pip install --quiet "nanobind>=2.4" "cmake>=3.18" ninja
+	$(BIN)/python -c "import pathlib, shutil, site; sp = pathlib.Path(site.getsitepackages()[0]); \
+	  [p.unlink() for p in sp.glob('_editable_skbc_optri.*')]; \
+	  shutil.rmtree(sp / 'optri', ignore_errors=True); \
+	  (sp / 'optri-src.pth').write_text('$(CURDIR)/src\n')"
 	touch $(BASE)
+
+# the compiled core, rebuilt in place when a C++ source changes
+$(CORE): $(BASE) $(CORE_SOURCES)
+	$(BIN)/cmake -S . -B build/dev -G Ninja -DCMAKE_MAKE_PROGRAM=$(CURDIR)/$(BIN)/ninja \
+	  -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(CURDIR)/$(BIN)/python >/dev/null
+	$(BIN)/cmake --build build/dev
+	cp build/dev/_core*.so src/optri/
+	touch $(CORE)
 
 $(STAMP): $(BASE)
 	$(BIN)/python -m pip install --quiet -e ".[dev]"
+	$(BIN)/python -c "import pathlib, shutil, site; sp = pathlib.Path(site.getsitepackages()[0]); \
+	  [p.unlink() for p in sp.glob('_editable_skbc_optri.*')]; \
+	  shutil.rmtree(sp / 'optri', ignore_errors=True)"
 	touch $(STAMP)
 
-demo: $(BASE)
+demo: $(CORE)
 	mkdir -p $(OUT)
 	$(BIN)/optri solve examples/octagon.csv --method memo --table --plot $(OUT)/octagon.png
 	$(BIN)/optri chain 30 35 15 5 10 20 25
@@ -37,7 +60,7 @@ browser:
 	  { apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q chromium; } || \
 	  echo "chromium could not be installed: the browser tests will skip"
 
-test: $(STAMP) browser
+test: $(STAMP) $(CORE) browser
 	$(BIN)/ruff check src tests benchmarks examples docs
 	$(BIN)/mypy src/optri
 	$(MAKE) --no-print-directory docs
@@ -45,25 +68,20 @@ test: $(STAMP) browser
 
 # the site: topic pages (docs/*.md), the API reference from the docstrings, the gallery
 # (examples/plot_*.py run now); shares make test's kernel cache, so it compiles nothing twice
-docs: $(STAMP)
+docs: $(STAMP) $(CORE)
 	NUMBA_CACHE_DIR=$(CURDIR)/.numba-cache MPLBACKEND=Agg \
 	  $(BIN)/python -m sphinx -W --keep-going -q -b html docs docs/_build/html
 	@echo "documentation: docs/_build/html/index.html"
 
-bench: $(STAMP)
+bench: $(STAMP) $(CORE)
 	NUMBA_CACHE_DIR=$(CURDIR)/.numba-cache $(BIN)/python benchmarks/bench_fast.py
 
-lint: $(STAMP)
+lint: $(STAMP) $(CORE)
 	$(BIN)/ruff check src tests benchmarks examples docs
 	$(BIN)/mypy src/optri
 
-# the compiled core built in place (src/optri/_core*.so), for working on the C++ with
-# PYTHONPATH=src and no reinstall; `pip install -e .` builds it into the virtualenv instead
-core: $(STAMP)
-	cmake -S . -B build/dev -G Ninja -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(CURDIR)/$(BIN)/python
-	cmake --build build/dev
-	cp build/dev/_core*.so src/optri/
+core: $(CORE)
 
 clean:
-	rm -rf $(VENV) $(OUT) .numba-cache .pytest_cache docs/_build docs/api docs/auto_gallery \
+	rm -rf $(VENV) $(OUT) build src/optri/_core*.so $(CORE) .numba-cache .pytest_cache docs/_build docs/api docs/auto_gallery \
 	  docs/sg_execution_times.rst
