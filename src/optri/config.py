@@ -41,8 +41,9 @@ NAIVE_MAX_N = 12
 #: :func:`optri.trace` keeps every event (about 4 C(n, 3) of them for memo: 1.1 million at
 #: 120); it refuses larger polygons.
 TRACE_MAX_N = 120
-#: The explorer page (``optri explore``) embeds its traces (about 20 bytes an event, 2 MB
-#: at 40) and redraws the n x n table each step; it refuses larger polygons.
+#: The explorer page (``optri explore``, notebook reprs of a trace) embeds the C(n, 3)
+#: triangle weights and reruns the DP in the browser; it refuses larger polygons, whose
+#: table no longer fits a screen.
 EXPLORE_MAX_N = 40
 #: ``Trace.animate`` draws each frame with matplotlib (about 0.1 s each); it refuses more.
 ANIMATE_MAX_FRAMES = 1500
