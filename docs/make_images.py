@@ -90,7 +90,12 @@ def screenshots() -> None:
         page.evaluate("window.optri.goTo(40000)")
         page.screenshot(path=str(OUT / "explorer_n40.png"))
         browser.close()
-    for name in ("explorer_step.png", "explorer_end.png", "explorer_predict.png", "explorer_n40.png"):
+    for name in (
+        "explorer_step.png",
+        "explorer_end.png",
+        "explorer_predict.png",
+        "explorer_n40.png",
+    ):
         _shrink(OUT / name)
 
 

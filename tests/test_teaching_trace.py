@@ -222,4 +222,10 @@ def test_recording_changes_nothing():
 
 def test_repr_names_the_counts():
     r = repr(trace([5, 1, 5, 1, 5], "product"))
-    assert "calls=21" in r and "sides=12" in r and "hits=3" in r and "candidates=10" in r and "stores=6" in r
+    assert (
+        "calls=21" in r
+        and "sides=12" in r
+        and "hits=3" in r
+        and "candidates=10" in r
+        and "stores=6" in r
+    )
