@@ -165,7 +165,7 @@ def test_transfer_probe_needs_two_cpus(built) -> None:
 def test_rewrite_probe_prints_two_costs_and_refuses(built) -> None:
     """``crosscore rewrite``: ns a line for stores after the other CPU read, and alone.
 
-    It backs docs/fast-engine.md's account of the spells (and ``claim_at``'s).
+    It backs docs/performance-log.md's account of the slow periods (and ``claim_at``'s).
     """
     import subprocess
 
@@ -215,7 +215,8 @@ def test_spell_note(n: int, transfer: float | None, best: float | None, spell: b
     note = spell_note(row, best)
     assert (note is not None) == spell
     if note:
-        assert note.startswith(f"n = {n}: measured while this machine was slow") and f"{transfer:.0f} GB/s" in note
+        assert note.startswith(f"n = {n}: measured while this machine was slow")
+        assert f"{transfer:.0f} GB/s" in note
 
 
 def test_fraction_of_peak_and_ratios() -> None:

@@ -13,8 +13,9 @@ rate``. After each window, ``yardsticks/crosscore.c`` measures how fast one CPU
 reads what another has just written: where that is slow beside a size's best
 solves, the report says the row was measured while the machine was slow to pass
 data between CPUs, which slows optri's threads (they read each other's tiles) and
-not the peak's (they share nothing). Used by ``optri bench`` and ``benchmarks/bench_fast.py``; ``python -m
-optri.bench`` runs the fresh-process worker (:func:`serve`).
+not the peak's (they share nothing). Used by ``optri bench`` and
+``benchmarks/bench_fast.py``; ``python -m optri.bench`` runs the fresh-process worker
+(:func:`serve`).
 """
 
 from __future__ import annotations
