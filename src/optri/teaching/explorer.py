@@ -186,7 +186,7 @@ def page_data(traces: Sequence[Trace]) -> dict[str, Any]:
         "tw": tw,
         "start": first.method,
         "maxN": config.EXPLORE_MAX_N,
-        "naiveMax": min(config.NAIVE_MAX_N, 9),
+        "naiveMax": config.NAIVE_MAX_N,
         "methods": {t.method: _trace_data(t) for t in traces},
     }
 
