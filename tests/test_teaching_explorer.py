@@ -276,6 +276,12 @@ def test_browser_runs_the_engines_own_steps(browser, tmp_path, poly, weight, obj
     assert problems == []
 
 
+def _js_number(v):
+    """A number as the page prints it: 6 significant digits, integers whole."""
+    x = float(f"{float(v):.6g}")
+    return str(int(x)) if x.is_integer() else repr(x)
+
+
 def _plain(v):
     if v is None:
         return None
@@ -352,6 +358,13 @@ def test_browser_forty_vertices(browser, tmp_path):
     s = page.evaluate(f"{api}.last()")
     assert s["value"] == pytest.approx(t.optimum, rel=1e-12)
     assert s["counts"] == t.counts()
+    # a geometric candidate's sum names its weight: w[1,39] split at v2
+    first = next(e for e in t.events if e.kind == "candidate" and (e.i, e.j, e.k) == (0, 39, 1))
+    right = next(e for e in t.events if e.kind == "store" and (e.i, e.j) == (1, 39))
+    text = page.evaluate(f"{api}.arithmetic(0, 39, 1)")
+    assert text.startswith("w[1,39] = w[1,1] + w[2,39] + perimeter(v1,v2,v40) = 0 + ")
+    assert text.endswith(f" = {_js_number(first.value)}")
+    assert f" + {_js_number(right.value)} + " in text
     _shot(page, tmp_path, "explorer_n40.png")
     assert problems == []
 

@@ -222,9 +222,11 @@
   const cellName = (i, j) => "w[" + (i + 1) + "," + j + "]";
   const vname = (v) => "v" + (v + 1);
   const subName = (i, j) => vname(i) + "\u2026" + vname(j);
+  const NAMED = ["perimeter", "diagonal", "area", "max_angle", "min_angle", "aspect_ratio"];
   function triTerm(i, k, j) { // the triangle's weight, as a formula
-    if (D.weight === "product") return "p" + i + "\u00b7p" + k + "\u00b7p" + j;
-    return "w(" + vname(i) + "," + vname(k) + "," + vname(j) + ")";
+    if (D.weight === "product" && !LEX) return "p" + i + "\u00b7p" + k + "\u00b7p" + j;
+    const name = !LEX && NAMED.includes(D.weight) ? D.weight : "w";
+    return name + "(" + vname(i) + "," + vname(k) + "," + vname(j) + ")";
   }
   function arithmetic(i, j, k, c) { // w[1,4] <- w[1,1] + w[2,4] + p0·p1·p4 = 0 + 10 + 25 = 35
     const got = (p, q) => (q - p === 1 ? NEUTRAL : T.cells.list[T.cells.byKey.get(key(p, q))].value);
