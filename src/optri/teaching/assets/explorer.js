@@ -402,7 +402,7 @@
       row.dataset.idx = idx;
       const head = el("button", "cellhead", cellName(c.i, c.j));
       head.appendChild(el("span", "detail", " = " + fmt(c.value) +
-        (c.k === null ? "" : "  (split " + vname(c.k) + ", " + c.cands.length + " candidates)")));
+        (c.k === null ? "" : "  (split " + vname(c.k) + ", " + c.cands.length + (c.cands.length === 1 ? " candidate)" : " candidates)"))));
       head.addEventListener("click", () => { openCell = openCell === idx ? -1 : idx; paintCells(true); goTo(c.store + 1); });
       row.appendChild(head);
       box.appendChild(row);
