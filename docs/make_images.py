@@ -49,7 +49,7 @@ def figures() -> None:
 
 
 def screenshots() -> None:
-    """The explorer page mid-way and at the end, in Chromium."""
+    """The explorer page in Chromium at 1280 px: the pentagon, n = 40, predict mode."""
     try:
         from playwright.sync_api import sync_playwright
     except ImportError:
@@ -59,22 +59,43 @@ def screenshots() -> None:
     if exe is None:
         print("chromium missing: explorer screenshots skipped", file=sys.stderr)
         return
+    import numpy as np
+
     from optri.teaching import explore
 
-    page_path = Path(tempfile.mkdtemp()) / "pentagon.html"
-    explore(PENTAGON, "product", path=page_path)
+    tmp = Path(tempfile.mkdtemp())
+    explore(PENTAGON, "product", path=tmp / "pentagon.html")
+    explore(PENTAGON, "product", method="table", path=tmp / "table.html")
+    ang = np.linspace(0, 2 * np.pi, 40, endpoint=False) + 0.05 * np.sin(3 * np.arange(40))
+    explore(np.column_stack((1000 * np.cos(ang), 700 * np.sin(ang))), path=tmp / "forty.html")
     args = ["--no-sandbox", "--disable-gpu", "--disable-background-networking"]
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=exe, args=args)
-        page = browser.new_page(viewport={"width": 1180, "height": 560})
-        page.goto(page_path.as_uri())
+        page = browser.new_page(viewport={"width": 1280, "height": 640})
+        page.goto((tmp / "pentagon.html").as_uri())
         for _ in range(42):  # the candidate w[1,3] via v2: a sub-polygon and its triangle
             page.evaluate("window.optri.step()")
         page.screenshot(path=str(OUT / "explorer_step.png"))
         page.evaluate("window.optri.last()")
+        page.click("#cells .cell:last-child .cellhead")  # the root's candidates, with sums
         page.screenshot(path=str(OUT / "explorer_end.png"))
+        page.goto((tmp / "table.html").as_uri())
+        page.check("#predict")
+        page.evaluate("window.optri.last()")
+        page.evaluate("window.optri.answer(1)")
+        page.evaluate("window.optri.nextStore()")
+        page.screenshot(path=str(OUT / "explorer_predict.png"))
+        page.set_viewport_size({"width": 1280, "height": 800})
+        page.goto((tmp / "forty.html").as_uri())
+        page.evaluate("window.optri.goTo(40000)")
+        page.screenshot(path=str(OUT / "explorer_n40.png"))
         browser.close()
-    for name in ("explorer_step.png", "explorer_end.png"):
+    for name in (
+        "explorer_step.png",
+        "explorer_end.png",
+        "explorer_predict.png",
+        "explorer_n40.png",
+    ):
         _shrink(OUT / name)
 
 

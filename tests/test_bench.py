@@ -165,7 +165,7 @@ def test_transfer_probe_needs_two_cpus(built) -> None:
 def test_rewrite_probe_prints_two_costs_and_refuses(built) -> None:
     """``crosscore rewrite``: ns a line for stores after the other CPU read, and alone.
 
-    It backs docs/fast-engine.md's account of the spells (and ``claim_at``'s).
+    It backs docs/performance-log.md's account of the slow periods (and ``claim_at``'s).
     """
     import subprocess
 
@@ -215,7 +215,8 @@ def test_spell_note(n: int, transfer: float | None, best: float | None, spell: b
     note = spell_note(row, best)
     assert (note is not None) == spell
     if note:
-        assert note.startswith(f"n = {n}: measured in a spell") and f"{transfer:.0f} GB/s" in note
+        assert note.startswith(f"n = {n}: measured while this machine was slow")
+        assert f"{transfer:.0f} GB/s" in note
 
 
 def test_fraction_of_peak_and_ratios() -> None:
@@ -478,7 +479,7 @@ def test_a_spell_before_the_usual_rate_is_noted_after_the_last_size(
     monkeypatch.setattr(compare, "_one_size", one_size)
     lines: list[str] = []
     compare.run_benchmark(list(rates), naive_max=0, log=lines.append)
-    notes = [line for line in lines if "measured in a spell" in line]
+    notes = [line for line in lines if "measured while this machine was slow" in line]
     # 8000 as it comes (78 seen before it); 1000 and 2000 after the last size, in order
     assert [note.split(":")[0] for note in notes] == ["n = 8000", "n = 1000", "n = 2000"]
     assert lines[-2:] == notes[1:] and all("78 GB/s at best" in note for note in notes)

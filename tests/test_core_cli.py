@@ -46,9 +46,21 @@ def test_solve_table_prints_paper_layout(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "optimal weight: 35" in r.stdout
     lines = r.stdout.splitlines()
+    # one numbering: the table counts from 0 like the diagonals and triangles above it
+    assert "vertices numbered from 0" in lines
+    assert "diagonals: 1-3 1-4" in lines and "triangles: (0,1,4) (1,3,4) (1,2,3)" in lines
+    assert next(ln for ln in lines if ln.startswith("   ")).split() == ["0", "1", "2", "3", "4"]
+    row0 = next(ln for ln in lines if ln.startswith("0 "))
+    assert row0.split() == ["0", "0", "25", "10", "35", "X"]
+    # the optimal chords (1, 3) and (1, 4) are the starred splits 1* below the diagonal
+    assert lines[-1].split() == ["4", "1*,2,3", "2,3*", "3*", "(4,3)", "0"]
+    # --one-based: the paper's labels, in the table and in the lines above it alike
+    r = run("solve", str(f), "-w", "product", "-m", "memo", "--table", "--one-based")
+    lines = r.stdout.splitlines()
+    assert "diagonals: 2-4 2-5" in lines and "triangles: (1,2,5) (2,4,5) (2,3,4)" in lines
     row1 = next(ln for ln in lines if ln.startswith("1 "))
     assert row1.split() == ["1", "0", "25", "10", "35", "X"]
-    assert "2*,3,4" in r.stdout
+    assert lines[-1].split() == ["5", "2*,3,4", "3,4*", "4*", "(5,4)", "0"]  # Table 1
 
 
 def test_json_file_input_and_chain(tmp_path):

@@ -84,3 +84,30 @@ def test_report_quick(tmp_path):
     assert not re.search(r"^- \[[^\]]+\]\([^)]+\.png\)", text, flags=re.M)
     # the paper's Table 4 figures are printed beside the measured ones
     assert "| 0.01 | 1.7 | 0.01 | 0.8 |" in text
+    # Table 3's S and R: recomputed from the measured counts, equal to the print at n = 7
+    assert "| 7 | 30 | 30 | 20 | 20 | 2.33 | 2.33 | 0 | 1.00 |" in text
+    assert "they come out as printed at every printed n" in text
+    # one run per size: (B) cannot be judged, and the report says so
+    assert "one run" in text and "no noise estimate" in text
+
+
+def test_table4_b_is_named_noise_where_the_pairs_disagree():
+    from optri.paper.notes import _timing_notes
+    from optri.paper.timing import TimingRow
+
+    noisy = TimingRow(9, 1e-4, 0.10, 5e-5, 0.09, 5, (0.93, 1.2))
+    clear = TimingRow(10, 1e-4, 0.12, 5e-5, 0.10, 5, (1.1, 1.3))
+    single = TimingRow(11, 1e-4, 0.12, 5e-5, 0.10, 1, (1.2, 1.2))
+    assert (noisy.b_is_noise, clear.b_is_noise, single.b_is_noise) == (True, False, None)
+    notes = " ".join(_timing_notes([noisy, clear, single]))
+    assert "Table 4's (B) is not reproducible" in notes and "At n = 9 (1 of 2 sizes" in notes
+    notes = " ".join(_timing_notes([clear]))
+    assert "not reproducible" not in notes and "agrees on the faster method" in notes
+
+
+def test_time_methods_records_the_pairs():
+    from optri.paper.timing import time_methods
+
+    row = time_methods(5, repeats=2)
+    low, high = row.ratio_b_range
+    assert low <= high and low > 0 and row.b_is_noise == (low <= 1.0 <= high)

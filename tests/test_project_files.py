@@ -280,3 +280,40 @@ def test_bench_parts_runs_against_the_engines_kernels(monkeypatch):
     parts = bench_parts.profile(150, 1)
     assert list(parts) == ["whole", "edge weights", "far products", "near splits"]
     assert all(0 < seconds < 60 for seconds in parts.values())
+
+
+def test_readme_is_for_users():
+    readme = (REPO / "README.md").read_text()
+    assert len(readme.splitlines()) <= 300
+    for section in ("## Install", "## Quick start", "## The command line", "## Speed"):
+        assert section in readme
+    for group in ("students", "GIS", "meshes", "contours"):
+        assert re.search(rf"^## For {group}", readme, re.M), group
+    # the speed section is one table and the command that reproduces it
+    speed = readme.split("## Speed", 1)[1].split("\n## ", 1)[0]
+    assert speed.count("\n|---") == 1 and "optri bench" in speed
+
+
+#: Words of a lab notebook: machines, dates, the jargon of the benchmarking sessions.
+HISTORY = re.compile(
+    r"\b(EPYC|Xeon|spells?\b|probe-tagged|20\d\d-\d\d-\d\d)|\bturns\b(?= (tagged|between))"
+)
+
+
+def test_code_states_contracts_not_history():
+    """Docstrings and comments outside the compiled engines keep no lab notes."""
+    ported = ("engines", "simple", "holes")  # rewritten with the compiled core
+    found = []
+    for path in sorted((REPO / "src" / "optri").rglob("*.py")):
+        if path.relative_to(REPO / "src" / "optri").parts[0] in ported:
+            continue
+        for number, line in enumerate(path.read_text().splitlines(), 1):
+            if HISTORY.search(line.replace("spell_note", "").replace("SPELL_", "")):
+                found.append(f"{path.relative_to(REPO)}:{number}: {line.strip()}")
+    assert found == [], "\n".join(found)
+
+
+def test_performance_log_is_dated():
+    log = (REPO / "docs" / "performance-log.md").read_text()
+    dates = re.findall(r"^## (\d{4}-\d\d-\d\d)", log, re.M)
+    assert dates and dates == sorted(dates)  # oldest first

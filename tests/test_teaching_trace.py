@@ -56,7 +56,11 @@ def test_memo_counts_equal_formulas_and_stats(n, weight, make):
     assert c["candidate"] == math.comb(n, 3) == s["weight_evaluations"]  # Eq. 6
     assert c["store"] == cells(n) == s["cells"]  # Eq. 7
     assert c["call"] == 2 * math.comb(n, 3) + 1 == s["requests"] + 1  # two per candidate, root
-    assert c["hit"] == s["lookups"] == c["call"] - c["store"]  # every call not computed is a hit
+    # every call not computed is a side read or a hit; each computed cell reads two sides
+    assert c["side"] + c["hit"] == s["lookups"] == c["call"] - c["store"]
+    assert c["side"] == 2 * cells(n)
+    assert c["hit"] == 2 * math.comb(n, 3) + 1 - 3 * cells(n)  # the grey leaves of Figure 3
+    assert c["hit"] == sum(node.status == "hit" for node in t.recursion_tree().walk())
     assert len(t.events) == sum(c.values())
 
 
@@ -68,7 +72,8 @@ def test_table_counts_equal_formulas_and_stats(n, weight, make):
     assert c["call"] == 0  # nothing recurses
     assert c["candidate"] == math.comb(n, 3) == s["weight_evaluations"]
     assert c["store"] == cells(n) == s["cells"]
-    assert c["hit"] == 2 * math.comb(n, 3) == s["lookups"]  # every input read from the table
+    assert c["side"] + c["hit"] == 2 * math.comb(n, 3) == s["lookups"]  # every input read
+    assert c["side"] == 2 * cells(n)
 
 
 @pytest.mark.parametrize("n", [3, 4, 5, 6, 8, 10])
@@ -80,7 +85,7 @@ def test_naive_counts_follow_the_naive_recursion(n, weight, make):
     assert c["call"] == calls == naive_calls(n) == 3 ** (n - 2) == s["requests"] + 1
     assert c["candidate"] == candidates == s["weight_evaluations"]
     assert c["store"] == stores == s["cells"]
-    assert c["hit"] == 0 == s["lookups"]
+    assert c["hit"] == 0 == c["side"] == s["lookups"]
     if n >= 5:  # from the pentagon on, the naive recursion repeats work memo saves
         assert c["candidate"] > math.comb(n, 3) and c["store"] > cells(n)
 
@@ -122,8 +127,9 @@ def test_events_replay_the_recurrence_exactly(values):
             assert (e.value, e.k) == best
             assert [k for _, k in tried[(e.i, e.j)]] == list(range(e.i + 1, e.j))
             stored[(e.i, e.j)] = e.value
-        elif e.kind == "hit":
-            hits += 1
+        elif e.kind in ("hit", "side"):
+            hits += e.kind == "hit"
+            assert (e.kind == "side") == (e.j - e.i == 1)  # a side read is never a hit
             expected = 0.0 if e.j - e.i == 1 else stored[(e.i, e.j)]
             assert e.value == expected  # a hit returns what was stored before
     assert hits == t.counts()["hit"]
@@ -142,7 +148,7 @@ def test_memo_follows_algorithm_3_1_on_the_pentagon():
     assert [(e.kind, e.i, e.j) for e in t.events[:5]] == [
         ("call", 0, 4),
         ("call", 0, 1),
-        ("hit", 0, 1),
+        ("side", 0, 1),
         ("call", 1, 4),
         ("call", 1, 2),
     ]
@@ -216,4 +222,10 @@ def test_recording_changes_nothing():
 
 def test_repr_names_the_counts():
     r = repr(trace([5, 1, 5, 1, 5], "product"))
-    assert "calls=21" in r and "hits=15" in r and "candidates=10" in r and "stores=6" in r
+    assert (
+        "calls=21" in r
+        and "sides=12" in r
+        and "hits=3" in r
+        and "candidates=10" in r
+        and "stores=6" in r
+    )

@@ -24,8 +24,8 @@ MEMORY_LIMIT_BYTES: int | None = None
 MEMORY_CHECK_MIN_BYTES = 32 << 20
 #: A table of the compiled engine this large or larger is kept this many seconds after
 #: its solve (its pages lazily freed: the kernel takes them back when it needs memory),
-#: for the next solve to reuse instead of fresh pages, which the kernel must zero
-#: (4-7 ms of a 230 ms solve at n = 4000). 0 turns it off. Smaller tables come from
+#: for the next solve to reuse instead of fresh pages, which the kernel must zero (a few
+#: per cent of a large solve; docs/performance-log.md). 0 turns it off. Smaller tables come from
 #: the C library, which reuses their memory anyway.
 TABLE_CACHE_SECONDS = 1.0
 TABLE_CACHE_MIN_BYTES = 32 << 20
@@ -41,8 +41,9 @@ NAIVE_MAX_N = 12
 #: :func:`optri.trace` keeps every event (about 4 C(n, 3) of them for memo: 1.1 million at
 #: 120); it refuses larger polygons.
 TRACE_MAX_N = 120
-#: The explorer page (``optri explore``) embeds its traces (about 20 bytes an event, 2 MB
-#: at 40) and redraws the n x n table each step; it refuses larger polygons.
+#: The explorer page (``optri explore``, notebook reprs of a trace) embeds the C(n, 3)
+#: triangle weights and reruns the DP in the browser; it refuses larger polygons, whose
+#: table no longer fits a screen.
 EXPLORE_MAX_N = 40
 #: ``Trace.animate`` draws each frame with matplotlib (about 0.1 s each); it refuses more.
 ANIMATE_MAX_FRAMES = 1500
@@ -105,11 +106,10 @@ CLI_PROGRESS_DELAY = 1.0
 #: polygons before solving: its lower cells list every split, so the text grows as n^3
 #: (about 80 KB at 30, 98 MB at 300). From Python: ``triangulate(..., keep_table=True)``.
 CLI_TABLE_MAX_N = 30
-#: method="auto" picks the GPU engine (when a GPU is present) from this many vertices on.
-#: An estimate, not yet measured on a GPU: a process's first GPU solve compiles its
-#: kernels (about 2 s of NVVM, measured offline), about what the compiled CPU
-#: engine should take at n = 8000 on 16 cores (16.6 s measured on 2).
-#: Retune with benchmarks/bench_gpu.py.
+#: method="auto" picks the GPU engine (when a GPU is present) from this many vertices on:
+#: a process's first GPU solve compiles its kernels (seconds), which pays off only where
+#: the compiled CPU engine takes about as long. An estimate (docs/performance-log.md);
+#: retune with benchmarks/bench_gpu.py.
 GPU_AUTO_MIN_N = 8000
 #: Side of the square table tiles the GPU engine works on (shared-memory blocking).
 GPU_TILE = 64
@@ -130,9 +130,9 @@ GPU_MEMORY_LIMIT_BYTES: int | None = None
 #: cached kernels takes about 0.8 s of CPU, longer than the whole Python DP below ~150.
 FAST_AUTO_MIN_N = 120
 #: Compiled engine: below this n the min-plus fill runs on one thread. A parallel region
-#: ends when every thread has had its turn, which on a busy machine waits for a descheduled
-#: worker's next time slice (about 10 ms a call measured at n = 500 under one busy process
-#: on 2 cores, against 1.8 ms on one thread), more than two threads save below it.
+#: ends when every thread has finished, which on a busy machine waits for a descheduled
+#: worker's next time slice: below this size that wait costs more than a second thread
+#: saves (docs/performance-log.md).
 FAST_PARALLEL_MIN_N = 1000
 #: The same for the generic kernel (any weight), whose splits cost ~20x more each.
 FAST_GENERIC_PARALLEL_MIN_N = 250

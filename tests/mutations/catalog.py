@@ -1517,4 +1517,63 @@ MUTATIONS: list[Mutation] = [
         ("tests/test_bench.py", "-k", "wrong_product"),
         "a failed peak run read as a rate (or a traceback) instead of no peak",
     ),
+    M(
+        "trace-side-read-counted-as-a-hit",
+        "src/optri/teaching/trace.py",
+        '        if kind == "hit" and j - i == 1:',
+        '        if kind == "hit" and j - i == 0:',
+        (TRACE, "-k", "counts or replay or algorithm"),
+        "reading a side (the base case) counted as a hit: 15 on the pentagon, not Figure 3's 3",
+    ),
+    M(
+        "explorer-slots-replaced-inside-user-text",
+        "src/optri/teaching/explorer.py",
+        "    return _SLOT.sub(lambda m: slots[m.group(1)], _asset(\"explorer.html\"))",
+        "    page = _asset(\"explorer.html\")\n"
+        "    for k, v in slots.items():\n"
+        "        page = page.replace(\"{{\" + k + \"}}\", v)\n"
+        "    return page",
+        ("tests/test_teaching_explorer.py", "-k", "user_text"),
+        "a title or weight name holding {{js}} gets the script pasted into it",
+    ),
+    M(
+        "explorer-data-not-escaped",
+        "src/optri/teaching/explorer.py",
+        '    for ch, code in (("<", "\\\\u003c"), (">", "\\\\u003e"), ("&", "\\\\u0026")):',
+        '    for ch, code in ():',
+        ("tests/test_teaching_explorer.py", "-k", "user_text"),
+        "a weight name holding </script> ends the data block and runs as markup",
+    ),
+    M(
+        "explorer-repr-without-the-size-limit",
+        "src/optri/teaching/trace.py",
+        "        if self.n > config.EXPLORE_MAX_N:\n            return (",
+        "        if False:\n            return (",
+        ("tests/test_teaching_explorer.py", "-k", "refuses_large"),
+        "a notebook repr builds the page of any trace, megabytes above the explorer's limit",
+    ),
+    M(
+        "solve-table-one-based-ignored",
+        "src/optri/cli/solve_cmd.py",
+        "    base = 1 if one_based else 0",
+        "    base = 0",
+        ("tests/test_core_cli.py", "-k", "table"),
+        "--one-based prints 0-based labels",
+    ),
+    M(
+        "paper-b-noise-never-named",
+        "src/optri/paper/timing.py",
+        "        return low <= 1.0 <= high",
+        "        return False",
+        ("tests/test_paper_report.py", "-k", "noise"),
+        "Table 4's (B) reported as measured where the run's own pairs disagree",
+    ),
+    M(
+        "paper-savings-from-evaluations-not-cells",
+        "src/optri/paper/report.py",
+        "        r.sm_weight_evaluations - r.mm_cells,",
+        "        r.sm_weight_evaluations - r.mm_weight_evaluations,",
+        ("tests/test_paper_report.py", "-k", "quick"),
+        "Table 3's S(SM, MM) recomputed in another unit than the paper's",
+    ),
 ]

@@ -11,10 +11,11 @@ ran, so that both are sampled across the same seconds of the machine. The
 fraction of peak is ``(n³/6 candidates / optri's best seconds) / the best peak
 rate``. After each window, ``yardsticks/crosscore.c`` measures how fast one CPU
 reads what another has just written: where that is slow beside a size's best
-solves, the report says the row was measured in one of the machine's spells, which
-slow optri's two threads (they read each other's tiles) and not the peak's (they
-share nothing). Used by ``optri bench`` and ``benchmarks/bench_fast.py``; ``python -m
-optri.bench`` runs the fresh-process worker (:func:`serve`).
+solves, the report says the row was measured while the machine was slow to pass
+data between CPUs, which slows optri's threads (they read each other's tiles) and
+not the peak's (they share nothing). Used by ``optri bench`` and
+``benchmarks/bench_fast.py``; ``python -m optri.bench`` runs the fresh-process worker
+(:func:`serve`).
 """
 
 from __future__ import annotations
@@ -52,9 +53,9 @@ __all__ = [
     "spell_note",
 ]
 
-#: A size's best solves count as measured in a spell where one CPU read another's
-#: writes at less than this fraction of the run's best rate (``crosscore.c``): on the
-#: EPYC of ``docs/fast-engine.md`` the rate is about 78 GB/s, or about 28 in a spell.
+#: A size's best solves count as measured in a slow period of the machine where one CPU
+#: read another's writes at less than this fraction of the run's best rate
+#: (``crosscore.c``); virtual machines show such periods at a third of the usual rate.
 SPELL_TRANSFER = 0.6
 
 
@@ -137,17 +138,17 @@ def run_benchmark(
 ) -> list[BenchRow]:
     """Time every solver on the same polygon for each n in ``sizes``.
 
-    The peak runs and optri's solves take turns, ``rounds`` times: a peak run of
+    The peak runs and optri's solves alternate, ``rounds`` times: a peak run of
     ``peak_seconds / rounds`` seconds a kernel (and the shared one's, with
     ``shared``), then optri's calls for as many seconds, at least
     ``ceil(repeats / rounds)`` of them. optri's seconds are its best call, the
     peak the best run of its fastest kernel: both the best the machine gave
     over the same stretch of time, sampled alike. On a virtual machine a
     two-thread solve can run at half its speed or less for seconds at a time
-    while a one-thread solve does not slow down (``benchmarks/bench_spells.py``):
-    three solves in one place, 15 ms at n = 1000, could all fall in such a
-    spell while the peak's runs, spread over 11 s, missed it. The calls come
-    after ``warmup`` seconds of untimed ones in each window (see :class:`Solver`).
+    while a one-thread solve does not slow down (``benchmarks/bench_spells.py``),
+    so solves timed in one place could all fall in such a slow period while
+    peak runs spread over many seconds miss it. The calls come after ``warmup``
+    seconds of untimed ones in each window (see :class:`Solver`).
 
     ``shared``: a folder with another ``ref_mwt.c`` and ``minplus_peak.c`` (such
     as ``../shared/bench``) to build and run as well, as a cross-check. ``cc``:
@@ -204,7 +205,7 @@ def run_benchmark(
             if note:
                 noted.add(len(rows) - 1)
                 say(note)
-        # a row measured in a spell before the run had seen the machine's usual rate
+        # a row measured in a slow period before the run had seen the machine's usual rate
         best_gbs = _best_transfer(rows)
         for k, row in enumerate(rows):
             note = None if k in noted else spell_note(row, best_gbs)
@@ -220,9 +221,9 @@ def _best_transfer(rows: Sequence[BenchRow]) -> float | None:
 
 
 def spell_note(row: BenchRow, best_gbs: float | None) -> str | None:
-    """One line when ``row``'s best solves were measured in a spell of the machine.
+    """One line when ``row``'s best solves were measured in a slow period of the machine.
 
-    A spell: one CPU read another's writes at less than :data:`SPELL_TRANSFER`
+    A slow period: one CPU read another's writes at less than :data:`SPELL_TRANSFER`
     of ``best_gbs`` (the run's best) right after the window of the size's best
     solve, at a size the engine solves on more than one thread. Its two threads
     read each other's finished tiles and slow down; the peak's threads share
@@ -230,7 +231,7 @@ def spell_note(row: BenchRow, best_gbs: float | None) -> str | None:
     sake, not the engine's (``docs/fast-engine.md``). None otherwise.
 
     >>> row = BenchRow(1000, 0.006, 0.006, None, None, 5e10, 1, 1, None, 0, transfer_gbs=28)
-    >>> spell_note(row, 78.0).startswith("n = 1000: measured in a spell")
+    >>> spell_note(row, 78.0).startswith("n = 1000: measured while this machine was slow")
     True
     >>> spell_note(row, 40.0) is None
     True
@@ -240,10 +241,10 @@ def spell_note(row: BenchRow, best_gbs: float | None) -> str | None:
     if row.transfer_gbs >= SPELL_TRANSFER * best_gbs:
         return None
     return (
-        f"n = {row.n}: measured in a spell of this machine: one CPU read another's writes "
-        f"at {row.transfer_gbs:.0f} GB/s beside the best solves, {best_gbs:.0f} GB/s at best "
-        "in this run; optri's two threads, which read each other's tiles, slow down in "
-        "such spells and the peak does not, so the fraction of peak reads low "
+        f"n = {row.n}: measured while this machine was slow to pass data between CPUs: one "
+        f"CPU read another's writes at {row.transfer_gbs:.0f} GB/s beside the best solves, "
+        f"{best_gbs:.0f} GB/s at best in this run; optri's threads, which read each other's "
+        "tiles, slow down then and the peak does not, so the fraction of peak reads low "
         "(docs/fast-engine.md)"
     )
 
@@ -451,16 +452,14 @@ class Solver:
 
     Each window starts with untimed calls on the same polygon, for ``warmup``
     seconds (at least one call when ``warmup > 0``). A process's first calls pay for fresh
-    memory: on the Xeon of ``docs/fast-engine.md`` the first two at n = 1000
-    took 10-17 ms against 4.6-4.9 ms for every later one (the C library maps
-    the first table, then grows its heap for the second), so the best of three
-    cold calls was one warm call. Tables of 32 MiB or more (n >= 2048 in
-    float64) are mapped by optri itself, and the last one is kept for the next
-    call (``optri.engines.memory.release_table``), so from the second call on
-    those skip the first touch too; but only for a second, and a peak run
-    between two windows takes longer: without a warm-up of its own, each
-    window's first call at n = 4000 took 0.35-0.40 s on the EPYC of
-    ``docs/fast-engine.md`` against 0.25-0.27 s for the next ones.
+    memory (the C library maps the first table, then grows its heap for the
+    second), two to three times a warm call's time, so the best of a few cold
+    calls is not a warm call. Tables of 32 MiB or more (n >= 2048 in float64)
+    are mapped by optri itself, and the last one is kept for the next call
+    (``optri.engines.memory.release_table``), so from the second call on those
+    skip the first touch too; but only for a second, and a peak run between two
+    windows takes longer, so each window needs a warm-up of its own
+    (docs/performance-log.md).
 
     Examples
     --------

@@ -58,7 +58,7 @@ __all__ = ["bench"]
     default=3,
     type=click.IntRange(min=1),
     show_default=True,
-    help="Turns per size: a peak run, then a window of solves as long as one kernel's run.",
+    help="Rounds per size: a peak run, then a window of solves as long as one kernel's run.",
 )
 def bench(
     sizes: tuple[int, ...],
@@ -77,12 +77,12 @@ def bench(
     SIZES default to 500 1000 2000 4000. The C yardsticks ship with optri and are
     built with gcc (or cc) at run time; without a compiler their columns stay empty.
     "of peak" is (n^3/6 / optri's best seconds) / the best min-plus peak rate, the two
-    measured in turns over the same seconds: --rounds peak runs, each followed by a window
-    of solves as long as each of its kernels ran. "calls" counts the timed solves; "xfer"
-    is the GB/s at which one CPU read what another had just written, right after the
-    window of the best solve: where it is well below the run's best, a note says the
-    row was measured in a spell of the machine, which slows optri's two threads and not
-    the peak's.
+    measured alternately over the same seconds: --rounds peak runs, each followed by a
+    window of solves as long as each of its kernels ran. "calls" counts the timed solves;
+    "xfer" is the GB/s at which one CPU read what another had just written, right after
+    the window of the best solve: where it is well below the run's best, a note says the
+    row was measured while the machine was slow to pass data between CPUs, which slows
+    optri's threads and not the peak's.
     """
     chosen = sizes or ((100, 200, 500) if quick else (500, 1000, 2000, 4000))
     rows = run_benchmark(

@@ -35,6 +35,12 @@ from .progress import compile_notice, progress_bar
     is_flag=True,
     help=f"Print the n x n table like the paper's Table 1 (n <= {config.CLI_TABLE_MAX_N}).",
 )
+@click.option(
+    "--one-based",
+    is_flag=True,
+    help="Number vertices from 1, as the paper does, in the table and the lines above it "
+    "(default: from 0, as the API and --json).",
+)
 @click.option("--float32", is_flag=True, help="Compiled engines: float32 table.")
 @click.option(
     "--time-limit",
@@ -52,6 +58,7 @@ def solve(
     as_json: bool,
     plot_path: str | None,
     show_table: bool,
+    one_based: bool,
     float32: bool,
     time_limit: float | None,
     quiet: bool,
@@ -60,6 +67,8 @@ def solve(
 
     A CSV's delimiter, header and coordinate columns are sniffed (or named with
     --columns). A GeoJSON or WKT polygon with holes is triangulated with its holes.
+    Vertices are numbered from 0 (as in --json and the Python API), or from 1 with
+    --one-based (the paper's labels), in every line printed.
     """
     rings = read_rings(file, columns)
     n = sum(len(r) for r in rings)
@@ -99,10 +108,17 @@ def solve(
     if tri.holes:
         click.echo(f"holes: {tri.holes}   rings: {' '.join(map(str, tri.rings))}")
         click.echo(f"optimality: {tri.optimality}   bound: {tri.bound!r}   gap: {tri.gap:.3g}")
-    click.echo("diagonals: " + " ".join(f"{a}-{b}" for a, b in tri.diagonals.tolist()))
-    click.echo("triangles: " + " ".join(f"({a},{b},{c})" for a, b, c in tri.triangles.tolist()))
+    base = 1 if one_based else 0
+    diagonals, triangles = tri.diagonals + base, tri.triangles + base
+    click.echo(f"vertices numbered from {base}" + (" (the paper's labels)" if base else ""))
+    click.echo("diagonals: " + " ".join(f"{a}-{b}" for a, b in diagonals.tolist()))
+    click.echo("triangles: " + " ".join(f"({a},{b},{c})" for a, b, c in triangles.tolist()))
     if show_table:
-        click.echo(format_table(tri))
+        click.echo(
+            "table: above the diagonal, (r, c) = optimal weight of v_r ... v_c+1; "
+            "below, the splits of chord v_c v_r (* the best)"
+        )
+        click.echo(format_table(tri, base=base))
     if plot_path:
         click.echo(f"plot written to {plot_path}")
 

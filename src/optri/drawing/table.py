@@ -9,7 +9,8 @@ lower part uses vertex labels directly: cell (r, c) is chord v_c v_r. The two
 halves are therefore *not* transposes of each other (cell (1, 4) = 35 pairs with
 cell (5, 1) = "2,3,4"); ``style="paper"`` reproduces that layout faithfully,
 ``style="vertex"`` gives the consistent one (cell (i, j) and (j, i) describe
-the same chord, 0-based).
+the same chord). ``base`` numbers the labels: 1 as in the paper, 0 as optri's
+API (``Triangulation.diagonals`` and ``triangles``, ``optri.trace``).
 """
 
 from __future__ import annotations
@@ -27,13 +28,17 @@ __all__ = ["format_table", "table_cells"]
 
 
 def table_cells(
-    tri: Triangulation, style: str = "paper"
+    tri: Triangulation, style: str = "paper", base: int = 1
 ) -> tuple[list[list[str]], list[tuple[int, int]]]:
     """Cell texts of the table and the cells to highlight (the optimal chords).
 
     In ``"paper"`` style the optimal split in each candidate list carries a
-    ``*``; in ``"vertex"`` style the lower cells hold the split vertex.
+    ``*``; in ``"vertex"`` style the lower cells hold the split vertex. Vertex
+    numbers in the texts start at ``base`` (1: the paper's labels, 0: the API's).
+    The highlighted cells are 0-based (row, column) positions either way.
     """
+    if base not in (0, 1):
+        raise OptriError(f"base must be 0 or 1, got {base!r}")
     if tri.table is None:
         raise OptriError(
             "this result kept no table; solve with method='memo' or 'table' (or keep_table=True)"
@@ -43,7 +48,10 @@ def table_cells(
     chords = {(int(a), int(b)) for a, b in _internal_diagonals(tri)} | {(0, n - 1)}
     if style == "vertex":
         cells = [
-            [_num(t[r, c]) if r <= c else (_split(t[r, c]) if c < r - 1 else "-") for c in range(n)]
+            [
+                _num(t[r, c]) if r <= c else (_split(t[r, c], base) if c < r - 1 else "-")
+                for c in range(n)
+            ]
             for r in range(n)
         ]
         marks: list[tuple[int, int]] = [(i, j) for i, j in chords] + [(j, i) for i, j in chords]
@@ -62,19 +70,24 @@ def table_cells(
                 if (r, c + 1) in chords:
                     marks.append((r, c))
             elif r == c + 1:
-                cells[r][c] = f"({r + 1},{c + 1})"
+                cells[r][c] = f"({r + base},{c + base})"
             else:
                 best = int(t[r, c])
                 cells[r][c] = ",".join(
-                    f"{k + 1}*" if k == best else str(k + 1) for k in range(c + 1, r)
+                    f"{k + base}*" if k == best else str(k + base) for k in range(c + 1, r)
                 )
                 if (c, r) in chords:
                     marks.append((r, c))
     return cells, marks
 
 
-def format_table(tri: Triangulation, style: str = "paper") -> str:
+def format_table(tri: Triangulation, style: str = "paper", base: int | None = None) -> str:
     """The table as aligned text.
+
+    ``base`` numbers rows, columns and the vertices in the cells: 1 (the paper's
+    labels; the default for ``style="paper"``) or 0 (the API's; the default for
+    ``style="vertex"``). ``optri solve --table`` prints 0-based, like the
+    diagonals and triangles above it, and 1-based with ``--one-based``.
 
     Examples
     --------
@@ -87,10 +100,14 @@ def format_table(tri: Triangulation, style: str = "paper") -> str:
     3   2*   (3,2)    0      25     X
     4  2*,3    3*   (4,3)    0      X
     5 2*,3,4  3,4*    4*   (5,4)    0
+    >>> print(optri.format_table(t, base=0).splitlines()[-1])
+    4 1*,2,3  2,3*    3*   (4,3)    0
     """
-    cells, _ = table_cells(tri, style)
+    if base is None:
+        base = 1 if style == "paper" else 0
+    cells, _ = table_cells(tri, style, base)
     n = len(cells)
-    labels = [str(i + 1) if style == "paper" else str(i) for i in range(n)]
+    labels = [str(i + base) for i in range(n)]
     width = max(max(len(s) for row in cells for s in row), max(len(s) for s in labels))
     head = " " * len(labels[-1]) + " " + " ".join(s.center(width) for s in labels)
     lines = [head.rstrip()]
@@ -101,9 +118,9 @@ def format_table(tri: Triangulation, style: str = "paper") -> str:
     return "\n".join(lines)
 
 
-def _split(v: float) -> str:
+def _split(v: float, base: int = 0) -> str:
     # a chord without a usable split (unreachable in a simple polygon) has none to show
-    return str(int(v)) if v >= 0 else "–"
+    return str(int(v) + base) if v >= 0 else "–"
 
 
 def _num(v: float) -> str:

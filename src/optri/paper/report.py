@@ -261,6 +261,58 @@ def _table3_section(counts: Sequence[Table3Row]) -> list[str]:
         "- Memoization evaluates exactly as many triangle weights as the square matrix "
         "(C(n, 3) = Eq. 6); Eq. 7 counts table cells, not weight evaluations.",
         "",
+        "### Table 3's savings (S) and ratio (R)",
+        "",
+        "The paper's S and R columns are arithmetic on its other columns: S(HN, MM) = HN - "
+        "MM, S(SM, MM) = SM - MM and R(SM, MM) = SM / MM (to two decimals). From the "
+        "measured counts (HN as printed: Eq. 5 at n - 2; SM: the square matrix's weight "
+        "evaluations; MM: the cells memoization fills) they come out "
+        + ("as printed at every printed n" if _savings_match(counts) else "NOT as printed")
+        + ". They compare unlike things, though: SM counts weight evaluations and "
+        "MM counts cells. In one unit, weight evaluations, memoization saves nothing "
+        "against the square matrix (S = 0, R = 1.00, last two columns); what it saves is "
+        "the recomputation of the naive recursion (docs: Learn the DP).",
+        "",
+        markdown_table(
+            [
+                "n",
+                "S(HN,MM)",
+                "paper",
+                "S(SM,MM)",
+                "paper",
+                "R(SM,MM)",
+                "paper",
+                "S in w-evals",
+                "R in w-evals",
+            ],
+            [_savings_row(r) for r in counts if r.n >= 5],
+        ),
+        "",
+    ]
+
+
+def _savings_match(counts: Sequence[Table3Row]) -> bool:
+    """Whether the recomputed S and R equal the printed ones wherever a row is printed."""
+    rows = [(_savings_row(r), r.printed) for r in counts if r.printed]
+    return all(
+        row[1:7] == [p[3], p[3], p[4], p[4], f"{p[5]:.2f}", f"{p[5]:.2f}"] for row, p in rows
+    )
+
+
+def _savings_row(r: Table3Row) -> list[object]:
+    """Table 3's S and R recomputed from the measured counts, beside the printed ones."""
+    p = r.printed or (None,) * 6
+    hn = r.eq5_shifted or 0
+    return [
+        r.n,
+        hn - r.mm_cells,
+        p[3],
+        r.sm_weight_evaluations - r.mm_cells,
+        p[4],
+        f"{r.sm_weight_evaluations / r.mm_cells:.2f}",
+        None if p[5] is None else f"{p[5]:.2f}",
+        r.sm_weight_evaluations - r.mm_weight_evaluations,
+        f"{r.sm_weight_evaluations / r.mm_weight_evaluations:.2f}",
     ]
 
 
@@ -278,6 +330,7 @@ def _table4_section(timings: Sequence[TimingRow]) -> list[str]:
                 r.memo_b * 1e3,
                 r.ratio_a,
                 r.ratio_b,
+                _verdict(r),
                 r.repeats,
                 p[1],
                 p[2],
@@ -293,8 +346,11 @@ def _table4_section(timings: Sequence[TimingRow]) -> list[str]:
         "Measured: median milliseconds; (A) filling the table (engine time of "
         "`method='table'` / `method='memo'`, pure Python, perimeter weight, a random "
         "convex polygon), (B) total incl. drawing the optimal triangulation with "
-        "matplotlib (Agg) into an in-memory PNG; R = S / M. Paper: its printed values "
-        "(unit not stated).",
+        'matplotlib (Agg) into an in-memory PNG; R = S / M. "(B) is": *noise* where '
+        "the run's own back-to-back pairs disagree on which method is faster (their "
+        "ratios, low..high, span 1): there R(B) says nothing about the methods and the "
+        "paper's R(B) cannot be reproduced; *measured* where every pair agrees. Paper: "
+        "its printed values (unit not stated).",
         "",
         markdown_table(
             [
@@ -306,6 +362,7 @@ def _table4_section(timings: Sequence[TimingRow]) -> list[str]:
                 "M(B) ms",
                 "R(A)",
                 "R(B)",
+                "(B) is",
                 "runs",
                 "paper S(A)",
                 "paper S(B)",
@@ -318,6 +375,13 @@ def _table4_section(timings: Sequence[TimingRow]) -> list[str]:
         ),
         "",
     ]
+
+
+def _verdict(r: TimingRow) -> str:
+    if r.b_is_noise is None:
+        return "one run"
+    low, high = r.ratio_b_range or (r.ratio_b, r.ratio_b)
+    return f"{'noise' if r.b_is_noise else 'measured'} ({low:.2f}..{high:.2f})"
 
 
 def _big(v: int) -> int | str:

@@ -36,6 +36,8 @@ class TimingRow:
     memo_a: float
     memo_b: float
     repeats: int
+    #: Lowest and highest square/memo ratio of (B) over the alternating run pairs.
+    ratio_b_range: tuple[float, float] | None = None
 
     @property
     def triangulations(self) -> int:
@@ -51,6 +53,22 @@ class TimingRow:
     def ratio_b(self) -> float:
         """R(B) = MwtS(B) / MwtM(B)."""
         return self.square_b / self.memo_b
+
+    @property
+    def b_is_noise(self) -> bool | None:
+        """Whether R(B) is noise: the run pairs disagree on which method is faster.
+
+        Each pair runs both methods back to back; when some pairs find the square
+        matrix faster and others memoization (their ratios span 1), the median
+        ratio says nothing about the methods. None with fewer than two pairs.
+
+        >>> TimingRow(9, 1e-4, 0.10, 5e-5, 0.09, 5, (0.93, 1.2)).b_is_noise
+        True
+        """
+        if self.ratio_b_range is None or self.repeats < 2:
+            return None
+        low, high = self.ratio_b_range
+        return low <= 1.0 <= high
 
 
 def convex_polygon(n: int, seed: int = 0) -> np.ndarray:
@@ -100,7 +118,13 @@ def time_methods(n: int, repeats: int = 5) -> TimingRow:
         k: (statistics.median(a for a, _ in v), statistics.median(b for _, b in v if b is not None))
         for k, v in runs.items()
     }
-    return TimingRow(n, *med["square"], *med["memo"], repeats)
+    pairs = [
+        s / m
+        for (_, s), (_, m) in zip(runs["square"][:repeats], runs["memo"][:repeats])
+        if s is not None and m
+    ]
+    spread = (min(pairs), max(pairs)) if pairs else None
+    return TimingRow(n, *med["square"], *med["memo"], repeats, spread)
 
 
 def timing_table(

@@ -51,10 +51,10 @@ def frame_steps(events: Sequence[Any], kinds: Sequence[str]) -> list[int]:
     >>> len(frame_steps(t.events, ("candidate", "store")))      # 1 + 10 + 6 + 1
     18
     """
-    unknown = set(kinds) - {"call", "hit", "candidate", "store"}
+    unknown = set(kinds) - {"call", "side", "hit", "candidate", "store"}
     if unknown:
         raise OptriError(
-            f"unknown event kind(s) {sorted(unknown)}; use call, hit, candidate or store"
+            f"unknown event kind(s) {sorted(unknown)}; use call, side, hit, candidate or store"
         )
     steps = [0] + [s + 1 for s, e in enumerate(events) if e[0] in kinds]
     return steps + [len(events)]

@@ -53,7 +53,7 @@ def describe(event: Any) -> str:
     kind, i, j, k, value = event
     name = cell_name(i, j)
     if j - i == 1:
-        what = {"call": "call", "hit": "look-up", "store": "store"}.get(kind, kind)
+        what = {"call": "call", "side": "look-up", "store": "store"}.get(kind, kind)
         return f"{what} {name}: the side v{i + 1} v{j + 1}, no triangle (0)"
     sub = f"{name} (v{i + 1}…v{j + 1})"
     if kind == "call":

@@ -1,19 +1,28 @@
-"""The explorer page: one self-contained HTML file that replays traces.
+"""The explorer page: one self-contained HTML file that replays the DP.
 
-The page holds the traces optri recorded (as JSON), its script and its styles
-inline: no network, no external URL. It shows the polygon (SVG), the n x n
-table in the paper's layout, the pseudocode with the current line marked, the
-counters, and play / pause / step / back / first / last controls with a speed
-slider; hovering a cell draws its sub-polygon and optimal triangles, and the
-last step traces the optimal triangulation back. ``window.optri`` exposes
-``state()``, ``step()``, ``back()``, ``first()``, ``last()``, ``play()``,
-``pause()`` and ``method(name)`` for tests and embedding.
+The page holds the polygon, its chord mask and its C(n, 3) triangle weights (as
+JSON data), its script and its styles inline: no network, no external URL. Its
+script runs the recurrence in the same orders as optri's Python engines (memo,
+table, naive) and checks its counts against the traces optri recorded, so the
+page stays small at n = 40 (a few hundred kilobytes) however many steps the DP
+takes. It shows the polygon (SVG), the n x n table in the paper's layout
+(scrolled to the cell in view, zoomable), the pseudocode with the current line
+marked, the counters, the cells in the order they are stored (each expands to
+its candidates with their arithmetic in the paper's notation), and controls:
+play / pause / step / back / next store / next cell / to the end, a speed
+slider, a "predict the split" mode with a score, and the student's own input
+(typed values for the product weight, clicked vertices for perimeter and area).
+``window.optri`` exposes the same for tests and embedding.
+
+User text (titles, weight names, labels) is data: it is HTML-escaped where it
+is markup and reaches the script as JSON, which the script writes as text only.
 """
 
 from __future__ import annotations
 
 import json
 import math
+import re
 from collections.abc import Sequence
 from html import escape
 from importlib import resources
@@ -22,7 +31,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .. import config
 from ..drawing.svg import drawing_points
+from ..errors import OptriError, TableTooLargeError
 from ..io.atomic import atomic_write
 from .board import value_text
 
@@ -31,7 +42,6 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["embed", "explorer_page", "page_data", "pseudocode", "write_page"]
 
-_KIND_CODE = {"call": 0, "hit": 1, "candidate": 2, "store": 3}
 _SIZE, _PAD = 340, 40
 _TITLES = {
     "memo": "Algorithm 3.1: the optimal triangulation stored with memoization (top-down)",
@@ -103,28 +113,81 @@ def pseudocode(method: str, objective: Any = "sum") -> tuple[list[str], dict[str
         ]
     lines = [text for text, _ in rows]
     at = {tag: idx for idx, (_, tag) in enumerate(rows) if tag}
+    if "hit" in at:
+        at["side"] = at["hit"]  # a side is read on the same line as a hit
     return lines, at
 
 
 def page_data(traces: Sequence[Trace]) -> dict[str, Any]:
-    """Everything the page shows, as JSON-ready data; the first trace is shown first."""
+    """Everything the page shows, as JSON-ready data; the first trace is shown first.
+
+    The data is the problem, not the steps: drawing points, labels, the chord
+    mask (``"1"``/``"0"`` for each chord (i, j), i < j, row by row; None when every
+    chord is usable) and the weight w(i, k, j) of every usable triangle, in the
+    order i, then j, then k. Each trace adds its name, pseudocode and counts,
+    which the page checks its own run against.
+
+    Raises
+    ------
+    TableTooLargeError
+        n above :data:`optri.config.EXPLORE_MAX_N`.
+    OptriError
+        A value the page's float64 arithmetic cannot hold exactly (an integer
+        beyond 2**53).
+    """
     first = traces[0]
+    n = first.n
+    if n > config.EXPLORE_MAX_N:
+        raise TableTooLargeError(
+            f"the explorer shows n <= {config.EXPLORE_MAX_N} (optri.config.EXPLORE_MAX_N), "
+            f"got n = {n}; use optri.trace for larger polygons"
+        )
+    problem = first._problem
+    if problem is None:
+        raise OptriError("this trace does not carry its problem; record it with optri.trace")
     pts = drawing_points(first.vertices)
     lo, span = pts.min(axis=0), float(np.ptp(pts, axis=0).max()) or 1.0
     xy = (pts - lo) / span * (_SIZE - 2 * _PAD) + _PAD
     xy[:, 1] = _SIZE - xy[:, 1]
-    labels = [f"v{i + 1}" for i in range(first.n)]
-    if first.vertices.ndim == 1:  # vertex values: show them
-        labels = [f"{a}={value_text(v)}" for a, v in zip(labels, first.vertices.tolist())]
+    values = None
+    if first.vertices.ndim == 1:  # vertex values: p0 ... p(n-1), as the matrix chain's
+        values = [_json_value(v) for v in first.vertices.tolist()]
+        labels = [f"p{i}={value_text(v)}" for i, v in enumerate(first.vertices.tolist())]
+    else:
+        labels = [f"v{i + 1}" for i in range(n)]
+    ok = problem.allowed_rows()
+    weight = problem.evaluator()
+    tw = []
+    for i in range(n):
+        for j in range(i + 2, n):
+            if ok is not None and not ok[i][j]:
+                continue
+            for k in range(i + 1, j):
+                if ok is None or (ok[i][k] and ok[k][j]):
+                    tw.append(_json_value(weight(i, k, j)))
+    for t in traces:  # every value the page computes must be a float64 exactly
+        for e in t.events:
+            if e.kind == "store":
+                _json_value(e.value)
+    mask = None
+    if ok is not None:
+        mask = "".join("1" if ok[i][j] else "0" for i in range(n) for j in range(i + 1, n))
     result = first.result
     return {
-        "n": first.n,
+        "n": n,
         "points": np.round(xy, 2).tolist(),
         "labels": labels,
-        "weight": result.weight_name,
-        "objective": result.objective,
+        "values": values,
+        "weight": _name(result.weight_name),
+        "objective": list(result.objective)
+        if isinstance(result.objective, tuple)
+        else [result.objective],
+        "mask": mask,
+        "tw": tw,
         "start": first.method,
-        "traces": {t.method: _trace_data(t) for t in traces},
+        "maxN": config.EXPLORE_MAX_N,
+        "naiveMax": config.NAIVE_MAX_N,
+        "methods": {t.method: _trace_data(t) for t in traces},
     }
 
 
@@ -133,7 +196,6 @@ def _trace_data(t: Trace) -> dict[str, Any]:
     return {
         "label": _LABELS[t.method],
         "title": _TITLES[t.method],
-        "events": [[_KIND_CODE[e.kind], e.i, e.j, e.k, _json_value(e.value)] for e in t.events],
         "counts": t.counts(),
         "code": lines,
         "lines": at,
@@ -145,32 +207,52 @@ def _json_value(v: Any) -> Any:
         return None
     if isinstance(v, tuple):
         return [_json_value(x) for x in v]
+    if isinstance(v, (int, np.integer)) and not isinstance(v, bool) and abs(int(v)) > 2**53:
+        raise OptriError(
+            f"the explorer computes in float64 and cannot show {int(v)} exactly (beyond 2**53); "
+            "use optri.trace for these values"
+        )
     v = float(v)
     if math.isinf(v):
         return "inf" if v > 0 else "-inf"
     return int(v) if v.is_integer() and abs(v) < 2**53 else v
 
 
+def _name(v: Any) -> str:
+    return ", ".join(str(x) for x in v) if isinstance(v, tuple) else str(v)
+
+
+#: Page-template placeholders, replaced in one pass: text put in never becomes a placeholder.
+_SLOT = re.compile(r"\{\{(title|css|data|js)\}\}")
+
+
 def explorer_page(traces: Sequence[Trace], title: str | None = None) -> str:
-    """The self-contained HTML page replaying ``traces`` (switchable; the first shown)."""
+    """The self-contained HTML page replaying ``traces`` (switchable; the first shown).
+
+    ``title`` (default: n, weight and objective) is text, escaped in the page.
+
+    >>> from optri.teaching import trace
+    >>> page = explorer_page([trace([5, 1, 5, 1, 5], "product")], title="{{js}} <b>")
+    >>> "<title>{{js}} &lt;b&gt;</title>" in page
+    True
+    """
     data = page_data(traces)
-    payload = json.dumps(data, separators=(",", ":"), ensure_ascii=False)
-    payload = payload.replace("<", "\\u003c")  # never "</script>" inside the data
+    payload = json.dumps(data, separators=(",", ":"), ensure_ascii=False, allow_nan=False)
+    # inside <script>: no "</script>", "<!--" or line separators JavaScript would trip on
+    for ch, code in (("<", "\\u003c"), (">", "\\u003e"), ("&", "\\u0026")):
+        payload = payload.replace(ch, code)
+    payload = payload.replace("\u2028", "\\u2028").replace("\u2029", "\\u2029")
     r = traces[0].result
-
-    def name(v: Any) -> str:
-        return ", ".join(v) if isinstance(v, tuple) else str(v)
-
     heading = title or (
-        f"optri explorer: n = {r.n}, {name(r.weight_name)} weight, {name(r.objective)}"
+        f"optri explorer: n = {r.n}, {_name(r.weight_name)} weight, {_name(r.objective)}"
     )
-    template = _asset("explorer.html")
-    return (
-        template.replace("{{title}}", escape(heading))
-        .replace("{{css}}", _asset("explorer.css"))
-        .replace("{{data}}", payload)
-        .replace("{{js}}", _asset("explorer.js"))
-    )
+    slots = {
+        "title": escape(heading),
+        "css": _asset("explorer.css"),
+        "data": payload,
+        "js": _asset("explorer.js"),
+    }
+    return _SLOT.sub(lambda m: slots[m.group(1)], _asset("explorer.html"))
 
 
 def embed(html: str, height: int = 700) -> str:

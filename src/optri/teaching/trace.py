@@ -13,6 +13,7 @@ import math
 from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from html import escape as html_escape
 from pathlib import Path
 from typing import Any, NamedTuple
 
@@ -29,8 +30,11 @@ from . import animation, explorer, tree
 
 __all__ = ["KINDS", "METHODS", "Event", "Trace", "explore", "trace"]
 
-#: Event kinds, in the order of a cell's life.
-KINDS = ("call", "hit", "candidate", "store")
+#: Event kinds, in the order of a cell's life. A "hit" is a request for a sub-polygon
+#: with a triangle (j - i >= 2) answered from the table: one recursion memoization
+#: saves, a grey leaf of Figure 3. Reading a side (j = i + 1, the base case w[i, i] = 0,
+#: set before the recursion) is a "side" step, never a hit.
+KINDS = ("call", "side", "hit", "candidate", "store")
 #: Evaluation orders a trace can record.
 METHODS = ("memo", "table", "naive")
 
@@ -39,7 +43,9 @@ class Event(NamedTuple):
     """One step of the DP on chord (i, j), i < j: the sub-polygon v_i ... v_j.
 
     ``kind`` is ``"call"`` (the recursive function is invoked on (i, j); sides
-    included), ``"hit"`` (the request is answered from the table), ``"candidate"``
+    included), ``"side"`` (a side, j = i + 1, is read: the base case, cost 0),
+    ``"hit"`` (a sub-polygon with a triangle, j - i >= 2, is answered from the
+    table instead of computed: see :data:`KINDS`), ``"candidate"``
     (split k of (i, j) evaluated: ``value`` is combine(cost(i, k), cost(k, j),
     w(i, k, j))) or ``"store"`` (cell (i, j) filled with ``value``, its optimal
     split ``k``). ``k`` and ``value`` are None where meaningless.
@@ -84,6 +90,7 @@ class Trace:
     vertices: NDArray[np.float64]
     order: NDArray[np.int64]
     _counts: dict[str, int] = field(default_factory=dict, repr=False)
+    _problem: Any = field(default=None, repr=False)  # the Problem traced (the explorer's weights)
 
     @property
     def n(self) -> int:
@@ -101,7 +108,11 @@ class Trace:
         return self.result.stats
 
     def counts(self) -> dict[str, int]:
-        """How many events of each kind: ``{"call": ..., "hit": ..., ...}``."""
+        """How many events of each kind: ``{"call": ..., "side": ..., "hit": ..., ...}``.
+
+        ``"hit"`` counts the requests for sub-polygons with a triangle answered from
+        the table (the grey leaves of Figure 3); reads of sides are ``"side"``.
+        """
         if not self._counts:
             found = Counter(e.kind for e in self.events)
             self._counts.update({kind: found.get(kind, 0) for kind in KINDS})
@@ -141,7 +152,16 @@ class Trace:
         return explorer.explorer_page([self])
 
     def _repr_html_(self) -> str:
-        """The explorer, embedded for notebooks (an ``<iframe srcdoc>``)."""
+        """The explorer, embedded for notebooks (an ``<iframe srcdoc>``).
+
+        Above :data:`optri.config.EXPLORE_MAX_N` vertices (the explorer's limit) the
+        notebook shows this trace's one-line summary instead of a page.
+        """
+        if self.n > config.EXPLORE_MAX_N:
+            return (
+                f"<pre>{html_escape(repr(self))}</pre><p>The explorer shows n &lt;= "
+                f"{config.EXPLORE_MAX_N} (optri.config.EXPLORE_MAX_N).</p>"
+            )
         return explorer.embed(self.explorer_html())
 
     def __repr__(self) -> str:
@@ -186,16 +206,17 @@ def trace(
     Notes
     -----
     On a convex n-gon every method makes C(n, 3) candidates (the paper's
-    Eq. 6); memo and table store (n - 1)(n - 2)/2 cells (Eq. 7); memo makes
-    2 C(n, 3) + 1 calls, of which all but the (n - 1)(n - 2)/2 stored cells
-    are hits; table reads 2 C(n, 3) cells from the table and makes no call;
-    naive makes 3^(n - 2) calls and no hit.
+    Eq. 6); memo and table store (n - 1)(n - 2)/2 cells (Eq. 7) and read
+    (n - 1)(n - 2) sides; memo makes 2 C(n, 3) + 1 calls, and those that are
+    neither stored cells nor sides are its 2 C(n, 3) + 1 - 3 (n - 1)(n - 2)/2
+    hits; table reads 2 C(n, 3) cells from the table and makes no call, so
+    2 C(n, 3) - (n - 1)(n - 2) hits; naive makes 3^(n - 2) calls and no hit.
 
     Examples
     --------
     >>> t = trace([5, 1, 5, 1, 5], weight="product")
     >>> t.counts()
-    {'call': 21, 'hit': 15, 'candidate': 10, 'store': 6}
+    {'call': 21, 'side': 12, 'hit': 3, 'candidate': 10, 'store': 6}
     >>> t.events[-1]
     Event(kind='store', i=0, j=4, k=1, value=35)
     >>> trace([5, 1, 5, 1, 5], "product", method="naive").counts()["call"]
@@ -220,6 +241,8 @@ def trace(
     events: list[Event] = []
 
     def record(kind: str, i: int, j: int, k: int | None, value: Any) -> None:
+        if kind == "hit" and j - i == 1:
+            kind = "side"  # the base case read, not a saved recursion (see KINDS)
         events.append(Event(kind, i, j, k, value))
 
     problem.observer = record
@@ -227,7 +250,7 @@ def trace(
     if not events or events[-1][:3] != ("store", 0, polygon.n - 1):
         raise OptriError("internal error: the trace does not end with the store of (0, n-1)")
     result = solution_result(problem, name, solution)
-    return Trace(method, events, result, polygon.data, polygon.order)
+    return Trace(method, events, result, polygon.data, polygon.order, _problem=problem)
 
 
 def explore(

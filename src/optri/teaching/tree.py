@@ -78,10 +78,12 @@ def recursion_tree(events: Iterable[Any]) -> Node:
                 side = node
             else:
                 stack.append(node)
+        elif kind == "side":
+            if side is None or (side.i, side.j) != (i, j):
+                raise OptriError(f"a side read of ({i}, {j}) follows no call of it")
+            side.value, side = e[4], None
         elif kind == "hit":
-            if side is not None and (side.i, side.j) == (i, j):
-                side.value, side = e[4], None
-            elif stack and (stack[-1].i, stack[-1].j) == (i, j) and not stack[-1].children:
+            if stack and (stack[-1].i, stack[-1].j) == (i, j) and not stack[-1].children:
                 node = stack.pop()
                 node.status, node.value = "hit", e[4]
             else:
