@@ -75,6 +75,17 @@ def test_the_laplacian_has_zero_row_sums_and_positive_areas():
     assert A.sum() == pytest.approx(total.sum(), rel=1e-12)  # the areas tile the surface
 
 
+def test_mixed_voronoi_areas_of_right_and_obtuse_triangles():
+    # a unit square in two right triangles: each vertex's Voronoi region is a quarter
+    v = np.array([[0.0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]])
+    _, A = laplacian(v, np.array([[0, 1, 2], [0, 2, 3]]))
+    assert A.tolist() == [0.25, 0.25, 0.25, 0.25]
+    # an obtuse triangle: half its area at the obtuse corner, a quarter at the others
+    w = np.array([[0.0, 0, 0], [4, 0, 0], [2, 0.5, 0]])
+    _, B = laplacian(w, np.array([[0, 1, 2]]))
+    assert B.tolist() == [0.25, 0.25, 0.5]
+
+
 def test_fair_region_keeps_the_kind_and_refuses_bad_input():
     g, faces = _grid(6)
     v = np.column_stack([g, np.zeros(len(g))])
