@@ -135,14 +135,28 @@ def test_refine_patch_refuses_a_bad_density():
         optri.fill_holes((v, np.array([[0, 1, 2]])), refine=True, fair=5)
 
 
-def test_refinement_never_swaps_to_an_edge_the_mesh_has():
-    v = np.array([[0.0, 0, 0], [4, 0, 0], [4, 4, 0], [0, 4, 0]])
-    new, faces = refine_patch(
-        v, np.array([[0, 1, 2], [0, 2, 3]]), np.arange(4), np.full(4, 1.0),
-        forbidden={frozenset((1, 3))},
-    )
-    e = {frozenset(x) for x in np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]]]).tolist()}
-    assert frozenset((1, 3)) not in e
+def test_relaxation_swaps_a_thin_pair_but_never_onto_an_edge_the_mesh_has():
+    from optri.holes.refine import _relax
+
+    # (u, v, x) and (v, u, y) around a long edge u-v: y lies in u-v-x's diametral sphere
+    pts = np.array([[0.0, 0, 0], [4, 0, 0], [2, 0.1, 0], [2, -0.1, 0]])
+    faces = [(0, 1, 2), (1, 0, 3)]
+    swapped = _relax(faces, lambda i: pts[i], set(), set())
+    assert sorted(map(sorted, swapped)) == [[0, 2, 3], [1, 2, 3]]  # now x-y is the edge
+    kept = _relax(faces, lambda i: pts[i], set(), {frozenset((2, 3))})
+    assert kept == faces
+    fixed = _relax(faces, lambda i: pts[i], {frozenset((0, 1))}, set())
+    assert fixed == faces  # a boundary edge is never swapped away
+
+
+def test_a_corner_with_a_coarse_neighbourhood_keeps_its_triangle_whole():
+    # each corner's own scale counts, not only the centroid's (their mean)
+    v = np.array([[0.0, 0, 0], [10, 0, 0], [5, 8.66, 0]])
+    tri = np.array([[0, 1, 2]])
+    new, _ = refine_patch(v, tri, np.arange(3), np.array([20.0, 0.1, 0.1]))
+    assert len(new) == 0
+    new, _ = refine_patch(v, tri, np.arange(3), np.array([3.0, 3.0, 3.0]))
+    assert len(new) > 0
 
 
 # --- refine and fair on analytic surfaces ----------------------------------------
