@@ -29,7 +29,7 @@ from .errors import (
     TableTooLargeError,
     WeightError,
 )
-from .holes import fill_holes, fill_polyline
+from .holes import fair_region, fill_holes, fill_polyline
 from .polygon import Polygon, as_polygon, require_simple
 from .result import Triangulation
 from .simple import valid_diagonals
@@ -62,6 +62,7 @@ __all__ = [
     "custom_weight",
     "data",
     "enumerate_triangulations",
+    "fair_region",
     "fill_holes",
     "fill_polyline",
     "format_table",

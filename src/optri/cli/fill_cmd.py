@@ -74,6 +74,25 @@ def _check_has_holes(mesh: Any) -> dict[str, int]:
     help="Merge vertices closer than this fraction of the mesh's size "
     "[default: 0, exactly equal positions only].",
 )
+@click.option(
+    "--refine",
+    is_flag=True,
+    help="Refine each patch to the density of the mesh around it (Liepa's splits).",
+)
+@click.option(
+    "--fair",
+    type=click.IntRange(0, 2),
+    default=None,
+    help="Fair the refined patch: continuity 0 (membrane), 1 (thin plate) or 2 "
+    "(curvature) at the hole's border. Needs --refine.",
+)
+@click.option(
+    "--density",
+    type=click.FloatRange(min=0.0, min_open=True),
+    default=2**0.5,
+    show_default="sqrt(2)",
+    help="Refinement density: larger gives smaller triangles.",
+)
 @click.option("--strict", is_flag=True, help="Exit 1 if a hole is left open.")
 @click.option("--json", "as_json", is_flag=True, help="Print the report as one JSON object.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
@@ -84,12 +103,17 @@ def fill(
     method: str,
     max_hole_edges: int | None,
     merge_tolerance: float | None,
+    refine: bool,
+    fair: int | None,
+    density: float,
     strict: bool,
     as_json: bool,
     quiet: bool,
 ) -> None:
     """Fill the holes of the mesh in INFILE (.obj/.ply/.stl/.off; - for stdin), write OUTPUT."""
     mesh_format(output, "output")  # refuse an unknown output suffix before any work
+    if fair is not None and not refine:
+        raise click.UsageError("--fair moves the vertices --refine adds: give --refine too")
     with mesh_input(infile) as path:
         mesh = read_mesh(path, merge_tolerance)
     counts = _check_has_holes(mesh)
@@ -106,6 +130,9 @@ def fill(
                 max_hole_edges=max_hole_edges,
                 weight=weight,
                 method=method,
+                refine=refine,
+                fair=fair,
+                density=density,
                 progress=progress,
             )
     for w in caught:  # skipped holes: never silent, one stderr line each

@@ -6,11 +6,16 @@ triangles along the loop as Liepa's third points. The patch never joins two
 vertices the mesh already joins (that edge would get four faces), including
 edges added by the holes filled before it; new faces are wound so that every
 boundary edge ``(a, b)`` of an existing face appears as ``(b, a)`` in its new
-neighbour. trimesh is imported only when a ``trimesh.Trimesh`` is passed in.
+neighbour. With ``refine=True`` each patch is then refined to the density of the
+mesh around it (:mod:`optri.holes.refine`), and with ``fair=k`` its new vertices are
+faired (:mod:`optri.holes.fair`); a fairing that would make the patch cross the mesh
+is undone (the refined patch is kept) and the record says why. trimesh is imported only
+when a ``trimesh.Trimesh`` is passed in.
 """
 
 from __future__ import annotations
 
+import math
 import time
 import warnings
 from collections.abc import Callable
@@ -20,7 +25,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .._optional import import_optional
 from ..errors import (
     HoleSkippedWarning,
     InvalidPolygonError,
@@ -30,7 +34,11 @@ from ..errors import (
 from ..objective import Cost
 from ..weights import get_weight
 from .boundary import Loop, edge_keys, trace_loops
+from .fair import CONTINUITY, fair_vertices
+from .intersect import intersecting_pairs
+from .meshdata import mesh_arrays, same_kind
 from .polyline import METHODS, fill_polyline
+from .refine import boundary_scales, refine_patch
 
 __all__ = ["HoleRecord", "fill_holes"]
 
@@ -70,6 +78,14 @@ class HoleRecord:
     candidates : str
         ``method="delaunay"``: the candidate set that held the patch
         (``"delaunay"``, ``"delaunay-edges"``, ``"knn-8"``... or ``"all"``).
+    vertices_added : int
+        Vertices the refinement added (0 without ``refine``).
+    faired : bool
+        Whether the new vertices were faired.
+    fair_reason : str
+        Why a fairing asked for was not kept ("" when it was, or was not asked for).
+    self_intersections : int
+        Pairs of a patch face and a mesh face that cross, in the final patch.
     """
 
     index: int
@@ -85,6 +101,10 @@ class HoleRecord:
     forbidden_chords: int = 0
     degenerate: int = 0
     candidates: str = ""
+    vertices_added: int = 0
+    faired: bool = False
+    fair_reason: str = ""
+    self_intersections: int = 0
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready fields (a tuple weight becomes a list)."""
@@ -102,6 +122,14 @@ class HoleRecord:
             notes.append(f"{self.forbidden_chords} chords avoided (existing edges)")
         if self.degenerate:
             notes.append(f"{self.degenerate} zero-area faces (no patch avoids them)")
+        if self.vertices_added:
+            notes.append(f"refined: {self.vertices_added} vertices added")
+        if self.faired:
+            notes.append("faired")
+        if self.fair_reason:
+            notes.append(f"not faired: {self.fair_reason}")
+        if self.self_intersections:
+            notes.append(f"{self.self_intersections} crossings with the mesh")
         if self.candidates:
             notes.append(f"candidates: {self.candidates}")
         return "; ".join(notes)
@@ -113,9 +141,12 @@ def fill_holes(
     weight: str | Callable[..., float] = "liepa",
     method: str = "auto",
     *,
+    refine: bool = False,
+    fair: int | None = None,
+    density: float = math.sqrt(2.0),
     progress: Callable[[int, int], None] | None = None,
 ) -> tuple[Any, list[HoleRecord]]:
-    """Fill every hole of a triangle mesh with an optimal patch.
+    """Fill every hole of a triangle mesh with an optimal patch, refined and faired if asked.
 
     Parameters
     ----------
@@ -128,14 +159,26 @@ def fill_holes(
         As in :func:`optri.fill_polyline`; default ``method="auto"`` runs the
         exact search on holes up to ``config.HOLES_EXACT_MAX_N`` edges and
         Liepa's O(n^3) recurrence above (each record names the mode used).
+    refine : bool
+        Refine each patch to the density of the mesh around its hole: Liepa's
+        centroid splits and edge relaxation (:func:`optri.holes.refine_patch`).
+    fair : {None, 0, 1, 2}
+        Fair the vertices refinement added, with continuity 0 (membrane), 1 (thin
+        plate) or 2 (minimal curvature variation) at the hole's border
+        (:func:`optri.fair_region`). Without ``refine`` a patch has no vertex of
+        its own and fairing changes nothing; to fair an existing patch, pass its
+        vertices to :func:`optri.fair_region`.
+    density : float
+        Liepa's density factor (> 0): larger gives smaller triangles.
     progress : callable, optional
         ``progress(done, total)`` after each hole.
 
     Returns
     -------
     (mesh, records)
-        A new mesh of the input's kind (vertices unchanged, new faces
-        appended) and one :class:`HoleRecord` per hole.
+        A new mesh of the input's kind (old vertices unchanged, refinement's new
+        vertices appended after them, new faces appended) and one
+        :class:`HoleRecord` per hole.
 
     Raises
     ------
@@ -151,6 +194,16 @@ def fill_holes(
     open (``status="failed"``). Pinched boundary vertices (two loops touching)
     are split as CGAL's border cycles are, so each loop is filled on its own.
 
+    A fairing whose patch would cross the mesh where the refined patch did not is
+    undone (the refined patch stays, ``fair_reason`` says so); a system that cannot
+    be solved is reported the same way. ``self_intersections`` counts the crossings
+    left in each final patch.
+
+    References
+    ----------
+    .. [1] P. Liepa, "Filling holes in meshes", Symposium on Geometry Processing 2003,
+       doi:10.2312/SGP/SGP03/200-206.
+
     Examples
     --------
     >>> import numpy as np
@@ -159,29 +212,83 @@ def fill_holes(
     >>> (v2, f2), records = fill_holes((v, f))
     >>> f2[-1].tolist(), records[0].status, records[0].edges
     ([0, 3, 2], 'filled', 3)
+    >>> (v3, f3), records = fill_holes((v, f), refine=True, fair=1, density=8.0)
+    >>> len(v3) - len(v) == records[0].vertices_added > 0, records[0].faired
+    (True, True)
     """
     if method not in METHODS:
         raise InvalidPolygonError(f"unknown method {method!r}; choose one of: {', '.join(METHODS)}")
     if not (isinstance(weight, str) and weight == "liepa"):
         get_weight(weight)  # an unknown weight fails here, not once per hole
-    vertices, faces, is_trimesh = _mesh_arrays(mesh)
+    if fair is not None and fair not in CONTINUITY:
+        raise InvalidPolygonError(f"fair must be None, 0, 1 or 2, got {fair!r}")
+    if not (isinstance(density, (int, float)) and density > 0 and math.isfinite(density)):
+        raise InvalidPolygonError(f"density must be a positive number, got {density!r}")
+    vertices, faces, is_trimesh = mesh_arrays(mesh)
     loops = trace_loops(faces)
     joined = _Edges(faces, loops, len(vertices))
     records: list[HoleRecord] = []
     new_faces = [faces]
+    points = [vertices]
+    count = len(vertices)
     for h, loop in enumerate(loops):
         rec, patch = _fill_one(h, vertices, loop, joined, max_hole_edges, weight, method)
         if patch is not None:
-            new_faces.append(patch)
             joined.add(patch)
+            if refine:
+                scales = boundary_scales(vertices, faces, loop.vertices)
+                forbidden = joined.pairs_among(loop.vertices)
+                added, patch = refine_patch(
+                    np.concatenate(points), patch, loop.vertices, scales, density,
+                    forbidden=forbidden,
+                )
+                if len(added):
+                    points.append(added)
+                    rec.vertices_added = len(added)
+                    rec.faces_added = len(patch)
+                    if fair is not None:
+                        free = np.arange(count, count + len(added))
+                        _fair_patch(rec, np.concatenate(points), new_faces, patch, free, fair,
+                                    points)
+                    count += len(added)
+            joined.add(patch)
+            new_faces.append(patch)
+            rec.self_intersections = len(
+                intersecting_pairs(np.concatenate(points), np.concatenate(new_faces[:-1]), patch)
+            )
         records.append(rec)
         if progress is not None:
             progress(h + 1, len(loops))
     out_faces = np.concatenate(new_faces).astype(np.int64)
-    if is_trimesh:
-        trimesh = import_optional("trimesh")
-        return trimesh.Trimesh(vertices=vertices.copy(), faces=out_faces, process=False), records
-    return (vertices.copy(), out_faces), records
+    out_vertices = np.concatenate(points) if len(points) > 1 else vertices.copy()
+    return same_kind(out_vertices, out_faces, is_trimesh), records
+
+
+def _fair_patch(
+    rec: HoleRecord,
+    allv: NDArray[np.float64],
+    new_faces: list[Ints],
+    patch: Ints,
+    free: Ints,
+    continuity: int,
+    points: list[NDArray[np.float64]],
+) -> None:
+    """Fair ``free`` (the last block of ``points``); undone when it adds crossings."""
+    others = np.concatenate(new_faces)
+    res = fair_vertices(allv, np.concatenate([others, patch]), free, continuity)
+    if not res.ok:
+        rec.fair_reason = res.reason
+        return
+    before = len(intersecting_pairs(allv, others, patch))
+    after = len(intersecting_pairs(res.vertices, others, patch))
+    if after > before:
+        rec.fair_reason = (
+            f"the faired patch would cross the mesh ({after} crossings, {before} before); "
+            f"the refined patch is kept"
+        )
+        return
+    points[-1] = res.vertices[free]
+    rec.faired = True
 
 
 class _Edges:
@@ -197,7 +304,17 @@ class _Edges:
         self.keys = np.unique(keys[on_loop[a] & on_loop[b]])  # a few, not every edge
 
     def add(self, patch: Ints) -> None:
-        self.keys = np.union1d(self.keys, edge_keys(patch, self.nv))
+        a = patch.ravel()
+        b = patch[:, [1, 2, 0]].ravel()
+        old = (a < self.nv) & (b < self.nv)  # refinement's vertices are on no loop
+        a, b = a[old], b[old]
+        self.keys = np.union1d(self.keys, np.minimum(a, b) * self.nv + np.maximum(a, b))
+
+    def pairs_among(self, loop: Ints) -> set[frozenset[int]]:
+        """Vertex pairs of ``loop`` the mesh (or a patch so far) joins."""
+        on = set(loop.tolist())
+        a, b = np.divmod(self.keys, self.nv)
+        return {frozenset((x, y)) for x, y in zip(a.tolist(), b.tolist()) if x in on and y in on}
 
     def chords_of(self, loop: Ints) -> Ints:
         """Pairs of loop positions the mesh already joins, sides excluded."""
@@ -255,29 +372,3 @@ def _left_open(rec: HoleRecord, status: str, reason: str) -> HoleRecord:
     rec.status, rec.reason = status, reason
     warnings.warn(f"hole {rec.index} left open: {reason}", HoleSkippedWarning, stacklevel=4)
     return rec
-
-
-def _mesh_arrays(mesh: Any) -> tuple[NDArray[np.float64], Ints, bool]:
-    is_trimesh = hasattr(mesh, "vertices") and hasattr(mesh, "faces")
-    if is_trimesh:
-        vertices, faces = mesh.vertices, mesh.faces
-    else:
-        try:
-            vertices, faces = mesh
-        except (TypeError, ValueError) as exc:
-            raise InvalidPolygonError(
-                "expected a trimesh.Trimesh or a (vertices, faces) pair"
-            ) from exc
-    v = np.asarray(vertices, dtype=np.float64)
-    f = np.asarray(faces)
-    if v.ndim != 2 or v.shape[1] != 3:
-        raise InvalidPolygonError(f"mesh vertices must be (n, 3), got shape {v.shape}")
-    if f.ndim != 2 or f.shape[1] != 3 or not np.issubdtype(f.dtype, np.integer):
-        raise InvalidPolygonError(f"mesh faces must be (m, 3) integer triangles, got {f.shape}")
-    if len(f) == 0:
-        raise InvalidPolygonError("the mesh has no faces")
-    if f.min() < 0 or f.max() >= len(v):
-        raise InvalidPolygonError("a face refers to a vertex that does not exist")
-    if not np.isfinite(v).all():
-        raise InvalidPolygonError("a mesh vertex has a non-finite coordinate")
-    return v, f.astype(np.int64), is_trimesh

@@ -1,0 +1,100 @@
+"""Self-intersections between a patch and the faces around it.
+
+Two triangles that share no vertex intersect when an edge of one crosses the other;
+two that share one vertex intersect away from it when the edge of one opposite the
+shared vertex crosses the other; two that share an edge are neighbours, never counted.
+Each test is a segment against a triangle (Moller and Trumbore 1997), with a small
+relative tolerance so that touching at a shared boundary is not a crossing. Only
+faces whose bounding boxes overlap a patch face's are tested.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["intersecting_pairs"]
+
+_EPS = 1e-9  # relative: a crossing closer than this to an end or a side is a touch
+
+
+def intersecting_pairs(
+    vertices: NDArray[np.float64], faces: NDArray[np.int64], patch: NDArray[np.int64]
+) -> NDArray[np.int64]:
+    """Pairs ``(p, f)``: patch face ``patch[p]`` crosses mesh face ``faces[f]``.
+
+    ``faces`` may include the patch's own faces (pairs of a face with itself or a
+    neighbour are skipped). Returns an ``(k, 2)`` int array, empty when none cross.
+
+    >>> import numpy as np
+    >>> v = np.array([[0., 0, 0], [2, 0, 0], [0, 2, 0],
+    ...               [0.5, 0.5, -1], [0.5, 0.5, 1], [3, 3, 0]])
+    >>> intersecting_pairs(v, np.array([[0, 1, 2]]), np.array([[3, 4, 5]])).tolist()
+    [[0, 0]]
+    """
+    v = np.asarray(vertices, dtype=np.float64)
+    f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    p = np.asarray(patch, dtype=np.int64).reshape(-1, 3)
+    if len(f) == 0 or len(p) == 0:
+        return np.empty((0, 2), dtype=np.int64)
+    flo, fhi = v[f].min(axis=1), v[f].max(axis=1)
+    plo, phi = v[p].min(axis=1), v[p].max(axis=1)
+    span = float(np.ptp(v[np.unique(np.concatenate([f.ravel(), p.ravel()]))], axis=0).max())
+    pad = _EPS * max(span, 1e-300)
+    # candidate pairs: overlapping boxes, by a sort along x and a scan
+    pairs = []
+    order = np.argsort(flo[:, 0])
+    lo_sorted = flo[order, 0]
+    for q in range(len(p)):
+        stop = np.searchsorted(lo_sorted, phi[q, 0] + pad, side="right")
+        cand = order[:stop]
+        cand = cand[fhi[cand, 0] >= plo[q, 0] - pad]
+        ok = np.all((flo[cand] <= phi[q] + pad) & (fhi[cand] >= plo[q] - pad), axis=1)
+        cand = cand[ok]
+        if len(cand):
+            pairs.append(np.column_stack([np.full(len(cand), q), cand]))
+    if not pairs:
+        return np.empty((0, 2), dtype=np.int64)
+    pq = np.concatenate(pairs)
+    A, B = p[pq[:, 0]], f[pq[:, 1]]
+    shared = (A[:, :, None] == B[:, None, :]).sum(axis=(1, 2))
+    keep = shared <= 1
+    pq, A, B, shared = pq[keep], A[keep], B[keep], shared[keep]
+    hit = np.zeros(len(pq), dtype=bool)
+    for s_count in (0, 1):
+        sel = np.flatnonzero(shared == s_count)
+        if len(sel) == 0:
+            continue
+        a, b = A[sel], B[sel]
+        for first, second in ((a, b), (b, a)):
+            for e in range(3):
+                s0, s1 = first[:, e], first[:, (e + 1) % 3]
+                if s_count == 1:  # only the edge opposite the shared vertex
+                    opposite = (
+                        (s0[:, None] != second).all(axis=1) & (s1[:, None] != second).all(axis=1)
+                    )
+                else:
+                    opposite = np.ones(len(sel), dtype=bool)
+                crosses = _segment_hits_triangle(v[s0], v[s1], v[second])
+                hit[sel] |= opposite & crosses
+    return pq[hit]
+
+
+def _segment_hits_triangle(
+    s0: NDArray[np.float64], s1: NDArray[np.float64], tri: NDArray[np.float64]
+) -> NDArray[np.bool_]:
+    """Row by row, whether the open segment ``s0 s1`` crosses the open triangle ``tri``."""
+    d = s1 - s0
+    e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+    h = np.cross(d, e2)
+    det = np.einsum("ij,ij->i", e1, h)
+    scale = np.linalg.norm(e1, axis=1) * np.linalg.norm(e2, axis=1) * np.linalg.norm(d, axis=1)
+    good = np.abs(det) > 1e-12 * np.maximum(scale, 1e-300)  # not parallel
+    inv = np.where(good, 1.0 / np.where(good, det, 1.0), 0.0)
+    sv = s0 - tri[:, 0]
+    u = inv * np.einsum("ij,ij->i", sv, h)
+    q = np.cross(sv, e1)
+    w = inv * np.einsum("ij,ij->i", d, q)
+    t = inv * np.einsum("ij,ij->i", e2, q)
+    eps = _EPS
+    return good & (u > eps) & (w > eps) & (u + w < 1 - eps) & (t > eps) & (t < 1 - eps)

@@ -1,0 +1,234 @@
+"""Refined and faired hole patches: distance to the true surface, continuity orders,
+the border untouched, manifold and watertight results, no crossings, clear errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import optri
+from optri.errors import InvalidPolygonError
+from optri.holes.fair import fair_vertices, laplacian
+from optri.holes.intersect import intersecting_pairs
+from optri.holes.refine import boundary_scales, refine_patch
+
+trimesh = pytest.importorskip("trimesh")
+pytest.importorskip("scipy")
+
+
+def _grid(k: int, lo: float = -1.0, hi: float = 1.0):
+    g = np.stack(np.meshgrid(np.linspace(lo, hi, k), np.linspace(lo, hi, k)), -1).reshape(-1, 2)
+    faces = []
+    for r in range(k - 1):
+        for c in range(k - 1):
+            a = r * k + c
+            faces += [[a, a + 1, a + k + 1], [a, a + k + 1, a + k]]
+    return g, np.array(faces)
+
+
+def _edge_use(faces):
+    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    directed = {tuple(x) for x in e.tolist()}
+    _, counts = np.unique(np.sort(e, axis=1), axis=0, return_counts=True)
+    return directed, counts, len(e)
+
+
+def _sphere_with_cap_hole(z_cut: float = 0.6, subdivisions: int = 3):
+    s = trimesh.creation.icosphere(subdivisions=subdivisions)
+    keep = s.vertices[s.faces].mean(axis=1)[:, 2] < z_cut
+    return np.asarray(s.vertices), np.asarray(s.faces)[keep]
+
+
+def _paraboloid_with_hole():
+    g, faces = _grid(21)
+    v = np.column_stack([g, g[:, 0] ** 2 + g[:, 1] ** 2])
+    cen = v[faces].mean(axis=1)
+    keep = np.hypot(cen[:, 0] - 0.1, cen[:, 1]) > 0.45
+    return v, faces[keep]
+
+
+# --- fairing --------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("continuity", [0, 1, 2])
+def test_fairing_flattens_a_bump_in_a_plane_and_leaves_the_rest(continuity):
+    g, faces = _grid(9)
+    v = np.column_stack([g, np.zeros(len(g))])
+    free = np.array([30, 31, 39, 40, 41, 49])
+    bumped = v.copy()
+    bumped[free, 2] = np.linspace(0.3, 1.1, len(free))
+    res = fair_vertices(bumped, faces, free, continuity)
+    assert res.ok
+    assert np.abs(res.vertices[free, 2]).max() < 1e-9  # a plane is in L's kernel
+    others = np.setdiff1d(np.arange(len(v)), free)
+    assert np.array_equal(res.vertices[others], bumped[others])  # bit for bit
+
+
+def test_the_laplacian_has_zero_row_sums_and_positive_areas():
+    v, f = _sphere_with_cap_hole()
+    C, A = laplacian(v, f)
+    assert np.allclose(C @ np.ones(len(v)), 0.0, atol=1e-12)
+    assert (C - C.T).count_nonzero() == 0
+    used = np.unique(f)
+    assert np.all(A[used] > 0)
+    total = 0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]), axis=1)
+    assert A.sum() == pytest.approx(total.sum(), rel=1e-12)  # the areas tile the surface
+
+
+def test_mixed_voronoi_areas_of_right_and_obtuse_triangles():
+    # a unit square in two right triangles: each vertex's Voronoi region is a quarter
+    v = np.array([[0.0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]])
+    _, A = laplacian(v, np.array([[0, 1, 2], [0, 2, 3]]))
+    assert A.tolist() == [0.25, 0.25, 0.25, 0.25]
+    # an obtuse triangle: half its area at the obtuse corner, a quarter at the others
+    w = np.array([[0.0, 0, 0], [4, 0, 0], [2, 0.5, 0]])
+    _, B = laplacian(w, np.array([[0, 1, 2]]))
+    assert B.tolist() == [0.25, 0.25, 0.5]
+
+
+def test_fair_region_keeps_the_kind_and_refuses_bad_input():
+    g, faces = _grid(6)
+    v = np.column_stack([g, np.zeros(len(g))])
+    v[14, 2] = 1.0
+    m = trimesh.Trimesh(v, faces, process=False)
+    out = optri.fair_region(m, [14], continuity=2)
+    assert isinstance(out, trimesh.Trimesh)
+    assert abs(out.vertices[14, 2]) < 1e-9
+    with pytest.raises(InvalidPolygonError, match="continuity"):
+        optri.fair_region((v, faces), [14], continuity=3)
+    with pytest.raises(InvalidPolygonError, match="does not exist"):
+        optri.fair_region((v, faces), [len(v)], continuity=1)
+    lonely = np.vstack([v, [[9.0, 9.0, 9.0]]])  # a vertex on no face: no area, no system
+    with pytest.raises(InvalidPolygonError, match="fairing failed"):
+        optri.fair_region((lonely, faces), [len(v)], continuity=1)
+
+
+# --- refinement ----------------------------------------------------------------
+
+
+def test_refinement_matches_the_density_around_the_hole():
+    v, f = _sphere_with_cap_hole()
+    (v2, f2), (rec,) = optri.fill_holes((v, f), refine=True)
+    assert rec.vertices_added == len(v2) - len(v) > 0
+    patch = f2[len(f) :]
+    assert rec.faces_added == len(patch) == rec.edges - 2 + 2 * rec.vertices_added
+    e = np.concatenate([patch[:, [0, 1]], patch[:, [1, 2]], patch[:, [2, 0]]])
+    patch_len = np.linalg.norm(v2[e[:, 0]] - v2[e[:, 1]], axis=1).mean()
+    mesh_len = boundary_scales(v, f, np.unique(f)).mean()
+    assert 0.5 < patch_len / mesh_len < 2.0
+
+
+def test_a_larger_density_splits_more():
+    v, f = _sphere_with_cap_hole()
+    added = [optri.fill_holes((v, f), refine=True, density=d)[1][0].vertices_added
+             for d in (1.0, 2**0.5, 2.5)]
+    assert added[0] < added[1] < added[2]
+
+
+def test_refine_patch_refuses_a_bad_density():
+    v = np.array([[0.0, 0, 0], [4, 0, 0], [4, 4, 0], [0, 4, 0]])
+    with pytest.raises(InvalidPolygonError, match="density"):
+        refine_patch(v, np.array([[0, 1, 2], [0, 2, 3]]), np.arange(4), np.ones(4), 0.0)
+    with pytest.raises(InvalidPolygonError, match="density"):
+        optri.fill_holes((v, np.array([[0, 1, 2]])), refine=True, density=float("nan"))
+    with pytest.raises(InvalidPolygonError, match="fair"):
+        optri.fill_holes((v, np.array([[0, 1, 2]])), refine=True, fair=5)
+
+
+def test_relaxation_swaps_a_thin_pair_but_never_onto_an_edge_the_mesh_has():
+    from optri.holes.refine import _relax
+
+    # (u, v, x) and (v, u, y) around a long edge u-v: y lies in u-v-x's diametral sphere
+    pts = np.array([[0.0, 0, 0], [4, 0, 0], [2, 0.1, 0], [2, -0.1, 0]])
+    faces = [(0, 1, 2), (1, 0, 3)]
+    swapped = _relax(faces, lambda i: pts[i], set(), set())
+    assert sorted(map(sorted, swapped)) == [[0, 2, 3], [1, 2, 3]]  # now x-y is the edge
+    kept = _relax(faces, lambda i: pts[i], set(), {frozenset((2, 3))})
+    assert kept == faces
+    fixed = _relax(faces, lambda i: pts[i], {frozenset((0, 1))}, set())
+    assert fixed == faces  # a boundary edge is never swapped away
+
+
+def test_a_corner_with_a_coarse_neighbourhood_keeps_its_triangle_whole():
+    # each corner's own scale counts, not only the centroid's (their mean)
+    v = np.array([[0.0, 0, 0], [10, 0, 0], [5, 8.66, 0]])
+    tri = np.array([[0, 1, 2]])
+    new, _ = refine_patch(v, tri, np.arange(3), np.array([20.0, 0.1, 0.1]))
+    assert len(new) == 0
+    new, _ = refine_patch(v, tri, np.arange(3), np.array([3.0, 3.0, 3.0]))
+    assert len(new) > 0
+
+
+# --- refine and fair on analytic surfaces ----------------------------------------
+
+
+@pytest.mark.parametrize(("continuity", "rms_bound"), [(0, 0.3), (1, 0.06), (2, 0.01)])
+def test_a_sphere_cap_comes_back_close_to_the_sphere(continuity, rms_bound):
+    v, f = _sphere_with_cap_hole()
+    (v2, f2), (rec,) = optri.fill_holes((v, f), refine=True, fair=continuity)
+    assert rec.faired and rec.fair_reason == "" and rec.self_intersections == 0
+    new = v2[len(v) :]
+    d = np.linalg.norm(new, axis=1) - 1.0
+    assert np.sqrt(np.mean(d**2)) < rms_bound
+    assert np.array_equal(v2[: len(v)], v)  # the border and the mesh: untouched
+    m = trimesh.Trimesh(v2, f2, process=False)
+    assert m.is_watertight and m.is_winding_consistent
+    assert m.euler_number == 2
+
+
+def test_higher_continuity_is_closer_on_a_paraboloid():
+    v, f = _paraboloid_with_hole()
+    err = []
+    for k in (0, 1, 2):
+        (v2, _), records = optri.fill_holes((v, f), refine=True, fair=k, max_hole_edges=60)
+        inner = [r for r in records if r.status == "filled"]
+        assert len(inner) == 1 and inner[0].faired
+        new = v2[len(v) :]
+        err.append(np.sqrt(np.mean((new[:, 2] - new[:, 0] ** 2 - new[:, 1] ** 2) ** 2)))
+    assert err[2] < err[1] < err[0]
+    assert err[2] < 0.03
+
+
+def test_filled_refined_meshes_are_manifold_with_each_directed_edge_once():
+    v, f = _sphere_with_cap_hole(z_cut=0.3, subdivisions=2)
+    (v2, f2), _ = optri.fill_holes((v, f), refine=True, fair=1)
+    directed, counts, total = _edge_use(f2)
+    assert len(directed) == total  # consistent winding: no directed edge twice
+    assert np.all(counts == 2)
+
+
+# --- crossings -------------------------------------------------------------------
+
+
+def test_crossing_triangles_are_found_and_neighbours_are_not():
+    v = np.array([
+        [0.0, 0, 0], [2, 0, 0], [0, 2, 0],          # a flat triangle
+        [0.5, 0.5, -1], [0.5, 0.5, 1], [3, 3, 0],   # pierces it
+        [2, 2, 0],                                  # shares edge (1, 2) with the first
+        [0.0, 0, 1], [-1, -1, 1],                   # shares vertex 0, stays clear
+    ])
+    faces = np.array([[0, 1, 2]])
+    assert intersecting_pairs(v, faces, np.array([[3, 4, 5]])).tolist() == [[0, 0]]
+    assert len(intersecting_pairs(v, faces, np.array([[2, 1, 6]]))) == 0
+    assert len(intersecting_pairs(v, faces, np.array([[0, 7, 8]]))) == 0
+    # shares vertex 0 and cuts through the first triangle's interior
+    w = np.vstack([v, [[1.0, 1.5, -1], [1.5, 1.0, 1]]])
+    assert len(intersecting_pairs(w, faces, np.array([[0, 9, 10]]))) == 1
+
+
+def test_the_fill_cli_refines_and_fairs(tmp_path):
+    from click.testing import CliRunner
+
+    from optri.cli import main
+
+    v, f = _sphere_with_cap_hole()
+    src = tmp_path / "cap.obj"
+    trimesh.Trimesh(v, f, process=False).export(src)
+    out = tmp_path / "out.obj"
+    res = CliRunner().invoke(main, ["fill", str(src), "-o", str(out), "--refine", "--fair", "2",
+                                    "--json", "-q"])
+    assert res.exit_code == 0, res.output
+    m = trimesh.load(out, process=False)
+    assert m.is_watertight and len(m.vertices) > len(np.unique(f))  # the cap came back
+    res = CliRunner().invoke(main, ["fill", str(src), "-o", str(out), "--fair", "1"])
+    assert res.exit_code == 2 and "--refine" in res.output
