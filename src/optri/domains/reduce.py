@@ -189,10 +189,13 @@ def blocks(cand: Candidates, keep: NDArray[np.bool_], fixed: NDArray[np.bool_]) 
 def _fixed_sides(
     cand: Candidates, members: NDArray[np.int64], fixed: NDArray[np.bool_]
 ) -> NDArray[np.int64]:
+    """The directed fixed sides of the block's triangles, distinct, in increasing order."""
     t = cand.triangles[members]
     pairs = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
     ids = np.concatenate([cand.sides[members, m] for m in range(3)])
-    return np.unique(pairs[fixed[ids]], axis=0).reshape(-1, 2)
+    n = np.int64(cand.n_boundary)  # the vertex count: (x, y) -> x n + y keeps their order
+    keys = np.unique(pairs[fixed[ids]] @ np.array([n, 1], dtype=np.int64))
+    return np.column_stack((keys // n, keys % n)).astype(np.int64)
 
 
 def trace_walk(points: NDArray[np.float64], edges: NDArray[np.int64]) -> list[int] | None:
