@@ -31,6 +31,7 @@ from optri.predicates import (
     strictly_between,
     turn_signs,
 )
+from optri._core import predicates as core
 from optri.simple import valid_diagonals
 from optri.simple.mask import valid_diagonals_compiled, valid_diagonals_numpy
 
@@ -89,6 +90,9 @@ def test_orient_matches_fractions(t):
     assert orient_bigint(*t) == expected
     a, b, c = (np.array([t[m : m + 2]]) for m in (0, 2, 4))
     assert orient(a, b, c).tolist() == [expected]
+    row = np.array([t])
+    for stage in (core.orient_sign, core.orient_exact, core.orient_bigint):
+        assert stage(row).tolist() == [expected]
 
 
 @settings(max_examples=200, deadline=None)
@@ -99,6 +103,7 @@ def test_strictly_between_matches_fractions(t):
     assume(a != b)
     expected = between_q(*t)
     assert strictly_between(*t) == expected
+    assert core.strictly_between(np.array([t])).tolist() == [expected]
     assert on_open_segment(np.array(a), np.array(b), np.array(c)) == expected
 
 
@@ -115,6 +120,28 @@ def _adversarial_batch(seed: int, m: int) -> np.ndarray:
     grid = np.ldexp(ints, rng.integers(-1074, 990, m)[:, None])
     wild = rng.standard_normal((m, 6)) * np.ldexp(1.0, rng.integers(-1070, 1000, (m, 6)))
     return np.concatenate((near, grid, wild))
+
+
+def test_core_orient_matches_fractions():
+    # the compiled core's predicates (the mask and many-polygon kernels call them)
+    batch = _adversarial_batch(0, 3000)
+    expected = [sign_q(*row) for row in batch.tolist()]
+    assert core.orient_sign(batch).tolist() == expected
+    assert core.orient_exact(batch).tolist() == expected
+    assert core.orient_bigint(batch).tolist() == expected
+    assert expected.count(0) > 1000  # the batch really is full of collinear triples
+
+
+def test_core_filter_floor_and_subnormals():
+    # determinants at the filter's floor or made of subnormal products: the exact stages
+    # must decide them, and must agree with fractions
+    rng = np.random.default_rng(1)
+    base = rng.integers(-8, 9, (2000, 6)).astype(float)
+    rows = np.ldexp(base, rng.integers(-1074, -1000, 2000)[:, None])
+    rows[::3, 5] = np.nextafter(rows[::3, 5], np.inf)
+    expected = [sign_q(*row) for row in rows.tolist()]
+    assert core.orient_sign(rows).tolist() == expected
+    assert len(set(expected)) == 3
 
 
 def test_compiled_orient_matches_fractions():

@@ -5,6 +5,8 @@ namespace optri {
 
 void bind_all(nanobind::module_& m) {
     (void)m;
+    bind_predicates(m);
+    bind_domains(m);
 }
 
 }  // namespace optri

@@ -43,6 +43,7 @@ TRACE = "tests/test_teaching_trace.py"
 PREDICATES = "tests/test_exact_predicates.py"
 DOM_BRUTE = "tests/test_domains_brute.py"
 DOM_INV = "tests/test_domains_invariants.py"
+DOM_CAND = "tests/test_domains_candidates.py"
 BATCH_HOLES = "tests/test_batch_formats.py"
 
 MUTATIONS: list[Mutation] = [
@@ -863,14 +864,6 @@ MUTATIONS: list[Mutation] = [
         "a free diagonal may be used on one side only: the triangles need not tile",
     ),
     M(
-        "forced-diagonals-include-crossed",
-        "src/optri/domains/reduce.py",
-        "forced[alive[greedy[~crossed]]] = True",
-        "forced[alive[greedy]] = True",
-        (DOM_BRUTE, "-k", "every_sum_weight"),
-        "every diagonal of one greedy triangulation is fixed, crossed ones too",
-    ),
-    M(
         "domain-gate-excludes-bottleneck",
         "src/optri/domains/solver.py",
         "keep = keep & (setup.values[:, c] <= found.value)",
@@ -909,6 +902,72 @@ MUTATIONS: list[Mutation] = [
         "return Found(best, value, float(levels[hi - 1]), False)",
         (DOM_INV, DOM_BRUTE, "-k", "time_limited_max"),
         "a cut-short bisection claims the highest level below its incumbent as its bound",
+    ),
+    # --- polygons with holes: the compiled candidate sets (src/core/domains.cpp) -----------
+    M(
+        "core-diagonal-through-a-vertex",
+        "src/core/domains.cpp",
+        "if (s == 0 && v != i && v != j &&",
+        "if (s == 2 && v != i && v != j &&",
+        (DOM_CAND, "-k", "adversarial or grid"),
+        "a chord that passes through a vertex (collinear runs) is kept as a diagonal",
+    ),
+    M(
+        "core-wedge-reflex-as-convex",
+        "src/core/domains.cpp",
+        "return convex ? (left_of_next && left_of_prev) : (left_of_next || left_of_prev);",
+        "return left_of_next && left_of_prev;",
+        (DOM_CAND, "-k", "random_domains"),
+        "at a reflex vertex the in-cone test wants both sides: diagonals lost",
+    ),
+    M(
+        "core-holes-never-inside",
+        "src/core/domains.cpp",
+        "ok = !(d.orient(t[0], t[1], q) > 0 &&",
+        "ok = !(d.orient(t[0], t[1], q) > 1 &&",
+        (DOM_CAND, "-k", "random_domains"),
+        "a triangle around a hole is kept as a candidate",
+    ),
+    M(
+        "core-boundary-side-either-way",
+        "src/core/domains.cpp",
+        "ok = !d.is_side(u, v) || d.nxt[u] == v;  // a boundary side runs forward",
+        "ok = true;",
+        (DOM_CAND, "-k", "adversarial or small_domains"),
+        # the only such triangle with sides that cross nothing and no hole vertex inside
+        "a triangular hole, its edges run backwards, becomes a candidate triangle",
+    ),
+    M(
+        "core-forced-keeps-crossed",
+        "src/core/domains.cpp",
+        "if (!crossed[g]) out.push_back(greedy[g]);",
+        "out.push_back(greedy[g]);",
+        (DOM_CAND, "-k", "forced"),
+        "every diagonal of the greedy set is forced, crossed ones too",
+    ),
+    M(
+        "core-link-joins-nothing",
+        "src/core/domains.cpp",
+        "if (ra != rb) parent[ra] = rb;",
+        "(void)ra;",
+        (DOM_CAND, "-k", "link or blocks"),
+        "triangles sharing a free diagonal end up in different blocks",
+    ),
+    M(
+        "domain-hole-tested-at-one-vertex",
+        "src/optri/domains/candidates.py",
+        "reps = [s + np.arange(min(4, m))",
+        "reps = [s + np.arange(min(1, m))",
+        (DOM_CAND, "-k", "random_domains or small_domains"),
+        "a hole whose first vertex is a corner of a triangle around it goes unseen",
+    ),
+    M(
+        "domain-edge-weights-summed-in-side-order",
+        "src/optri/domains/weighing.py",
+        "s[:, 2] + s[:, 1] + s[:, 0]",
+        "s[:, 0] + s[:, 1] + s[:, 2]",
+        (DOM_CAND, "-k", "weights_on"),
+        "a triangle's side weights summed in another order: not the same floats as many()",
     ),
     M(
         "check-domain-allows-double-cover",

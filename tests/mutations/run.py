@@ -19,6 +19,13 @@ could not run the named tests (exit 4/5). First the unmutated tests of every
 selected mutation run once: a failure there stops the run, since no mutant
 could then be judged.
 
+A mutant of the compiled core (a file under ``src/core/``) is built in the
+copy: the core is configured once in a build folder of the run's own (CMake,
+Ninja), rebuilt after the edit and copied over the copy's ``src/optri/_core*``;
+after the tests the file is put back and the core rebuilt again (the file then
+keeps a new modification time, so the build sees it changed). A mutant that
+does not compile counts as killed.
+
 numba caches compiled kernels on disk by source file and modification time,
 but not by the files whose functions a kernel inlines. Mutants of files that
 compiled code reads (any file mentioning numba, and the plain-Python formulas
@@ -161,12 +168,22 @@ def _mutant(copy: Path, m: Mutation, work: Path, shared_cache: Path, timeout: fl
     cache = shared_cache
     if "numba" in text or m.file in COMPILED_ELSEWHERE:
         cache = work / f"numba-cache-{m.name}"  # see the module docstring
+    core = m.file.startswith("src/core/")
     try:
         path.write_text(text.replace(m.old, m.new, 1))
-        rc, out, seconds = _pytest(copy, list(m.tests), cache, timeout)
+        built, log = _build_core(copy, work) if core else (True, "")
+        if built:
+            rc, out, seconds = _pytest(copy, list(m.tests), cache, timeout)
+        else:
+            rc, out, seconds = 1, log, 0.0  # a mutant the compiler refuses is caught too
     finally:
         path.write_bytes(original)
-        os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+        if core:
+            built, log = _build_core(copy, work)  # the next mutant runs on the real core
+            if not built:
+                raise SystemExit(f"the core no longer builds after undoing {m.name}:\n{log}")
+        else:
+            os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns))
         if cache != shared_cache:
             shutil.rmtree(cache, ignore_errors=True)
     if rc is None:
@@ -178,6 +195,33 @@ def _mutant(copy: Path, m: Mutation, work: Path, shared_cache: Path, timeout: fl
     else:
         state = "error"
     return _result(m, state, seconds, _summary_line(out) if state != "survived" else "")
+
+
+def _build_core(copy: Path, work: Path) -> tuple[bool, str]:
+    """Build the copy's compiled core (configured on first use) and put it in its src/optri."""
+    build = work / "core-build"
+    cmake = _tool("cmake")
+    steps = [[cmake, "--build", str(build)]]
+    if not (build / "CMakeCache.txt").is_file():
+        configure = [cmake, "-S", str(copy), "-B", str(build), "-G", "Ninja"]
+        configure += [f"-DCMAKE_MAKE_PROGRAM={_tool('ninja')}", "-DCMAKE_BUILD_TYPE=Release"]
+        configure += [f"-DPython_EXECUTABLE={sys.executable}"]
+        steps.insert(0, configure)
+    for step in steps:
+        proc = subprocess.run(step, capture_output=True, text=True)
+        if proc.returncode:
+            return False, proc.stdout + proc.stderr
+    for old in (copy / "src" / "optri").glob("_core*"):
+        old.unlink()
+    for lib in build.glob("_core*"):
+        shutil.copy2(lib, copy / "src" / "optri" / lib.name)
+    return True, ""
+
+
+def _tool(name: str) -> str:
+    """``name`` from the running Python's environment (as make installs it), else from PATH."""
+    beside = Path(sys.executable).with_name(name)
+    return str(beside) if beside.is_file() else shutil.which(name) or name
 
 
 def _pytest(

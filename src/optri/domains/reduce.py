@@ -133,51 +133,20 @@ def forced_diagonals(cand: Candidates, keep: NDArray[np.bool_]) -> NDArray[np.bo
 
     Such a diagonal is used by kept triangles and crossed by no other
     diagonal they use. Any maximal set of non-crossing such diagonals holds
-    every one of them, so a greedy one (O(D) steps of O(N) look-ups) is
-    built first, and only its members are tested against all D (O(N D)
-    look-ups in :attr:`Candidates.turns`).
+    every one of them, so a greedy one (taken in edge order) is built first,
+    and only its members are tested against all D: O(D G + G D) look-ups in
+    :attr:`Candidates.turns` for a greedy set of G, in the compiled core.
     """
+    from .._core import domains as core
+
     alive = np.flatnonzero(alive_diagonals(cand, keep))
     forced = np.zeros(len(cand.edges), dtype=bool)
     if len(alive) == 0:
         return forced
-    turns = cand.turns[alive - cand.n_boundary]
-    ends = cand.edges[alive]
-    greedy = _maximal_noncrossing(turns, ends)
-    crossed = _crosses_any(turns[greedy], ends[greedy], turns, ends)
-    forced[alive[greedy[~crossed]]] = True
+    nb = cand.n_boundary
+    rows = core.forced(cand.turns, cand.edges[nb:], (alive - nb).astype(np.int64))
+    forced[rows + nb] = True
     return forced
-
-
-def _maximal_noncrossing(turns: NDArray[np.int8], ends: NDArray[np.int64]) -> NDArray[np.int64]:
-    """Rows of a maximal subset of pairwise non-crossing segments, taken in order."""
-    chosen = np.empty(len(ends), dtype=np.int64)
-    count = 0
-    for r in range(len(ends)):
-        c = chosen[:count]
-        a, b = ends[r]
-        apart = turns[r, ends[c, 0]] * turns[r, ends[c, 1]] < 0
-        if not (apart & (turns[c, a] * turns[c, b] < 0)).any():
-            chosen[count] = r
-            count += 1
-    return chosen[:count]
-
-
-def _crosses_any(
-    rows: NDArray[np.int8],
-    row_ends: NDArray[np.int64],
-    turns: NDArray[np.int8],
-    ends: NDArray[np.int64],
-) -> NDArray[np.bool_]:
-    """Per row segment: crossed properly by a segment of ``ends`` (sides from the turn tables)."""
-    out = np.zeros(len(rows), dtype=bool)
-    step = max(1, _PAIRS // max(len(ends), 1))
-    for lo in range(0, len(rows), step):
-        r, e = rows[lo : lo + step], row_ends[lo : lo + step]
-        apart = r[:, ends[:, 0]] * r[:, ends[:, 1]] < 0
-        theirs = (turns[:, e[:, 0]] * turns[:, e[:, 1]]).T < 0
-        out[lo : lo + step] = (apart & theirs).any(axis=1)
-    return out
 
 
 @dataclass(frozen=True)
@@ -203,41 +172,30 @@ def blocks(cand: Candidates, keep: NDArray[np.bool_], fixed: NDArray[np.bool_]) 
     edge, are in one block: every constraint of the program then involves
     the triangles of one block only.
     """
+    from .._core import domains as core
+
     tris = np.flatnonzero(keep)
-    parent = list(range(len(tris)))
-
-    def find(x: int) -> int:
-        while parent[x] != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
-
+    if len(tris) == 0:
+        return []
     # linked: sharing a free diagonal (either side) or covering the same side of a fixed edge
     sides, signs = cand.sides[tris], cand.signs[tris]
     key = (2 * sides + (fixed[sides] & (signs > 0))).ravel()
-    local = np.repeat(np.arange(len(tris)), 3)
-    order = np.argsort(key, kind="stable")
-    e, t = key[order].tolist(), local[order].tolist()
-    for m in range(1, len(e)):
-        if e[m] == e[m - 1]:
-            ra, rb = find(t[m]), find(t[m - 1])
-            if ra != rb:
-                parent[ra] = rb
-    roots = np.array([find(x) for x in range(len(tris))], dtype=np.int64)
-    out = []
-    for r in np.unique(roots):
-        members = tris[roots == r]
-        out.append(Block(members, _fixed_sides(cand, members, fixed)))
-    return out
+    roots = core.link(np.ascontiguousarray(key, dtype=np.int64), 3)
+    order = np.argsort(roots, kind="stable")
+    cuts = np.flatnonzero(np.diff(roots[order])) + 1
+    return [Block(m, _fixed_sides(cand, m, fixed)) for m in np.split(tris[order], cuts)]
 
 
 def _fixed_sides(
     cand: Candidates, members: NDArray[np.int64], fixed: NDArray[np.bool_]
 ) -> NDArray[np.int64]:
+    """The directed fixed sides of the block's triangles, distinct, in increasing order."""
     t = cand.triangles[members]
     pairs = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
     ids = np.concatenate([cand.sides[members, m] for m in range(3)])
-    return np.unique(pairs[fixed[ids]], axis=0).reshape(-1, 2)
+    n = np.int64(cand.n_boundary)  # the vertex count: (x, y) -> x n + y keeps their order
+    keys = np.unique(pairs[fixed[ids]] @ np.array([n, 1], dtype=np.int64))
+    return np.column_stack((keys // n, keys % n)).astype(np.int64)
 
 
 def trace_walk(points: NDArray[np.float64], edges: NDArray[np.int64]) -> list[int] | None:

@@ -122,7 +122,7 @@ def triangulate_domain(
     start = time.perf_counter()
     weights = domain_weights(domain, resolve_weights(weight, len(obj.components)))
     cand = find_candidates(domain)
-    values = np.column_stack([w.many(cand.triangles) for w in weights])
+    values = np.column_stack([w.on(cand) for w in weights])
     usable = np.zeros((domain.n, domain.n), dtype=bool)
     usable[cand.edges[:, 0], cand.edges[:, 1]] = True
     usable |= usable.T

@@ -18,12 +18,14 @@ from numpy.typing import NDArray
 
 from ..errors import WeightError
 from ..polygon import Polygon
-from ..weights import Weight, WeightCode, side_length
+from ..weights import Weight, WeightCode, edge_weight, side_length
+from .candidates import Candidates
 from .domain import Domain
 
 __all__ = ["DomainWeight", "domain_weights", "shape_only"]
 
 TriangleFn = Callable[[int, int, int], float]
+EdgeFn = Callable[[int, int], float]
 
 #: Built-in weights whose value depends on the triangle's corners alone.
 _SHAPE_CODES = (
@@ -63,9 +65,16 @@ class DomainWeight:
         self.domain = domain
         self.weight = weight
         rows = [tuple(r) for r in domain.vertices.tolist()]
+        #: ``e(a, b)``, ``a < b``, of a weight that is ``e(i, k) + e(k, j) + e(i, j)``; else None
+        self._edge: EdgeFn | None = None
         if weight.code == WeightCode.DIAGONAL:
-            self._fn = _diagonal_fn(domain, rows)
+            self._edge = _diagonal_edge(domain, rows)
+            e = self._edge
+            self._fn = lambda i, k, j: e(i, k) + e(k, j) + e(i, j)
         else:
+            if weight.edge_decomposable:
+                code = int(weight.code)
+                self._edge = lambda a, b: edge_weight(code, rows, a, b)
             # identity order: the evaluator's internal indices are the domain's indices
             n = domain.n
             proxy = Polygon(domain.vertices, domain.vertices, np.arange(n), "ccw", False)
@@ -84,9 +93,32 @@ class DomainWeight:
         t = np.sort(triangles, axis=1).tolist()
         fn = self._fn
         out = np.fromiter((fn(i, k, j) for i, k, j in t), dtype=np.float64, count=len(t))
+        return self._no_nan(out, triangles)
+
+    def on(self, cand: Candidates) -> NDArray[np.float64]:
+        """Weights of every candidate triangle of ``cand``, in its order; as :meth:`many`.
+
+        A weight that sums over sides is evaluated once per edge and summed
+        per triangle in the order :meth:`many` sums, ``e(i, k) + e(k, j) +
+        e(i, j)`` for ``i < k < j``: the same floats.
+        """
+        e = self._edge
+        if e is None:
+            return self.many(cand.triangles)
+        edge = np.fromiter(
+            (e(a, b) for a, b in cand.edges.tolist()), dtype=np.float64, count=len(cand.edges)
+        )
+        s = edge[cand.sides]  # sides (t0, t1), (t1, t2), (t2, t0); t0 is the smallest corner
+        rising = cand.triangles[:, 1] < cand.triangles[:, 2]
+        out = np.where(rising, s[:, 0] + s[:, 1] + s[:, 2], s[:, 2] + s[:, 1] + s[:, 0])
+        return self._no_nan(out, cand.triangles)
+
+    def _no_nan(
+        self, out: NDArray[np.float64], triangles: NDArray[np.int64]
+    ) -> NDArray[np.float64]:
         bad = np.flatnonzero(np.isnan(out))
         if len(bad):
-            tri = tuple(t[int(bad[0])])
+            tri = tuple(sorted(triangles[int(bad[0])].tolist()))
             raise WeightError(f"weight {self.weight.name!r} returned NaN for triangle {tri}")
         return out
 
@@ -96,7 +128,8 @@ def domain_weights(domain: Domain, weights: Sequence[Weight]) -> tuple[DomainWei
     return tuple(DomainWeight(domain, w) for w in weights)
 
 
-def _diagonal_fn(domain: Domain, rows: list[tuple[float, ...]]) -> TriangleFn:
+def _diagonal_edge(domain: Domain, rows: list[tuple[float, ...]]) -> EdgeFn:
+    """Half the length of a diagonal, 0 for a boundary edge (of any ring); cached."""
     nxt = domain.nxt.tolist()
     cache: dict[tuple[int, int], float] = {}
 
@@ -108,7 +141,7 @@ def _diagonal_fn(domain: Domain, rows: list[tuple[float, ...]]) -> TriangleFn:
             cache[key] = v
         return v
 
-    return lambda i, k, j: e(i, k) + e(k, j) + e(i, j)
+    return e
 
 
 def total(values: Sequence[float], component: str) -> float:
