@@ -180,24 +180,6 @@ def test_merge_tolerance_is_relative_to_the_mesh(tmp_path):
     assert [h["edges"] for h in report["holes"]] == [16, 12]
 
 
-@pytest.mark.parametrize("cached", [False, True])
-def test_first_compile_is_announced(tmp_path, monkeypatch, cached):
-    import optri.cli.fill_cmd as fill_cmd
-
-    monkeypatch.setattr(fill_cmd, "kernels_cached", lambda: cached)
-    res = CliRunner().invoke(main, ["fill", str(EXAMPLE), "-o", str(tmp_path / "o.obj")])
-    assert res.exit_code == 0
-    assert ("compiling the hole-filling kernels" in res.stderr) is not cached
-
-
-def test_kernels_cached_after_a_fill():
-    from optri import fill_polyline
-    from optri.holes.search import kernels_cached
-
-    fill_polyline([[0, 0, 0], [1, 0, 0], [1, 1, 1], [0, 1, 0]], method="exact")
-    assert kernels_cached()
-
-
 def test_ctrl_c_during_a_search_exits_130(tmp_path):
     import os
     import signal
