@@ -25,6 +25,11 @@ compiled code reads (any file mentioning numba, and the plain-Python formulas
 in ``COMPILED_ELSEWHERE``) therefore run with an empty cache of their own;
 the others share one cache warmed by the unmutated run. Hypothesis runs with
 a fixed seed, so a run is repeatable.
+
+A mutant of the compiled core (a file under ``src/core/``) is built before its
+tests run: CMake configures a build folder beside the copy once, rebuilds the
+mutated file and puts the extension into the copy's ``src/optri``; the original
+extension goes back afterwards. A mutant that does not compile is an *error*.
 """
 
 from __future__ import annotations
@@ -161,12 +166,19 @@ def _mutant(copy: Path, m: Mutation, work: Path, shared_cache: Path, timeout: fl
     cache = shared_cache
     if "numba" in text or m.file in COMPILED_ELSEWHERE:
         cache = work / f"numba-cache-{m.name}"  # see the module docstring
+    core = m.file.startswith("src/core/")
     try:
         path.write_text(text.replace(m.old, m.new, 1))
+        if core and not _build_core(copy, work):
+            return _result(m, "error", 0.0, "the mutant core does not compile")
         rc, out, seconds = _pytest(copy, list(m.tests), cache, timeout)
     finally:
         path.write_bytes(original)
-        os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+        if core:  # a newer time than the mutant's object: the next build compiles it again
+            path.touch()
+            _restore_core(copy, work)
+        else:
+            os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns))
         if cache != shared_cache:
             shutil.rmtree(cache, ignore_errors=True)
     if rc is None:
@@ -178,6 +190,36 @@ def _mutant(copy: Path, m: Mutation, work: Path, shared_cache: Path, timeout: fl
     else:
         state = "error"
     return _result(m, state, seconds, _summary_line(out) if state != "survived" else "")
+
+
+def _build_core(copy: Path, work: Path) -> bool:
+    """Build the copy's compiled core (configured once) into its ``src/optri``."""
+    build, saved = work / "core-build", work / "core-original"
+    if not saved.exists():
+        saved.mkdir()
+        for so in (copy / "src/optri").glob("_core*"):
+            shutil.copy2(so, saved / so.name)
+    tools = Path(sys.executable).parent
+    cmake = str(tools / "cmake") if (tools / "cmake").exists() else shutil.which("cmake") or "cmake"
+    ninja = tools / "ninja" if (tools / "ninja").exists() else shutil.which("ninja")
+    if not (build / "CMakeCache.txt").exists():
+        configure = [cmake, "-S", str(copy), "-B", str(build), "-DCMAKE_BUILD_TYPE=Release"]
+        configure.append(f"-DPython_EXECUTABLE={sys.executable}")
+        if ninja:
+            configure += ["-G", "Ninja", f"-DCMAKE_MAKE_PROGRAM={ninja}"]
+        if subprocess.run(configure, capture_output=True).returncode != 0:
+            return False
+    if subprocess.run([cmake, "--build", str(build)], capture_output=True).returncode != 0:
+        return False
+    for so in build.glob("_core*"):
+        shutil.copy2(so, copy / "src/optri" / so.name)
+    return True
+
+
+def _restore_core(copy: Path, work: Path) -> None:
+    """Put the copy's original compiled core back."""
+    for so in (work / "core-original").glob("_core*"):
+        shutil.copy2(so, copy / "src/optri" / so.name)
 
 
 def _pytest(
