@@ -60,33 +60,16 @@ inline int64_t states_of(int64_t n, int64_t i, int64_t j) {
 }
 
 // unit normal of triangle {a, b, c} (a < b), vertices sorted as sorted_normal takes them,
-// into column col of the 4 rows from out (row stride ld): unit_normal's arithmetic
+// into column col of the 4 rows from out (row stride ld)
 inline void normal_column(const double* Q, int64_t a, int64_t b, int64_t c, double* out,
                           int64_t ld, int64_t col) {
-    int64_t p, q, r;
-    if (c < a) {
-        p = c; q = a; r = b;
-    } else if (c < b) {
-        p = a; q = c; r = b;
-    } else {
-        p = a; q = b; r = c;
-    }
-    const double* P = Q + 3 * p;
-    const double* Qq = Q + 3 * q;
-    const double* R = Q + 3 * r;
-    const double ux = Qq[0] - P[0], uy = Qq[1] - P[1], uz = Qq[2] - P[2];
-    const double vx = R[0] - P[0], vy = R[1] - P[1], vz = R[2] - P[2];
-    const double nx = uy * vz - uz * vy;
-    const double ny = uz * vx - ux * vz;
-    const double nz = ux * vy - uy * vx;
-    const double n2 = nx * nx + ny * ny + nz * nz;
-    const bool deg =
-        n2 <= kDegenerateSine2 * ((ux * ux + uy * uy + uz * uz) * (vx * vx + vy * vy + vz * vz));
-    const double inv = deg ? 0.0 : 1.0 / std::sqrt(n2);
-    out[col] = nx * inv;
-    out[ld + col] = ny * inv;
-    out[2 * ld + col] = nz * inv;
-    out[3 * ld + col] = deg ? 1.0 : 0.0;
+    const Normal u = c < a ? unit_normal(Q, c, a, b)
+                     : c < b ? unit_normal(Q, a, c, b)
+                             : unit_normal(Q, a, b, c);
+    out[col] = u.x;
+    out[ld + col] = u.y;
+    out[2 * ld + col] = u.z;
+    out[3 * ld + col] = u.d ? 1.0 : 0.0;
 }
 
 // normals of the triangles across chord (i, j), in slot order, into rows 6-9; returns
@@ -161,19 +144,6 @@ int64_t apexes_by_base(const double* Q, int64_t n, int64_t i, int64_t j, const d
     return cnt;
 }
 
-// area of triangle (a, b, c), a < b < c, with unit_normal's arithmetic
-inline double area_of(const double* Q, int64_t a, int64_t b, int64_t c) {
-    const double* A = Q + 3 * a;
-    const double* Bp = Q + 3 * b;
-    const double* C = Q + 3 * c;
-    const double ux = Bp[0] - A[0], uy = Bp[1] - A[1], uz = Bp[2] - A[2];
-    const double vx = C[0] - A[0], vy = C[1] - A[1], vz = C[2] - A[2];
-    const double nx = uy * vz - uz * vy;
-    const double ny = uz * vx - ux * vz;
-    const double nz = ux * vy - uy * vx;
-    return 0.5 * std::sqrt(nx * nx + ny * ny + nz * nz);
-}
-
 // apexes k of chord (i, j) whose halves have patches with keys <= M, as columns (x, y,
 // z, degenerate, area of the sub-patch, k) in k order; returns their count and sets `at`
 // to the column of the least (area, k)
@@ -192,7 +162,7 @@ int64_t apexes_by_area(const double* Q, int64_t n, int64_t i, int64_t j, const d
                                         : A[slot(off, n, k, j, i)];
         if (left == kInf || right == kInf) continue;
         s.idx[cnt] = k;
-        const double sub = (left + right) + area_of(Q, i, k, j);
+        const double sub = (left + right) + unit_normal(Q, i, k, j).area;
         area[cnt] = sub;
         apex[cnt] = static_cast<double>(k);
         if (sub < low) {
