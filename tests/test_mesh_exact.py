@@ -124,13 +124,24 @@ def test_exact_memory_is_about_eight_thirds_n_cubed():
     assert search.exact_bytes(1000) < 3e9  # the old layout took 10 bytes per n^3: 10 GB
 
 
-def test_interruptible_turns_numbas_system_error_into_keyboard_interrupt():
-    with pytest.raises(KeyboardInterrupt):
-        with search.interruptible():
-            try:
-                raise KeyboardInterrupt
-            except KeyboardInterrupt as exc:
-                raise SystemError("returned a result with an exception set") from exc
-    with pytest.raises(SystemError):  # any other SystemError stays what it is
-        with search.interruptible():
-            raise SystemError("something else")
+def test_core_kernels_check_their_arrays():
+    from optri._core import holes as core
+
+    Q = np.eye(3)
+    allowed = np.ones((3, 3), dtype=bool)
+    K = np.full((3, 3), -1, dtype=np.int32)
+    MN = np.zeros((1, 4))
+    with pytest.raises(ValueError, match=r"T must be \(n, 5, n\)"):
+        core.dense_rows(Q, 3, False, MN, allowed, np.zeros((3, 5, 2)), K, 0, 0)
+    with pytest.raises(TypeError):  # an output in another layout is refused, not copied
+        core.dense_rows(Q, 3, False, MN, allowed, np.zeros((3, 3, 5)).transpose(0, 2, 1), K, 0, 0)
+    with pytest.raises(ValueError, match="rows"):
+        core.dense_rows(Q, 3, False, MN, allowed, np.zeros((3, 5, 3)), K, 1, 0)
+    off = core.state_offsets(5)
+    with pytest.raises(ValueError, match="state_count"):
+        core.bottleneck_lengths(
+            np.eye(5, 3), 5, False, MN, np.zeros((5, 5)), np.ones((5, 5), bool), off,
+            np.zeros(8), np.inf, 2, 5,
+        )  # fmt: skip
+    with pytest.raises(ValueError, match="triangle index"):
+        core.triangle_normals(Q, np.array([[0, 1, 3]]))

@@ -144,3 +144,26 @@ def test_callable_weight_fills_holes():
     filled, records = fill_holes(holed, weight=w)
     assert filled.is_watertight and calls
     assert all(r.status == "filled" for r in records)
+
+
+def test_filling_holes_never_imports_numba():
+    # the hole searches are the compiled core's: no JIT, no compile wait on a first call
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, numpy as np, optri\n"
+        "from optri.io.meshes import read_mesh\n"
+        "m = read_mesh(optri.data.path('sphere_two_holes.obj'))\n"
+        "for method in optri.holes.METHODS:\n"
+        "    (v, f), recs = optri.fill_holes((m.vertices, m.faces), method=method)\n"
+        "    assert [r.status for r in recs] == ['filled', 'filled'], recs\n"
+        "a = np.arange(60) / 9.6\n"
+        "ring = np.column_stack((np.cos(a), np.sin(a), 0.3 * np.sin(3 * a)))\n"
+        "for method in optri.holes.METHODS:\n"
+        "    optri.fill_polyline(ring, 'liepa', method, 1.4 * ring)\n"
+        "print('numba' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "False"

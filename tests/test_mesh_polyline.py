@@ -240,6 +240,14 @@ def test_bad_polylines(pts, match):
         fill_polyline(pts)
 
 
+@pytest.mark.parametrize("tris", [[[0, 1, 4]], [[0, -1, 2]], [[0, 1]], [[0, 1, 2], [0, 2]]])
+def test_liepa_objective_refuses_triangles_off_the_polyline(tris):
+    # index 4 would be a third point's row, -1 the last one: neither is a polyline vertex
+    third = 2 * _regular(4)
+    with pytest.raises(InvalidPolygonError, match="index triples of vertices 0..3"):
+        liepa_objective(_regular(4), tris, third)
+
+
 def test_bad_third_points_and_method():
     sq = _regular(4)
     with pytest.raises(InvalidPolygonError, match="third_points"):

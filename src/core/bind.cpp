@@ -7,6 +7,7 @@ void bind_all(nanobind::module_& m) {
     (void)m;
     bind_predicates(m);
     bind_domains(m);
+    bind_holes(m);
 }
 
 }  // namespace optri

@@ -12,11 +12,10 @@ import click
 from ..errors import HoleSkippedWarning, InvalidPolygonError
 from ..holes import METHODS, HoleRecord, fill_holes
 from ..holes.boundary import edge_summary
-from ..holes.search import kernels_cached
 from ..io.meshes import mesh_format, read_mesh, write_mesh
 from .app import main
 from .options import input_path, output_option
-from .progress import announce, compile_notice, progress_bar
+from .progress import compile_notice, progress_bar
 from .stdin import mesh_input
 
 
@@ -36,7 +35,7 @@ def _summary(rec: HoleRecord) -> str:
     return f"hole {rec.index}: {rec.edges} edges, {rec.status.upper()}: {rec.reason}"
 
 
-def _check_has_holes(mesh: Any) -> dict[str, int]:
+def _check_has_holes(mesh: Any) -> None:
     """Refuse a mesh that is not closed although no hole boundary can be traced."""
     counts = edge_summary(mesh.faces)
     if counts["boundary"] == 0 and counts["nonmanifold"] > 0:
@@ -45,7 +44,6 @@ def _check_has_holes(mesh: Any) -> dict[str, int]:
             f"are shared by three or more faces (non-manifold), none by a single face; "
             f"nothing was written"
         )
-    return counts
 
 
 @main.command()
@@ -116,9 +114,7 @@ def fill(
         raise click.UsageError("--fair moves the vertices --refine adds: give --refine too")
     with mesh_input(infile) as path:
         mesh = read_mesh(path, merge_tolerance)
-    counts = _check_has_holes(mesh)
-    if counts["boundary"] and not quiet and not kernels_cached():
-        announce("optri: compiling the hole-filling kernels (first run only; this takes a minute)")
+    _check_has_holes(mesh)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", HoleSkippedWarning)
         with (

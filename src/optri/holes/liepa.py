@@ -4,7 +4,8 @@ Liepa's objective of a triangulated polyline is (largest dihedral angle
 between adjacent triangles, incl. the mesh triangles across boundary edges
 when third points are given; total area). :func:`liepa_objective` computes
 it for any index triangulation with the same compiled numbers the searches
-use, so comparisons with brute force and with other tools are exact.
+use (``optri._core.holes``), so comparisons with brute force and with other
+tools are exact.
 
 Coordinates of any magnitude: the searches and the evaluator work on the
 points scaled by a power of two (:func:`power_of_two_scale`), which changes
@@ -50,7 +51,15 @@ def liepa_objective(
     P = as_points3d(points3d)
     Q, has_third = with_third_points(P, third_points)
     Qs, e = power_of_two_scale(Q)
-    key, area = liepa_keys(Qs, P.shape[0], has_third, np.asarray(triangles, dtype=np.int64))
+    n = P.shape[0]
+    wrong = f"triangles must be index triples of vertices 0..{n - 1}"
+    try:
+        tris = np.asarray(triangles, dtype=np.int64)
+    except (TypeError, ValueError):
+        raise InvalidPolygonError(wrong) from None
+    if tris.size % 3 or (tris.size and (tris.min() < 0 or tris.max() >= n)):
+        raise InvalidPolygonError(wrong)
+    key, area = liepa_keys(Qs, n, has_third, tris)
     return angle_of_key(key), math.ldexp(area, 2 * e)
 
 
@@ -117,7 +126,7 @@ def liepa_keys(
 
     ``Q`` as the searches see it (scaled by :func:`power_of_two_scale`).
     """
-    from . import _kernels as hk  # numba: loaded on first use only
+    from .._core import holes as hk
 
     tris = np.sort(triangles.reshape(-1, 3), axis=1)
     normals = hk.triangle_normals(Q, tris)

@@ -104,11 +104,11 @@ def _chords_of(tris: Tris, n: int) -> NDArray[np.bool_]:
 
 def degenerate_count(Q: NDArray[np.float64], tris: Tris) -> int:
     """Zero-area triangles among ``tris`` (the searches' own test: sine <= 1e-12)."""
-    from . import _kernels  # numba: loaded on first use only
+    from .._core import holes
 
     if len(tris) == 0:
         return 0
-    return int(_kernels.triangle_normals(Q, np.sort(tris, axis=1))[:, 3].sum())
+    return int(holes.triangle_normals(Q, np.sort(tris, axis=1))[:, 3].sum())
 
 
 # --- triangle weights: the normal engines -------------------------------------------
