@@ -5,6 +5,7 @@ namespace optri {
 
 void bind_all(nanobind::module_& m) {
     (void)m;
+    bind_contours(m);
 }
 
 }  // namespace optri
