@@ -120,6 +120,10 @@ private:
         p.cost = g_[cell(m, j0 + n)];
         p.lo.assign(m + 1, 0);
         p.hi.assign(m + 1, 0);
+        if (!(p.cost < kInf)) {  // no tiling (n or m is 1, or infinite weights): no path
+            p.hi.assign(m + 1, 2 * n);
+            return p;
+        }
         p.steps.assign(static_cast<std::size_t>(m + n), 0);
         int i = m, j = j0 + n, layer = 0;  // 0: g, 1: e, 2: f
         p.lo[i] = p.hi[i] = j;
@@ -166,6 +170,7 @@ struct Best {
     std::vector<std::uint8_t> steps;
 
     void offer(int j0, Path& p) {
+        if (!(p.cost < kInf)) return;  // no tiling from this start
         if (start < 0 || p.cost < cost || (p.cost == cost && j0 < start)) {
             cost = p.cost;
             start = j0;
@@ -241,7 +246,8 @@ void bind_contours(nb::module_& m) {
             return nb::make_tuple(best.cost, best.start, steps);
         },
         nb::arg("wp"), nb::arg("wq"), nb::arg("is_max"), nb::arg("start") = -1,
-        "(cost, start j0, steps as bytes: 0 a step along a, 1 along b) of the best tiling.");
+        "(cost, start j0, steps as bytes: 0 a step along a, 1 along b) of the best tiling; "
+        "(inf, -1, b'') when no tiling has a finite cost.");
 }
 
 }  // namespace optri

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from ..errors import InvalidPolygonError
 
-__all__ = ["layer_input", "mesh_input", "sniff_layer", "sniff_mesh"]
+__all__ = ["contour_input", "layer_input", "mesh_input", "sniff_contours", "sniff_layer", "sniff_mesh"]
 
 STDIN = "-"
 
@@ -95,4 +95,25 @@ def layer_input(path: str, fmt: str | None) -> Iterator[str]:
         yield path
         return
     with _spooled(lambda head: fmt or sniff_layer(head)) as spooled:
+        yield str(spooled)
+
+
+def sniff_contours(head: bytes) -> str:
+    r"""The contour format (dcm, json, csv) of a file starting with ``head``.
+
+    >>> sniff_contours(b'{"slices": []}'), sniff_contours(b"x,y,z,contour\n")
+    ('json', 'csv')
+    """
+    if head[128:132] == b"DICM":
+        return "dcm"
+    return "json" if head.lstrip()[:1] in (b"{", b"[") else "csv"
+
+
+@contextlib.contextmanager
+def contour_input(path: str) -> Iterator[str]:
+    """``path`` itself, or for ``-`` a temporary copy of stdin named by its contour format."""
+    if path != STDIN:
+        yield path
+        return
+    with _spooled(sniff_contours) as spooled:
         yield str(spooled)

@@ -10,6 +10,15 @@ polygon triangulation.
 
 from __future__ import annotations
 
+from .mesh import ContourMesh, contours_to_mesh
+from .slices import contours_overlap
 from .tiling import CONTOUR_WEIGHTS, ContourTiling, tile_contours
 
-__all__ = ["CONTOUR_WEIGHTS", "ContourTiling", "tile_contours"]
+__all__ = [
+    "CONTOUR_WEIGHTS",
+    "ContourMesh",
+    "ContourTiling",
+    "contours_overlap",
+    "contours_to_mesh",
+    "tile_contours",
+]

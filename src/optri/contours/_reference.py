@@ -80,6 +80,8 @@ def _solve(
                         if cand[k] < gv:
                             gv, step = cand[k], k
             g[i, j], e[i, j], f[i, j], came[i, j] = gv, ev, fv, step
+    if not g[m, j0 + n] < _INF:  # no tiling (n or m is 1, or infinite weights)
+        return g[m, j0 + n], [0] * (m + 1), [2 * n] * (m + 1), []
     i, j, layer = m, j0 + n, "g"
     plo, phi = [0] * (m + 1), [0] * (m + 1)
     plo[i] = phi[i] = j
@@ -109,6 +111,7 @@ def tile_reference(
 
     ``wp[i, j]`` weighs triangle (a_i, a_i+1, b_j) and ``wq[i, j]`` triangle
     (a_i, b_j, b_j+1); ``start >= 0`` fixes the first span at (a_0, b_start).
+    ``(inf, -1, b"")`` when no tiling has a finite cost.
 
     >>> w = np.ones((3, 3))
     >>> tile_reference(w, w, False)
@@ -120,6 +123,8 @@ def tile_reference(
     best: list[tuple[float, int, list[int]]] = []
 
     def offer(j0: int, cost: float, steps: list[int]) -> None:
+        if not cost < _INF:
+            return
         if not best or cost < best[0][0] or (cost == best[0][0] and j0 < best[0][1]):
             best[:] = [(cost, j0, steps)]
 
@@ -141,5 +146,7 @@ def tile_reference(
             divide(mid, mlo, jh, right)
 
         divide(0, plo, n, [v + n for v in phi])
+    if not best:
+        return _INF, -1, b""
     cost, j0, steps = best[0]
     return cost, j0, bytes(steps)

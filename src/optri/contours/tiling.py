@@ -417,6 +417,8 @@ def _search(
     if np.isnan(wp).any() or np.isnan(wq).any():
         raise WeightError("the weight is NaN for some triangle")
     cost, j0, steps = _core.contours.tile(wp, wq, is_max, j0)
+    if j0 < 0:
+        raise WeightError("no tiling has a finite weight (the weight is infinite everywhere)")
     tris = _band(ga, gb, j0, steps)
     if swap:
         tris = tris[:, [0, 2, 1]]  # keep the convention: a's sides forward
