@@ -23,7 +23,9 @@ def ring(k: int, seed: int, z: float = 0.0, shift=(0.0, 0.0), scale=(1.0, 1.0)) 
     rng = np.random.default_rng(seed)
     ang = 2 * np.pi * (np.arange(k) + 0.8 * rng.random(k)) / k
     r = 1.0 + 0.4 * rng.random(k)
-    return np.c_[shift[0] + scale[0] * r * np.cos(ang), shift[1] + scale[1] * r * np.sin(ang), np.full(k, z)]
+    return np.c_[
+        shift[0] + scale[0] * r * np.cos(ang), shift[1] + scale[1] * r * np.sin(ang), np.full(k, z)
+    ]
 
 
 def brute_force(wp: np.ndarray, wq: np.ndarray, is_max: bool) -> float:
@@ -87,7 +89,9 @@ def test_optimal_over_every_tiling(seed):
     rng = np.random.default_rng(100 + seed)
     m, n = (int(x) for x in rng.integers(3, 7, 2))
     a = ring(m, seed)
-    b = ring(n, seed + 1000, z=float(rng.uniform(0.2, 2)), shift=rng.normal(size=2), scale=(1.4, 0.7))
+    b = ring(
+        n, seed + 1000, z=float(rng.uniform(0.2, 2)), shift=rng.normal(size=2), scale=(1.4, 0.7)
+    )
     for weight in WEIGHTS:
         wp, wq = weight_tables(a, b, weight)
         for objective in ("sum", "max"):

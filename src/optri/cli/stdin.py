@@ -17,7 +17,14 @@ from pathlib import Path
 
 from ..errors import InvalidPolygonError
 
-__all__ = ["contour_input", "layer_input", "mesh_input", "sniff_contours", "sniff_layer", "sniff_mesh"]
+__all__ = [
+    "contour_input",
+    "layer_input",
+    "mesh_input",
+    "sniff_contours",
+    "sniff_layer",
+    "sniff_mesh",
+]
 
 STDIN = "-"
 

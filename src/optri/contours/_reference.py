@@ -107,7 +107,7 @@ def _solve(
 def tile_reference(
     wp: NDArray[np.float64], wq: NDArray[np.float64], is_max: bool, start: int = -1
 ) -> tuple[float, int, bytes]:
-    """``(cost, start j0, steps)`` of the best tiling, as the compiled kernel returns them.
+    r"""``(cost, start j0, steps)`` of the best tiling, as the compiled kernel returns them.
 
     ``wp[i, j]`` weighs triangle (a_i, a_i+1, b_j) and ``wq[i, j]`` triangle
     (a_i, b_j, b_j+1); ``start >= 0`` fixes the first span at (a_0, b_start).
@@ -115,7 +115,7 @@ def tile_reference(
 
     >>> w = np.ones((3, 3))
     >>> tile_reference(w, w, False)
-    (6.0, 0, b'\\x01\\x00\\x01\\x01\\x00\\x00')
+    (6.0, 0, b'\x01\x00\x01\x01\x00\x00')
     """
     m, n = wp.shape
     p, q = wp.tolist(), wq.tolist()

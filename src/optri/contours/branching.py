@@ -98,10 +98,13 @@ def _join_closest(
 
 
 def _sides(loops: list[Loop]) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
-    """Every side of the loops: its two vertex ids and its 2-D ends, ``(k, 2)`` and ``(k, 2, 2)``."""
+    """Every side of the loops: vertex ids ``(k, 2)`` and 2-D ends ``(k, 2, 2)``."""
     ids = np.concatenate([np.column_stack([lp.ids, np.roll(lp.ids, -1)]) for lp in loops])
     pts = np.concatenate(
-        [np.stack([lp.points[:, :2], np.roll(lp.points[:, :2], -1, axis=0)], axis=1) for lp in loops]
+        [
+            np.stack([lp.points[:, :2], np.roll(lp.points[:, :2], -1, axis=0)], axis=1)
+            for lp in loops
+        ]
     )
     return ids, pts
 
@@ -126,7 +129,9 @@ def _clear(
     return not bool(np.any((o1 * o2 <= 0) & (o3 * o4 <= 0) & boxes))
 
 
-def _meet(a: NDArray[np.float64], b: NDArray[np.float64], c: NDArray[np.float64], d: NDArray[np.float64]) -> bool:
+def _meet(
+    a: NDArray[np.float64], b: NDArray[np.float64], c: NDArray[np.float64], d: NDArray[np.float64]
+) -> bool:
     o1, o2 = int(orient(a, b, c)), int(orient(a, b, d))
     o3, o4 = int(orient(c, d, a)), int(orient(c, d, b))
     return o1 * o2 <= 0 and o3 * o4 <= 0
@@ -135,8 +140,10 @@ def _meet(a: NDArray[np.float64], b: NDArray[np.float64], c: NDArray[np.float64]
 def bridge_faces(
     points: dict[int, NDArray[np.float64]], quad: tuple[int, int, int, int]
 ) -> list[tuple[int, int, int]]:
-    """Two triangles of a planar quadrilateral, split by the diagonal that keeps both
-    turning as the quadrilateral does (the first diagonal when both do)."""
+    """Two triangles of a planar quadrilateral, both turning as the quadrilateral does.
+
+    The first diagonal (q0-q2) when its two triangles do, else the other.
+    """
     q0, q1, q2, q3 = quad
     p = [points[v][:2] for v in quad]
     whole = _turn(p[0], p[1], p[2]) + _turn(p[0], p[2], p[3])

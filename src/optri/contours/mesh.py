@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 import time
@@ -12,9 +13,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._optional import import_optional
 from ..errors import InvalidParameterError, InvalidPolygonError
+from ..io.meshes import write_mesh
+from ..solve import triangulate
 from .branching import Loop, bridge_faces, merge_loops
-from .slices import Slice, as_slices, contours_overlap, nesting_rings
+from .figure import plot_surface
+from .slices import Slice, as_slices, contours_overlap, nesting_rings, point_inside, ring_within
 from .tiling import ContourWeight, tile_contours
 
 __all__ = ["ContourMesh", "contours_to_mesh"]
@@ -88,21 +93,15 @@ class ContourMesh:
 
     def to_trimesh(self) -> Any:
         """The mesh as a ``trimesh.Trimesh`` (extra ``optri[mesh]``)."""
-        from .._optional import import_optional
-
         trimesh = import_optional("trimesh")
         return trimesh.Trimesh(self.vertices, self.faces, process=False)
 
     def write(self, path: str | os.PathLike[str]) -> None:
         """Write the mesh atomically as .ply, .obj, .stl or .off (extra ``optri[mesh]``)."""
-        from ..io.meshes import write_mesh
-
         write_mesh(self.to_trimesh(), path)
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
         """Draw the surface on a 3-D matplotlib axes; returns the axes."""
-        from .figure import plot_surface
-
         return plot_surface(self.vertices, self.faces, ax=ax, **kwargs)
 
     def __repr__(self) -> str:
@@ -244,7 +243,9 @@ def contours_to_mesh(
     """
     t0 = time.perf_counter()
     if unmatched not in UNMATCHED:
-        raise InvalidParameterError(f"unmatched must be one of {', '.join(UNMATCHED)}, got {unmatched!r}")
+        raise InvalidParameterError(
+            f"unmatched must be one of {', '.join(UNMATCHED)}, got {unmatched!r}"
+        )
     if overlap not in ("auto", "shapely", "exact"):
         raise InvalidParameterError(f"overlap must be auto, shapely or exact, got {overlap!r}")
     stack = as_slices(slices)
@@ -303,7 +304,7 @@ def _components(low: Slice, high: Slice, overlap: str) -> list[tuple[list[int], 
     for c, p in enumerate(low.contours):
         for d, q in enumerate(high.contours):
             if low.depth[c] % 2 == high.depth[d] % 2 and _boxes_overlap(p, q):
-                if contours_overlap(p, q, overlap):
+                if _regions_overlap(low, c, high, d, overlap):
                     parent[find(c)] = find(nl + d)
                     linked |= {c, nl + d}
     groups: dict[int, tuple[list[int], list[int]]] = {}
@@ -311,6 +312,21 @@ def _components(low: Slice, high: Slice, overlap: str) -> list[tuple[list[int], 
         lows, highs = groups.setdefault(find(x), ([], []))
         (lows if x < nl else highs).append(x if x < nl else x - nl)
     return list(groups.values())
+
+
+def _regions_overlap(low: Slice, c: int, high: Slice, d: int, overlap: str) -> bool:
+    """Whether the regions of two contours overlap, each less the contours nested in it.
+
+    A contour's region is what it encloses minus its children (an outer ring
+    less its holes, a hole less its islands): an island inside a hole does not
+    overlap the ring around the hole.
+    """
+    p, q = low.contours[c], high.contours[d]
+    if not contours_overlap(p, q, overlap):
+        return False
+    kids_p = [low.contours[k] for k, up in enumerate(low.parent) if up == c]
+    kids_q = [high.contours[k] for k, up in enumerate(high.parent) if up == d]
+    return not any(ring_within(q, h) for h in kids_p) and not any(ring_within(p, h) for h in kids_q)
 
 
 def _boxes_overlap(p: NDArray[np.float64], q: NDArray[np.float64]) -> bool:
@@ -323,6 +339,14 @@ def _join(b: _Builder, lows: list[Loop], highs: list[Loop], z0: float, z1: float
         b.tile(lows[0], highs[0])
         return
     b.stats["branchings"] += 1
+    for side in (lows, highs):
+        for p, q in itertools.permutations(side, 2):
+            if point_inside(p.points[0], q.points[:, :2]):
+                raise InvalidPolygonError(
+                    f"at z={p.points[0, 2]:g} a contour inside another (an island in a hole "
+                    f"that closes) branches into the same contour as its surround; such "
+                    f"nested branching is not supported: split the stack there"
+                )
     both = len(lows) > 1 and len(highs) > 1
     lower, upper = lows[0], highs[0]
     if len(lows) > 1:
@@ -350,10 +374,10 @@ def _join(b: _Builder, lows: list[Loop], highs: list[Loop], z0: float, z1: float
     b.tile(lower, upper)
 
 
-def _caps(b: _Builder, s: Slice, loops: list[Loop], members: list[int], top: bool, weight: str) -> None:
+def _caps(
+    b: _Builder, s: Slice, loops: list[Loop], members: list[int], top: bool, weight: str
+) -> None:
     """Close ``members`` of slice ``s`` with optimal caps facing up (top) or down."""
-    from ..solve import triangulate
-
     for group in nesting_rings(s, members):
         outer, holes = group[0], group[1:]
         if holes:

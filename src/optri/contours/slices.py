@@ -102,11 +102,13 @@ def _checked_slice(z: float, rings: list[NDArray[np.float64]]) -> Slice:
                     f"slice z={z:g}: contours {c} and {d} cross or touch; contours of one "
                     f"slice must be disjoint (nested ones are holes)"
                 )
-    inside = [[d != c and _point_inside(rings[c][0], rings[d]) for d in range(len(rings))]
-              for c in range(len(rings))]
+    inside = [
+        [d != c and point_inside(rings[c][0], rings[d]) for d in range(len(rings))]
+        for c in range(len(rings))
+    ]
     depth = [sum(row) for row in inside]
     parent = []
-    for c, row in enumerate(inside):
+    for row in inside:
         holders = [d for d in range(len(rings)) if row[d]]
         parent.append(max(holders, key=lambda d: depth[d]) if holders else -1)
     oriented = []
@@ -138,7 +140,7 @@ def _boxes_meet(a: Any, b: Any, c: Any, d: Any) -> Any:
     return np.all((lo1 <= hi2) & (lo2 <= hi1), axis=-1)
 
 
-def _point_inside(pt: NDArray[np.float64], ring: NDArray[np.float64]) -> bool:
+def point_inside(pt: NDArray[np.float64], ring: NDArray[np.float64]) -> bool:
     """Even-odd test of a point not on the ring's boundary."""
     x, y = float(pt[0]), float(pt[1])
     a, b = _segments(ring)
@@ -152,9 +154,7 @@ def _point_inside(pt: NDArray[np.float64], ring: NDArray[np.float64]) -> bool:
     return bool(np.count_nonzero(np.where(up, s > 0, s < 0)) % 2)
 
 
-def contours_overlap(
-    p: NDArray[np.float64], q: NDArray[np.float64], method: str = "auto"
-) -> bool:
+def contours_overlap(p: NDArray[np.float64], q: NDArray[np.float64], method: str = "auto") -> bool:
     """Whether two simple 2-D contours' regions overlap with positive area.
 
     ``method="shapely"`` measures the intersection's area; ``"exact"`` tests
@@ -189,6 +189,11 @@ def contours_overlap(
     return any(_strictly_inside(v, q) for v in p) or any(_strictly_inside(v, p) for v in q)
 
 
+def ring_within(p: NDArray[np.float64], q: NDArray[np.float64]) -> bool:
+    """Whether ring ``p`` lies inside ring ``q`` (edges disjoint, a vertex inside)."""
+    return not _edges_meet(p, q) and point_inside(p[0], q)
+
+
 def _canonical(p: NDArray[np.float64]) -> NDArray[np.float64]:
     k = int(np.lexsort((p[:, 1], p[:, 0]))[0])
     r = np.roll(p, -k, axis=0)
@@ -201,7 +206,7 @@ def _strictly_inside(pt: NDArray[np.float64], ring: NDArray[np.float64]) -> bool
     lo, hi = np.minimum(a, b), np.maximum(a, b)
     if np.any(on & np.all((pt >= lo) & (pt <= hi), axis=1)):
         return False
-    return _point_inside(pt, ring)
+    return point_inside(pt, ring)
 
 
 def nesting_rings(s: Slice, members: Sequence[int]) -> list[list[int]]:

@@ -11,6 +11,7 @@ search (``optri._core.contours``; ``_reference.py`` is its Python twin).
 
 from __future__ import annotations
 
+import importlib
 import math
 import time
 from collections.abc import Callable
@@ -20,7 +21,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._optional import import_optional
 from ..errors import InvalidParameterError, InvalidPolygonError, WeightError
+from .figure import plot_surface
 
 __all__ = [
     "CONTOUR_WEIGHTS",
@@ -38,7 +41,9 @@ CONTOUR_OBJECTIVES = ("sum", "max")
 #: Where the search may start: every span (optimal), or the closest pair of vertices.
 STARTS = ("best", "closest")
 
-ContourWeight = str | Callable[[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]], float]
+ContourWeight = (
+    str | Callable[[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]], float]
+)
 
 
 def as_contour(points: ArrayLike, name: str = "contour") -> NDArray[np.float64]:
@@ -236,7 +241,7 @@ class ContourTiling:
         b_forward = all((m + j, m + (j + 1) % n) in directed for j in range(n))
         b_backward = all((m + (j + 1) % n, m + j) in directed for j in range(n))
         _require(b_forward or b_backward, "the sides of b are not all used in one direction")
-        for (p, q) in directed:
+        for p, q in directed:
             if (p < m) != (q < m):
                 _require((q, p) in directed, f"span {p}-{q} bounds only one triangle")
         _require(len(self.spans()) == m + n, f"expected {m + n} spans, got {len(self.spans())}")
@@ -249,15 +254,11 @@ class ContourTiling:
 
     def to_trimesh(self) -> Any:
         """The band as a ``trimesh.Trimesh`` (extra ``optri[mesh]``)."""
-        from .._optional import import_optional
-
         trimesh = import_optional("trimesh")
         return trimesh.Trimesh(self.vertices, self.triangles, process=False)
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
         """Draw the band and both contours on a 3-D matplotlib axes; returns the axes."""
-        from .figure import plot_surface
-
         return plot_surface(self.vertices, self.triangles, [self.m, self.n], ax=ax, **kwargs)
 
     def __repr__(self) -> str:
@@ -401,8 +402,6 @@ def _search(
     indices). Returns the triangles (indices into ``vertices``), the cost and
     the first span in input indices.
     """
-    from .. import _core
-
     m = len(pa)
     swap = len(pb) > len(pa)
     # kernel order: (A, B) with B the shorter; global indices of their vertices
@@ -416,7 +415,8 @@ def _search(
     wp, wq = weight_tables(va, vb, weight)
     if np.isnan(wp).any() or np.isnan(wq).any():
         raise WeightError("the weight is NaN for some triangle")
-    cost, j0, steps = _core.contours.tile(wp, wq, is_max, j0)
+    core = importlib.import_module("optri._core")  # loaded on first use, not by import optri
+    cost, j0, steps = core.contours.tile(wp, wq, is_max, j0)
     if j0 < 0:
         raise WeightError("no tiling has a finite weight (the weight is infinite everywhere)")
     tris = _band(ga, gb, j0, steps)

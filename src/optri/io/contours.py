@@ -27,7 +27,7 @@ Contours = list[NDArray[np.float64]]
 
 
 def read_contours(path: str | os.PathLike[str], roi: str | None = None) -> Contours:
-    """Read the closed contours of a file as ``(k, 3)`` arrays.
+    r"""Read the closed contours of a file as ``(k, 3)`` arrays.
 
     Parameters
     ----------
@@ -53,7 +53,8 @@ def read_contours(path: str | os.PathLike[str], roi: str | None = None) -> Conto
     --------
     >>> import tempfile, pathlib
     >>> f = pathlib.Path(tempfile.mkdtemp()) / "c.csv"
-    >>> _ = f.write_text("x,y,z,contour\\n0,0,0,a\\n1,0,0,a\\n0,1,0,a\\n0,0,1,b\\n1,0,1,b\\n0,1,1,b\\n")
+    >>> rows = ["x,y,z,contour", "0,0,0,a", "1,0,0,a", "0,1,0,a", "0,0,1,b", "1,0,1,b", "0,1,1,b"]
+    >>> _ = f.write_text("\n".join(rows))
     >>> [c.shape for c in read_contours(f)]
     [(3, 3), (3, 3)]
     """
