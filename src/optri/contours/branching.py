@@ -47,7 +47,7 @@ def merge_loops(loops: list[Loop]) -> tuple[Loop, list[tuple[int, int, int, int]
     >>> sq = np.array([[0., 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]])
     >>> comp, bridges = merge_loops([Loop(np.arange(4), sq), Loop(np.arange(4, 8), sq + [2, 0, 0])])
     >>> comp.ids.tolist(), bridges
-    ([0, 1, 7, 4, 5, 6, 2, 3], [(1, 2, 7, 4)])
+    ([0, 1, 4, 5, 6, 7, 2, 3], [(1, 2, 7, 4)])
     """
     comp = loops[0]
     original = {(int(a), int(b)) for a, b in zip(comp.ids, np.roll(comp.ids, -1))}
