@@ -23,6 +23,7 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 README_PICTURES = {
     "italy_earcut_vs_optimal.png": "plot_ear_clipping_vs_optimal.py",
     "mesh_hole_filled.png": "plot_mesh_hole.py",
+    "contours_branching.png": "plot_contours.py",
 }
 
 
