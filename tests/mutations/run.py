@@ -25,6 +25,11 @@ compiled code reads (any file mentioning numba, and the plain-Python formulas
 in ``COMPILED_ELSEWHERE``) therefore run with an empty cache of their own;
 the others share one cache warmed by the unmutated run. Hypothesis runs with
 a fixed seed, so a run is repeatable.
+
+Mutants of the compiled core (``src/core/``) are rebuilt in the copy with CMake
+(one build folder for the run, so each rebuild compiles the mutated file
+only) and the copy's ``src/optri/_core*.so`` is replaced by the mutant's and
+restored afterwards. A mutant that does not compile is an *error*, not a kill.
 """
 
 from __future__ import annotations
@@ -161,12 +166,22 @@ def _mutant(copy: Path, m: Mutation, work: Path, shared_cache: Path, timeout: fl
     cache = shared_cache
     if "numba" in text or m.file in COMPILED_ELSEWHERE:
         cache = work / f"numba-cache-{m.name}"  # see the module docstring
+    core = m.file.startswith(CORE_DIR)
+    built = sorted((copy / "src" / "optri").glob("_core*.so")) if core else []
+    saved = [(p, p.read_bytes()) for p in built]
     try:
         path.write_text(text.replace(m.old, m.new, 1))
+        if core and not _rebuild_core(copy, work):
+            return _result(m, "error", 0.0, "the mutated core does not compile")
         rc, out, seconds = _pytest(copy, list(m.tests), cache, timeout)
     finally:
         path.write_bytes(original)
-        os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+        if core:  # newer than the mutant's object file: the next rebuild compiles it again
+            os.utime(path)
+        else:
+            os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+        for p, data in saved:
+            p.write_bytes(data)
         if cache != shared_cache:
             shutil.rmtree(cache, ignore_errors=True)
     if rc is None:
@@ -178,6 +193,40 @@ def _mutant(copy: Path, m: Mutation, work: Path, shared_cache: Path, timeout: fl
     else:
         state = "error"
     return _result(m, state, seconds, _summary_line(out) if state != "survived" else "")
+
+
+#: Sources of the compiled core: a mutant there is rebuilt before its tests run.
+CORE_DIR = "src/core/"
+
+
+def _rebuild_core(copy: Path, work: Path) -> bool:
+    """Build the copy's core into ``work/core-build`` and put it in the copy's package."""
+    bindir = Path(sys.executable).parent
+    cmake = str(bindir / "cmake") if (bindir / "cmake").exists() else shutil.which("cmake")
+    ninja = str(bindir / "ninja") if (bindir / "ninja").exists() else shutil.which("ninja")
+    if cmake is None:
+        raise SystemExit("mutating the compiled core needs cmake (pip install cmake)")
+    build = work / "core-build"
+    gen = ["-G", "Ninja", f"-DCMAKE_MAKE_PROGRAM={ninja}"] if ninja else []
+    steps = [
+        [
+            cmake,
+            "-S",
+            str(copy),
+            "-B",
+            str(build),
+            *gen,
+            "-DCMAKE_BUILD_TYPE=Release",
+            f"-DPython_EXECUTABLE={sys.executable}",
+        ],
+        [cmake, "--build", str(build)],
+    ]
+    for step in steps:
+        if subprocess.run(step, capture_output=True, text=True).returncode != 0:
+            return False
+    for so in build.glob("_core*.so"):
+        shutil.copy2(so, copy / "src" / "optri" / so.name)
+    return True
 
 
 def _pytest(
