@@ -1607,8 +1607,8 @@ MUTATIONS += [
     M(
         "contours-upper-crotch-reversed",
         "src/optri/contours/mesh.py",
-        "            b.face(bridge_faces(b.where, (u, v, vp, u1)))",
-        "            b.face(bridge_faces(b.where, (u, u1, vp, v)))",
+        "        quad = (u, v, vp, u1) if above else (u, u1, vp, v)",
+        "        quad = (u, u1, vp, v) if above else (u, u1, vp, v)",
         (CONTOURS_MESH, "-k", "branching"),
         "the bridge's quadrilateral faces the wrong way: the mesh is not oriented",
     ),

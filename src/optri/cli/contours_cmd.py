@@ -28,6 +28,7 @@ from .stdin import contour_input
 )
 @click.option(
     "--objective",
+    "-O",
     default="sum",
     show_default=True,
     type=click.Choice(["sum", "max"]),

@@ -12,7 +12,7 @@ import contextlib
 import shutil
 import sys
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from ..errors import InvalidPolygonError
@@ -88,10 +88,17 @@ def _spooled(suffix_of: object) -> Iterator[Path]:
 @contextlib.contextmanager
 def mesh_input(path: str) -> Iterator[str]:
     """``path`` itself, or for ``-`` a temporary copy of stdin named by its mesh format."""
+    with _sniffed(path, sniff_mesh) as named:
+        yield named
+
+
+@contextlib.contextmanager
+def _sniffed(path: str, sniff: Callable[[bytes], str]) -> Iterator[str]:
+    """``path`` itself, or for ``-`` a temporary copy of stdin named by ``sniff``."""
     if path != STDIN:
         yield path
         return
-    with _spooled(sniff_mesh) as spooled:
+    with _spooled(sniff) as spooled:
         yield str(spooled)
 
 
@@ -119,8 +126,5 @@ def sniff_contours(head: bytes) -> str:
 @contextlib.contextmanager
 def contour_input(path: str) -> Iterator[str]:
     """``path`` itself, or for ``-`` a temporary copy of stdin named by its contour format."""
-    if path != STDIN:
-        yield path
-        return
-    with _spooled(sniff_contours) as spooled:
-        yield str(spooled)
+    with _sniffed(path, sniff_contours) as named:
+        yield named

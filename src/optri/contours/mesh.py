@@ -350,28 +350,33 @@ def _join(b: _Builder, lows: list[Loop], highs: list[Loop], z0: float, z1: float
     both = len(lows) > 1 and len(highs) > 1
     lower, upper = lows[0], highs[0]
     if len(lows) > 1:
-        zl = z0 + (z1 - z0) / (3.0 if both else 2.0)
-        copies = []
-        for lp in lows:
-            copy = b.add(lp.points, zl)
-            b.tile(lp, copy)
-            copies.append(copy)
-        lower, bridges = merge_loops(copies)
-        for u, u1, vp, v in bridges:  # the crotch faces down: the quad reversed
-            b.face(bridge_faces(b.where, (u, u1, vp, v)))
-        b.stats["bridges"] += len(bridges)
+        lower = _composite(b, lows, z0 + (z1 - z0) / (3.0 if both else 2.0), above=False)
     if len(highs) > 1:
-        zu = z0 + (z1 - z0) * (2.0 / 3.0 if both else 0.5)
-        copies = []
-        for hp in highs:
-            copy = b.add(hp.points, zu)
-            b.tile(copy, hp)
-            copies.append(copy)
-        upper, bridges = merge_loops(copies)
-        for u, u1, vp, v in bridges:
-            b.face(bridge_faces(b.where, (u, v, vp, u1)))
-        b.stats["bridges"] += len(bridges)
+        upper = _composite(b, highs, z0 + (z1 - z0) * (2.0 / 3.0 if both else 0.5), above=True)
     b.tile(lower, upper)
+
+
+def _composite(b: _Builder, loops: list[Loop], z: float, *, above: bool) -> Loop:
+    """Lift copies of ``loops`` to level z, band each to its original, splice the copies.
+
+    ``above``: the originals lie above z (the composite is then the upper contour
+    of the middle tiling). Each bridge's quadrilateral faces away from the
+    branches: down when they lie below, up when above.
+    """
+    copies = []
+    for lp in loops:
+        copy = b.add(lp.points, z)
+        if above:
+            b.tile(copy, lp)
+        else:
+            b.tile(lp, copy)
+        copies.append(copy)
+    comp, bridges = merge_loops(copies)
+    for u, u1, vp, v in bridges:
+        quad = (u, v, vp, u1) if above else (u, u1, vp, v)
+        b.face(bridge_faces(b.where, quad))
+    b.stats["bridges"] += len(bridges)
+    return comp
 
 
 def _caps(
