@@ -156,7 +156,7 @@ def contours_to_mesh(
 
     Contours of adjacent slices are matched when their regions overlap (in
     projection on the slice plane). A contour matched one to one is joined to
-    its partner by the optimal tiling (:func:`tile_contours`); branching
+    its partner by the optimal tiling (:func:`tile_contours`, [1]_); branching
     contours (one to many, many to many) are merged into a composite contour
     at an intermediate level through bridges (see Notes); a contour without a
     partner on one side, and every contour of the first and last slice, is

@@ -328,7 +328,7 @@ def tile_contours(
 
     Notes
     -----
-    The sum is found by Fuchs, Kedem and Uselton's divide and conquer: every
+    The sum is found by Fuchs, Kedem and Uselton's divide and conquer [1]_: every
     tiling contains a span from ``a[0]``, the shortest paths of different
     first spans can be chosen not to cross, so each one is searched between
     two already found: O(m n log n) time with n the shorter contour, O(m n)
