@@ -24,6 +24,7 @@ README_PICTURES = {
     "italy_earcut_vs_optimal.png": "plot_ear_clipping_vs_optimal.py",
     "mesh_hole_filled.png": "plot_mesh_hole.py",
     "mesh_refine_fair.png": "plot_refine_and_fair.py",
+    "contours_branching.png": "plot_contours.py",
 }
 
 

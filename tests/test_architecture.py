@@ -33,7 +33,7 @@ LAYERS = [
     ["optri.simple"],
     ["optri.domains"],
     ["optri.solve", "optri.chain"],
-    ["optri.enumeration", "optri.holes", "optri.teaching"],
+    ["optri.enumeration", "optri.holes", "optri.teaching", "optri.contours"],
     ["optri.batch", "optri.paper", "optri.bench"],
     ["optri.cli", "optri.__main__"],
     ["optri"],

@@ -8,6 +8,7 @@ void bind_all(nanobind::module_& m) {
     bind_predicates(m);
     bind_domains(m);
     bind_holes(m);
+    bind_contours(m);
 }
 
 }  // namespace optri

@@ -9,5 +9,6 @@ void bind_all(nanobind::module_& m);
 void bind_predicates(nanobind::module_& m);
 void bind_domains(nanobind::module_& m);
 void bind_holes(nanobind::module_& m);
+void bind_contours(nanobind::module_& m);
 
 }  // namespace optri

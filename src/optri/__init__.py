@@ -11,6 +11,7 @@ from . import data
 from ._version import __version__
 from .batch import BatchSummary, batch, triangulate_many
 from .chain import ChainOrder, matrix_chain
+from .contours import ContourMesh, ContourTiling, contours_to_mesh, tile_contours
 from .drawing import format_table
 from .enumeration import (
     best_triangulations,
@@ -41,6 +42,8 @@ __all__ = [
     "WEIGHTS",
     "BatchSummary",
     "ChainOrder",
+    "ContourMesh",
+    "ContourTiling",
     "EngineUnavailableError",
     "InvalidParameterError",
     "InvalidPolygonError",
@@ -58,6 +61,7 @@ __all__ = [
     "as_polygon",
     "batch",
     "best_triangulations",
+    "contours_to_mesh",
     "count_triangulations",
     "custom_weight",
     "data",
@@ -69,6 +73,7 @@ __all__ = [
     "matrix_chain",
     "random_triangulation",
     "require_simple",
+    "tile_contours",
     "trace",
     "triangulate",
     "triangulate_many",

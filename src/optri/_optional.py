@@ -22,6 +22,7 @@ EXTRAS = {
     "pyarrow": "geo",
     "pyproj": "geo",
     "mapbox_earcut": "compare",
+    "pydicom": "contours",
 }
 
 

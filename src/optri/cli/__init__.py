@@ -10,6 +10,7 @@ from __future__ import annotations
 from . import (
     batch_cmd,
     bench_cmd,
+    contours_cmd,
     data_cmd,
     enumerate_cmd,
     explore_cmd,
@@ -22,4 +23,5 @@ from .app import main
 __all__ = ["main"]
 
 # importing a command module registers its commands on main
-del batch_cmd, bench_cmd, data_cmd, enumerate_cmd, explore_cmd, fill_cmd, paper_cmd, solve_cmd
+del batch_cmd, bench_cmd, contours_cmd
+del data_cmd, enumerate_cmd, explore_cmd, fill_cmd, paper_cmd, solve_cmd

@@ -12,12 +12,19 @@ import contextlib
 import shutil
 import sys
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from ..errors import InvalidPolygonError
 
-__all__ = ["layer_input", "mesh_input", "sniff_layer", "sniff_mesh"]
+__all__ = [
+    "contour_input",
+    "layer_input",
+    "mesh_input",
+    "sniff_contours",
+    "sniff_layer",
+    "sniff_mesh",
+]
 
 STDIN = "-"
 
@@ -81,10 +88,17 @@ def _spooled(suffix_of: object) -> Iterator[Path]:
 @contextlib.contextmanager
 def mesh_input(path: str) -> Iterator[str]:
     """``path`` itself, or for ``-`` a temporary copy of stdin named by its mesh format."""
+    with _sniffed(path, sniff_mesh) as named:
+        yield named
+
+
+@contextlib.contextmanager
+def _sniffed(path: str, sniff: Callable[[bytes], str]) -> Iterator[str]:
+    """``path`` itself, or for ``-`` a temporary copy of stdin named by ``sniff``."""
     if path != STDIN:
         yield path
         return
-    with _spooled(sniff_mesh) as spooled:
+    with _spooled(sniff) as spooled:
         yield str(spooled)
 
 
@@ -96,3 +110,21 @@ def layer_input(path: str, fmt: str | None) -> Iterator[str]:
         return
     with _spooled(lambda head: fmt or sniff_layer(head)) as spooled:
         yield str(spooled)
+
+
+def sniff_contours(head: bytes) -> str:
+    r"""The contour format (dcm, json, csv) of a file starting with ``head``.
+
+    >>> sniff_contours(b'{"slices": []}'), sniff_contours(b"x,y,z,contour\n")
+    ('json', 'csv')
+    """
+    if head[128:132] == b"DICM":
+        return "dcm"
+    return "json" if head.lstrip()[:1] in (b"{", b"[") else "csv"
+
+
+@contextlib.contextmanager
+def contour_input(path: str) -> Iterator[str]:
+    """``path`` itself, or for ``-`` a temporary copy of stdin named by its contour format."""
+    with _sniffed(path, sniff_contours) as named:
+        yield named
