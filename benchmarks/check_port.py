@@ -237,6 +237,7 @@ def main() -> int:
     ap.add_argument("--sizes", nargs="*", type=int, help="polygon sizes (default 5 ... 300)")
     ap.add_argument("--quick", action="store_true", help="fewer sizes")
     ap.add_argument("--keep", action="store_true", help="keep the temporary worktree")
+    ap.add_argument("--cache", help="keep numba's caches of both sides in this folder")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     args = ap.parse_args()
     paths = [p for p in args.paths.split(",") if p]
@@ -255,9 +256,10 @@ def main() -> int:
             check=True,
         )
         print(f"old: {args.rev} in {old}", file=sys.stderr)
-        run_side(old / "src", paths, sizes, tmp / "old.json", tmp / "numba-cache")
+        cache = Path(args.cache) if args.cache else tmp
+        run_side(old / "src", paths, sizes, tmp / "old.json", cache / "numba-cache-old")
         print("new: this checkout", file=sys.stderr)
-        run_side(REPO / "src", paths, sizes, tmp / "new.json", tmp / "numba-cache-new")
+        run_side(REPO / "src", paths, sizes, tmp / "new.json", cache / "numba-cache-new")
         want = json.loads((tmp / "old.json").read_text())
         got = json.loads((tmp / "new.json").read_text())
     finally:
