@@ -20,7 +20,6 @@ for that alone.
 from __future__ import annotations
 
 import math
-import sys
 from typing import Any
 
 import numpy as np
@@ -474,9 +473,7 @@ def _cfunc(func: Any, ndim: int) -> Any:
     engine calls ``func`` again from Python to name the triangle and the
     exception).
     """
-    numba = sys.modules.get("numba")
-    if numba is None:
-        import numba
+    import numba
     from numba import types
 
     signature = types.float64(
