@@ -528,6 +528,22 @@ MUTATIONS: list[Mutation] = [
         (WEIGHTS,),
     ),
     M(
+        "core-aspect-ratio-reordered",
+        "src/core/weights.hpp",
+        "    return a * b * c / (8.0 * q);",
+        "    return a * (b * c) / (8.0 * q);",
+        (TWINS, "-k", "core"),
+        "the C++ twin multiplies in another order than the Python formula: last bits differ",
+    ),
+    M(
+        "core-norm-unscaled",
+        "src/core/weights.hpp",
+        "    return ldexp_inf(std::sqrt(x * x + y * y + z * z), e);",
+        "    return std::sqrt(dx * dx + dy * dy + dz * dz);",
+        (TWINS, "-k", "whole_range"),
+        "lengths whose squares leave float64's range lose their scaling in the C++ twin",
+    ),
+    M(
         "area-3d-drops-z",
         "src/optri/weights.py",
         "return _ldexp(0.5 * math.sqrt(cx * cx + cy * cy + cz * cz), 2 * e)",
