@@ -9,6 +9,7 @@ void bind_all(nanobind::module_& m) {
     bind_domains(m);
     bind_holes(m);
     bind_contours(m);
+    bind_generic(m);
 }
 
 }  // namespace optri

@@ -62,7 +62,7 @@ for _spec in (
         "brute", "optri.engines.brute", "exhaustive search over all triangulations (oracle)"
     ),
     EngineSpec("naive", "optri.engines.naive", "un-memoized recursion, 3^(n-2) calls (teaching)"),
-    EngineSpec("fast", "optri.engines.jit", "numba-compiled, parallel, one n x n table"),
+    EngineSpec("fast", "optri.engines.jit", "compiled core (C++), parallel, one n x n table"),
     EngineSpec("gpu", "optri.engines.gpu", "numba-cuda tiled wavefront on one GPU"),
     EngineSpec(
         "integer", "optri.engines.integer", "exact integer DP for 'product' on integer values"
