@@ -6,5 +6,6 @@
 namespace optri {
 
 void bind_all(nanobind::module_& m);
+void bind_minplus(nanobind::module_& m);
 
 }  // namespace optri
