@@ -331,16 +331,16 @@ def test_fast_watched_fill_stops_when_the_caller_raises(monkeypatch: pytest.Monk
     # an exception in the watching thread (Ctrl-C arrives there too) sets the stop
     # flag: the helper takes no further tile and is waited for before the exception
     # goes on; a fill that was not stopped would have finished every tile
-    from optri.engines import _jit_kernels
+    from optri.engines.core import minplus as core_minplus
 
     made: list[tuple[np.ndarray, np.ndarray]] = []
-    fresh = _jit_kernels.tile_flags
+    fresh = core_minplus.tile_flags
 
     def flags(n: int, tile: int) -> tuple[np.ndarray, np.ndarray]:
         made.append(fresh(n, tile))
         return made[-1]
 
-    monkeypatch.setattr(_jit_kernels, "tile_flags", flags)
+    monkeypatch.setattr(core_minplus, "tile_flags", flags)
     monkeypatch.setattr(config, "FAST_TILE", 16)
     monkeypatch.setattr(config, "FAST_WATCH_WORK", 0)
     monkeypatch.setattr(config, "FAST_PROGRESS_SECONDS", 1e-3)
@@ -358,8 +358,8 @@ def test_fast_watched_fill_stops_when_the_caller_raises(monkeypatch: pytest.Monk
     n = 100
     T = np.full((n, n), np.nan)
     stop = np.ones(1, dtype=np.int64)
-    pts = np.asfortranarray(convex_polygon(n, 1))
-    _jit_kernels.minplus_tiles(T, pts, 0, None, 8, 2, fresh(n, 8)[0], stop)
+    pts = np.ascontiguousarray(convex_polygon(n, 1))
+    core_minplus.fill(T, pts, 0, None, 8, 2, fresh(n, 8)[0], stop)
     assert np.isnan(T).all()
 
 

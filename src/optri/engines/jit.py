@@ -4,7 +4,7 @@ The table holds each chord's cost above the diagonal and its transpose below,
 so both operands of every split stream along contiguous rows (see
 :mod:`optri.engines._jit_kernels`). The sum of an edge-decomposable weight
 (perimeter, diagonal) runs as a cache-blocked min-plus product
-(:mod:`optri.engines._minplus`); every other
+(the compiled core, :mod:`optri.engines.core`); every other
 compiled weight and the ``"max"`` and lexicographic objectives run the generic
 recurrence (a lexicographic pair uses a second table). Split vertices are not
 stored: the O(n) cells on the optimal path are re-scanned afterwards.
@@ -219,9 +219,9 @@ def _worker_bytes(n: int, dtype: Any) -> int:
     >>> _worker_bytes(500, np.float64), _worker_bytes(8000, np.float64)
     (164352, 1050624)
     """
-    from ._minplus import worker_bytes  # the kernels' module (imports numba)
+    from .core import minplus as core_minplus
 
-    return worker_bytes(minplus_tile(n), np.dtype(dtype).itemsize)
+    return int(core_minplus.worker_bytes(minplus_tile(n), np.dtype(dtype).itemsize))
 
 
 def minplus_tile(n: int) -> int:
@@ -316,28 +316,25 @@ def _user_vertices(problem: Problem) -> NDArray[np.float64]:
 
 
 def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args, threads: int) -> None:
-    """The min-plus fill: one kernel call, watched from this thread when it is long.
+    """The min-plus fill of the compiled core: one call, watched from this thread when long.
 
     Every tile-diagonal runs in one parallel region, so no thread waits at the
-    end of a call for another's last tile (at n = 4000 on the Xeon of
-    ``docs/fast-engine.md``, six calls of a few diagonals took 1.03x the time
-    of one). Beyond ``config.FAST_WATCH_WORK`` min-plus steps, and on the
-    kernel's first call in the process for this table's dtype, with or without a
-    chord mask (:func:`~.interrupts.is_loaded`), the kernel runs in a
-    helper thread while this one reports progress and takes Ctrl-C
-    (:func:`~.interrupts.watched`).
+    end of a call for another's last tile. Beyond ``config.FAST_WATCH_WORK``
+    min-plus steps the fill runs in a helper thread (it releases the GIL) while
+    this one reports progress and takes Ctrl-C (:func:`~.interrupts.watched`).
     """
+    from .core import minplus as core_minplus
+
     n = problem.n
-    code = int(problem.weights[0].code)  # an int: typing an IntEnum costs 0.2 ms a call
+    code = int(problem.weights[0].code)
     tile = minplus_tile(n)
-    done, stop = K.tile_flags(n, tile)
+    done, stop = core_minplus.tile_flags(n, tile)
 
     def fill() -> None:
-        K.minplus_tiles(T, args.pts, code, args.mask, tile, threads, done, stop)
+        core_minplus.fill(T, args.pts, code, args.mask, tile, threads, done, stop)
 
     report = work_reporter(problem) or _no_report
-    loaded = is_loaded(K.minplus_tiles, T.dtype, args.mask is not None)
-    if n**3 / 6 <= config.FAST_WATCH_WORK and loaded:
+    if n**3 / 6 <= config.FAST_WATCH_WORK:
         fill()
     else:
         work = tile_work(n, tile)
@@ -391,8 +388,10 @@ def _export(
     """The paper's table: costs (primary component) above the diagonal, splits below."""
     out = np.triu(tables[0], 1).astype(np.float64)  # the diagonal is never written
     if minplus:  # the table holds E = cost + e(i, j), above the diagonal only
-        K.subtract_edges(out, args.pts, problem.weights[0].code)
-        K.mirror_table(tables[0])  # split_table reads column j as row j of the lower half
+        from .core import minplus as core_minplus
+
+        core_minplus.subtract_edges(out, args.pts, int(problem.weights[0].code))
+        core_minplus.mirror_table(tables[0])  # split_table reads column j as row j below
     out[np.isneginf(out)] = 0.0
     splits = args.kernel("split_table")(tables, *args.walk(minplus))
     out += np.tril(splits.T.astype(np.float64), -1)
