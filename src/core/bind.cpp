@@ -4,6 +4,7 @@
 namespace optri {
 
 void bind_all(nanobind::module_& m) {
+    bind_generic(m);
     bind_minplus(m);
 }
 

@@ -676,6 +676,19 @@ int64_t split(const F* T, int64_t n, int64_t i, int64_t j, bool mirrored) {
     return -1;
 }
 
+template <class F>
+void split_table(const F* T, int64_t n, int32_t* out, int threads) {
+    std::fill(out, out + n * n, int32_t(-1));
+#if defined(OPTRI_OPENMP)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads > 0 ? threads : 1)
+#else
+    (void)threads;
+#endif
+    for (int64_t i = 0; i < n; ++i) {
+        for (int64_t j = i + 2; j < n; ++j) out[i * n + j] = int32_t(split<F>(T, n, i, j, true));
+    }
+}
+
 void subtract_edges(double* out, int64_t n, const Points& pts, int code) {
     for (int64_t i = 0; i + 1 < n; ++i) {
         for (int64_t j = i + 1; j < n; ++j) out[i * n + j] -= edge_weight(code, pts, i, j);
@@ -715,6 +728,7 @@ void far(F* T, int64_t n, int64_t ia, int64_t ib, int64_t ja, int64_t jb, int64_
     template void fill_serial<F>(F*, int64_t, const Points&, int, const uint8_t*);          \
     template void mirror<F>(F*, int64_t);                                                   \
     template int64_t split<F>(const F*, int64_t, int64_t, int64_t, bool);                \
+    template void split_table<F>(const F*, int64_t, int32_t*, int);                        \
     template void testing::product<F>(F*, int64_t, const uint8_t*, int64_t, int64_t,       \
                                       int64_t, int64_t, int64_t, int64_t);                  \
     template void testing::far<F>(F*, int64_t, int64_t, int64_t, int64_t, int64_t, int64_t, \

@@ -108,6 +108,11 @@ void mirror(F* T, int64_t n);
 template <class F>
 int64_t split(const F* T, int64_t n, int64_t i, int64_t j, bool mirrored);
 
+// out[i * n + j] = split(T, n, i, j, true) for j >= i + 2, -1 elsewhere (out: n x n): every
+// chord's split of a mirrored table, on `threads` threads (an exported table only: O(n^3)).
+template <class F>
+void split_table(const F* T, int64_t n, int32_t* out, int threads);
+
 // out[i, j] -= e(i, j) above the diagonal (out: n x n float64): costs from an E-table.
 void subtract_edges(double* out, int64_t n, const Points& pts, int code);
 

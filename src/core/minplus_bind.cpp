@@ -91,6 +91,21 @@ void bind_typed(nb::module_& m) {
         },
         nb::arg("T").noconvert(), nb::arg("i"), nb::arg("j"), nb::arg("mirrored"));
     m.def(
+        "split_table",
+        [](Table<F> T, int threads) {
+            const int64_t n = square_side(T);
+            auto* data = new int32_t[static_cast<size_t>(n > 0 ? n * n : 1)];
+            nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<int32_t*>(p); });
+            {
+                nb::gil_scoped_release release;
+                minplus::split_table<F>(T.data(), n, data, threads);
+            }
+            return nb::ndarray<nb::numpy, int32_t, nb::ndim<2>>(
+                data, {static_cast<size_t>(n), static_cast<size_t>(n)}, owner);
+        },
+        nb::arg("T").noconvert(), nb::arg("threads") = 1,
+        "Every chord's split (int32, -1 where none) of a mirrored table: ``split(T, i, j, True)``.");
+    m.def(
         "_block",
         [](const std::string& kind, Table<F> C, int64_t ci, int64_t cj, Table<F> A, int64_t ai,
            int64_t ak, Table<F> B, int64_t bk, int64_t bj, int64_t kn) {

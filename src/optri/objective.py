@@ -20,9 +20,9 @@ component decides. Primaries that are equal in exact arithmetic (two
 triangulations of a grid polygon with the same total perimeter, summed in
 another order) differ by a few rounding errors, so without this the secondary
 would never be consulted. Every engine applies the same rule: the Python
-engines and brute force through :attr:`Objective.less`, the compiled engine
-through :func:`lex_better` (compiled from this source), and the two-phase
-"max"-led pairs through a gate loosened by the same tolerance
+engines and brute force through :attr:`Objective.less`, the compiled core
+through its twin of :func:`lex_better` (``src/core/objective.hpp``), and the
+two-phase "max"-led pairs through a gate loosened by the same tolerance
 (:func:`tie_ceiling`). Integer values (the product weight on integer input)
 compare exactly.
 """
@@ -33,6 +33,7 @@ import math
 import operator
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from enum import IntEnum
 from typing import Any, Union
 
 from .errors import WeightError
@@ -41,6 +42,7 @@ __all__ = [
     "LEX_TIE_RTOL",
     "Cost",
     "Objective",
+    "ObjectiveCode",
     "ObjectiveLike",
     "as_objective",
     "lex_better",
@@ -60,10 +62,23 @@ _COMPONENTS = ("sum", "max")
 LEX_TIE_RTOL = 1e-12
 
 
+class ObjectiveCode(IntEnum):
+    """Id by which the compiled core selects an objective (``enum class Objective``).
+
+    ``SUM`` and ``MAX`` also name the rule of each component of a pair; ``LEX``
+    is a lexicographic pair as a whole.
+    """
+
+    SUM = 0
+    MAX = 1
+    LEX = 2
+
+
 def lex_better(a1, a2, b1, b2):  # type: ignore[no-untyped-def]
     """Whether ``(a1, a2)`` is lexicographically below ``(b1, b2)``, ties within LEX_TIE_RTOL.
 
-    Plain Python that numba compiles into the compiled engine's ``best_split``.
+    The compiled core's ``lex_better`` (``src/core/objective.hpp``) is this
+    function with the same operations; numba compiles this one into its kernels.
 
     >>> lex_better(3.0, 1.0, 3.0 + 1e-15, 2.0), lex_better(3.0, 1.0, 3.1, 0.0)
     (True, True)
@@ -132,6 +147,27 @@ class Objective:
     def is_lex(self) -> bool:
         """True for a lexicographic pair."""
         return len(self.components) > 1
+
+    @property
+    def code(self) -> ObjectiveCode:
+        """The compiled core's id of the whole objective (``LEX`` for a pair).
+
+        >>> as_objective("max").code, as_objective(("max", "sum")).code
+        (<ObjectiveCode.MAX: 1>, <ObjectiveCode.LEX: 2>)
+        """
+        if self.is_lex:
+            return ObjectiveCode.LEX
+        return ObjectiveCode.SUM if self.components[0] == "sum" else ObjectiveCode.MAX
+
+    @property
+    def component_codes(self) -> tuple[ObjectiveCode, ...]:
+        """Each component's rule, ``SUM`` or ``MAX``.
+
+        >>> [int(c) for c in as_objective(("max", "sum")).component_codes]
+        [1, 0]
+        """
+        codes = {"sum": ObjectiveCode.SUM, "max": ObjectiveCode.MAX}
+        return tuple(codes[c] for c in self.components)
 
     @property
     def name(self) -> str | tuple[str, ...]:

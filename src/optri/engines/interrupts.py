@@ -23,6 +23,7 @@ from __future__ import annotations
 import contextlib
 import inspect
 import signal
+import sys
 import threading
 from collections.abc import Iterator
 from typing import Any
@@ -164,7 +165,8 @@ def watched(fill: Any, threads: int, stop: Any, poll: Any) -> None:
     ``stop[0] = 1``, which the kernel checks between pieces of its work (a tile, a
     row) to return early; once ``fill`` has returned, the exception goes on from
     here, where Python delivers signals. An exception in the helper is raised
-    here too. ``threads``: numba threads for the helper (a per-thread setting).
+    here too. ``threads``: numba threads for the helper (a per-thread setting), where
+    numba is loaded.
 
     >>> import numpy as np
     >>> stop, out = np.zeros(1, dtype=np.int64), []
@@ -172,13 +174,13 @@ def watched(fill: Any, threads: int, stop: Any, poll: Any) -> None:
     >>> out, int(stop[0])
     (['filled'], 0)
     """
-    import numba
-
+    numba = sys.modules.get("numba")  # kernels of the compiled core take threads as an argument
     failure: list[BaseException] = []
     finished = threading.Event()
 
     def target() -> None:
-        numba.set_num_threads(threads)  # numba's thread count is per calling thread
+        if numba is not None:  # numba's thread count is per calling thread
+            numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
         try:
             fill()
         except BaseException as exc:  # noqa: BLE001 - handed to the calling thread
