@@ -62,8 +62,7 @@ def set_simd(level: str) -> None:
     if not _core.set_simd(name):  # type: ignore[attr-defined]
         known = "one of " + ", ".join(LEVELS) if name not in LEVELS else "not available here"
         raise SimdUnavailableError(
-            f"SIMD level {level!r} is {known}; this CPU and build have "
-            f"{', '.join(simd_levels())}"
+            f"SIMD level {level!r} is {known}; this CPU and build have {', '.join(simd_levels())}"
         )
 
 

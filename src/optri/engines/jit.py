@@ -165,7 +165,7 @@ def _solve_minplus(problem: Problem, K: Any, threads: int) -> Solution:
         K.fill(T, pts, code, mask, tile, threads, done, stop)
 
     report = work_reporter(problem) or _no_report
-    if n**3 / 6 <= config.FAST_WATCH_WORK and K.loaded(T.dtype, mask is not None):
+    if n**3 / 6 <= config.FAST_WATCH_WORK:
         fill()
     else:
         work = tile_work(n, tile)
@@ -315,19 +315,7 @@ def _minplus_kernels() -> Any:
     """The min-plus kernels: ``optri._core.minplus`` (through :mod:`.core`: ``OPTRI_SIMD``)."""
     from . import core  # applies OPTRI_SIMD
 
-    return _CoreMinplus(core.minplus)
-
-
-class _CoreMinplus:
-    """``optri._core.minplus`` with the engine's calls; nothing to compile, always loaded."""
-
-    def __init__(self, module: Any) -> None:
-        self.fill, self.tile_flags, self.split = module.fill, module.tile_flags, module.split
-        self.subtract_edges, self.mirror_table = module.subtract_edges, module.mirror_table
-        self.worker_bytes, self.split_table = module.worker_bytes, module.split_table
-
-    def loaded(self, dtype: Any, masked: bool) -> bool:
-        return True
+    return core.minplus
 
 
 # --- the generic kernel's problem ------------------------------------------------------
