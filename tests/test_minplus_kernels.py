@@ -31,7 +31,7 @@ from optri import config
 from optri.bench.compare import convex_polygon
 from optri.engines import core
 from optri.engines.core import minplus as M
-from optri.weights import edge_weight
+from optri.weights import edge_weight, edge_weight_row
 
 LEVELS = core.simd_levels()
 KINDS = {"main": None, "main_fresh": None, "4x16": (4, 16), "4x16_fresh": (4, 16),
@@ -343,6 +343,10 @@ def test_the_core_edge_weights_are_the_python_ones(
         for j in range(i + 1, n):
             want[i, j] = 0.0 - edge_weight(code, rows, i, j)
     assert out.tobytes() == want.tobytes()
+    for a in (0, 5, 8, 20):  # the Python engine's rows: the same bits
+        row = np.empty(n - a - 1)
+        edge_weight_row(code, p, a, a + 1, row)
+        assert (0.0 - row).tobytes() == out[a, a + 1 :].tobytes(), a
     # and the fill's edge rows: a two-vertex table holds the side e(0, 1)
     for a, b in ((0, 1), (5, 6), (8, 9), (3, 17)):
         T = _fill(p[[a, b]], code, None, 64, 1)
