@@ -54,6 +54,14 @@ const uint8_t* mask_of(const Mask& mask, int64_t n) {
     return reinterpret_cast<const uint8_t*>(mask.data());
 }
 
+// Rows [ia, ib), columns [ja, jb) and splits [k0, k1) inside an n x n table.
+void check_product(int64_t n, int64_t ia, int64_t ib, int64_t ja, int64_t jb, int64_t k0,
+                   int64_t k1) {
+    require(0 <= ia && ia <= ib && ib <= n && 0 <= ja && ja <= jb && jb <= n && 0 <= k0 &&
+                k1 <= n,
+            "product out of bounds");
+}
+
 template <class F>
 void bind_typed(nb::module_& m) {
     m.def(
@@ -147,9 +155,7 @@ void bind_typed(nb::module_& m) {
         [](Table<F> T, Mask mask, int64_t ia, int64_t ib, int64_t ja, int64_t jb, int64_t k0,
            int64_t k1) {
             const int64_t n = square_side(T);
-            require(0 <= ia && ia <= ib && ib <= n && 0 <= ja && ja <= jb && jb <= n &&
-                        0 <= k0 && k1 <= n,
-                    "product out of bounds");
+            check_product(n, ia, ib, ja, jb, k0, k1);
             minplus::testing::product<F>(T.data(), n, mask_of(mask, n), ia, ib, ja, jb, k0, k1);
         },
         nb::arg("T").noconvert(), nb::arg("mask").none(), nb::arg("ia"), nb::arg("ib"),
@@ -160,9 +166,8 @@ void bind_typed(nb::module_& m) {
         [](Table<F> T, int64_t ia, int64_t ib, int64_t ja, int64_t jb, int64_t k0, int64_t k1,
            bool fresh) {
             const int64_t n = square_side(T);
-            require(0 <= ia && ia <= ib && ib <= n && 0 <= ja && ja <= jb && jb <= n &&
-                        0 <= k0 && k1 <= n && (!fresh || k0 < k1),
-                    "product out of bounds");
+            check_product(n, ia, ib, ja, jb, k0, k1);
+            require(!fresh || k0 < k1, "a fresh product needs splits");
             minplus::testing::far<F>(T.data(), n, ia, ib, ja, jb, k0, k1, fresh);
         },
         nb::arg("T").noconvert(), nb::arg("ia"), nb::arg("ib"), nb::arg("ja"), nb::arg("jb"),
