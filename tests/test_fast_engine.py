@@ -328,16 +328,16 @@ def test_fast_watched_fill_stops_when_the_caller_raises(monkeypatch: pytest.Monk
     # an exception in the watching thread (Ctrl-C arrives there too) sets the stop
     # flag: the helper takes no further tile and is waited for before the exception
     # goes on; a fill that was not stopped would have finished every tile
-    from optri.engines import _jit_kernels
+    from optri.engines.core import minplus as core_minplus
 
     made: list[tuple[np.ndarray, np.ndarray]] = []
-    fresh = _jit_kernels.tile_flags
+    fresh = core_minplus.tile_flags
 
     def flags(n: int, tile: int) -> tuple[np.ndarray, np.ndarray]:
         made.append(fresh(n, tile))
         return made[-1]
 
-    monkeypatch.setattr(_jit_kernels, "tile_flags", flags)
+    monkeypatch.setattr(core_minplus, "tile_flags", flags)
     monkeypatch.setattr(config, "FAST_TILE", 16)
     monkeypatch.setattr(config, "FAST_WATCH_WORK", 0)
     monkeypatch.setattr(config, "FAST_PROGRESS_SECONDS", 1e-3)
@@ -355,8 +355,8 @@ def test_fast_watched_fill_stops_when_the_caller_raises(monkeypatch: pytest.Monk
     n = 100
     T = np.full((n, n), np.nan)
     stop = np.ones(1, dtype=np.int64)
-    pts = np.asfortranarray(convex_polygon(n, 1))
-    _jit_kernels.minplus_tiles(T, pts, 0, None, 8, 2, fresh(n, 8)[0], stop)
+    pts = np.ascontiguousarray(convex_polygon(n, 1))
+    core_minplus.fill(T, pts, 0, None, 8, 2, fresh(n, 8)[0], stop)
     assert np.isnan(T).all()
 
 
@@ -397,10 +397,10 @@ def test_watched_raises_a_real_sigint_only_once_the_fill_has_returned(
 
 def test_a_kernels_first_call_is_watched(monkeypatch: pytest.MonkeyPatch) -> None:
     # the first call of a numba kernel compiles it or loads it from the disk cache, partly
-    # in llvmlite callbacks that swallow Ctrl-C: it runs in the helper, whatever its size;
-    # so does the first call for another table dtype (a new specialization). The core's
-    # generic kernel has nothing to compile: it never asks
+    # in llvmlite callbacks that swallow Ctrl-C (interrupts.is_loaded tells whether it
+    # would); the core's kernels have nothing to compile: they never ask
     numba = pytest.importorskip("numba")
+
     @numba.njit(cache=False)
     def never_called(x):  # type: ignore[no-untyped-def]
         return x + 1
@@ -429,27 +429,18 @@ def test_a_kernels_first_call_is_watched(monkeypatch: pytest.MonkeyPatch) -> Non
     masked_cell(np.ones((2, 2)), np.ones((2, 2), dtype=np.bool_))
     assert interrupts.is_loaded(masked_cell, np.float64, True)
 
+    # neither of the core's kernels (min-plus, generic) has anything to compile: a small
+    # fill runs in the calling thread, unwatched, whatever its dtype or mask
     watched: list[object] = []
-    asked: list[tuple[np.dtype, bool]] = []
     monkeypatch.setattr(jit, "watched", lambda fill, *rest: (watched.append(fill), fill()))
     pts = convex_polygon(8, 1)
-    for loaded in (False, True):
-
-        def is_loaded(kernel: object, dtype: object, masked: bool, loaded: bool = loaded) -> bool:
-            asked.append((np.dtype(dtype), masked))  # type: ignore[call-overload]
-            return loaded
-
-        monkeypatch.setattr(jit, "is_loaded", is_loaded)
-        optri.triangulate(pts, method="fast")  # min-plus
-        optri.triangulate(pts, "max_angle", "max", method="fast")  # generic: never asks
-    assert len(watched) == 1 and len(asked) == 2  # the min-plus first call, not the later one
     a = np.linspace(0, 2 * np.pi, 12, endpoint=False)
     star = np.column_stack((np.cos(a), np.sin(a))) * np.where(np.arange(12) % 2, 0.5, 1.0)[:, None]
-    optri.triangulate(pts, method="fast", dtype=np.float32)  # asks for its table's dtype
-    assert asked[-1] == (np.float32, False)
-    optri.triangulate(star, method="fast")  # and for a chord mask
-    assert asked[-1] == (np.float64, True)
-    assert asked[:2] == [(np.float64, False)] * 2
+    optri.triangulate(pts, method="fast")  # min-plus
+    optri.triangulate(pts, method="fast", dtype=np.float32)
+    optri.triangulate(star, method="fast")  # with a chord mask
+    optri.triangulate(pts, "max_angle", "max", method="fast")  # generic
+    assert watched == []
 
 
 def test_fast_watched_generic_fill_stops_when_the_caller_raises(

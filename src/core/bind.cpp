@@ -10,6 +10,7 @@ void bind_all(nanobind::module_& m) {
     bind_holes(m);
     bind_contours(m);
     bind_generic(m);
+    bind_minplus(m);
 }
 
 }  // namespace optri

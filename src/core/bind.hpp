@@ -11,5 +11,6 @@ void bind_domains(nanobind::module_& m);
 void bind_holes(nanobind::module_& m);
 void bind_contours(nanobind::module_& m);
 void bind_generic(nanobind::module_& m);
+void bind_minplus(nanobind::module_& m);
 
 }  // namespace optri

@@ -366,10 +366,27 @@ def machine() -> str:
     except OSError:  # not Linux
         pass
     try:
-        from ..engines._llvm import describe_plan  # imports numba
-    except ImportError:  # pragma: no cover - numba is a core dependency
+        from ..engines.core import minplus
+    except ImportError:  # pragma: no cover - a checkout whose core is not built
         return f"{model}, {os.cpu_count()} CPUs"
-    return f"{model}, {os.cpu_count()} CPUs; optri's register block: {describe_plan()}"
+    return (
+        f"{model}, {os.cpu_count()} CPUs; optri's register block: {describe_plan(minplus.plan())}"
+    )
+
+
+def describe_plan(plan: dict[str, object]) -> str:
+    """The min-plus plan's register block in words (``optri._core.minplus.plan()``).
+
+    >>> describe_plan({"rows": 4, "cols": 16, "vector_width": 32, "min_float64": "float",
+    ...                "isa": "avx2", "level": "avx2"})
+    '4 x 16 cells in 32-byte vectors, float minimum (avx2 kernels, SIMD level avx2)'
+    """
+    width = plan["vector_width"]
+    vectors = f"{width}-byte vectors" if width else "plain C++"
+    return (
+        f"{plan['rows']} x {plan['cols']} cells in {vectors}, {plan['min_float64']} minimum "
+        f"({plan['isa']} kernels, SIMD level {plan['level']})"
+    )
 
 
 def _load() -> float:

@@ -28,14 +28,13 @@ from numpy.typing import NDArray
 from .. import config
 from ..errors import (
     EngineUnavailableError,
-    MissingDependencyError,
     NoTriangulationError,
     OptriError,
     WeightError,
 )
 from ..objective import ObjectiveCode
 from ..weights import Weight, WeightCode, compiled_weight_error, edge_weight
-from .interrupts import interruptible, is_loaded, watched
+from .interrupts import interruptible, watched
 from .memory import new_table, release_table, require_memory
 from .problem import Problem, Solution, with_sides
 from .progress import diagonal_work, table_work, tile_work, work_reporter
@@ -165,7 +164,7 @@ def _solve_minplus(problem: Problem, K: Any, threads: int) -> Solution:
         K.fill(T, pts, code, mask, tile, threads, done, stop)
 
     report = work_reporter(problem) or _no_report
-    if n**3 / 6 <= config.FAST_WATCH_WORK and K.loaded(T.dtype, mask is not None):
+    if n**3 / 6 <= config.FAST_WATCH_WORK:
         fill()
     else:
         work = tile_work(n, tile)
@@ -312,77 +311,10 @@ def _worker_bytes(n: int, dtype: Any, kernels: Any = None) -> int:
 
 
 def _minplus_kernels() -> Any:
-    """The min-plus kernels: ``optri._core.minplus``, else numba's (:class:`_NumbaMinplus`)."""
-    from .. import _core
+    """The min-plus kernels: ``optri._core.minplus`` (through :mod:`.core`: ``OPTRI_SIMD``)."""
+    from . import core  # applies OPTRI_SIMD
 
-    core = getattr(_core, "minplus", None)
-    return _CoreMinplus(core) if core is not None else _NumbaMinplus()
-
-
-class _CoreMinplus:
-    """``optri._core.minplus`` with the engine's few extra calls; nothing to compile."""
-
-    def __init__(self, module: Any) -> None:
-        self.m = module
-        self.fill, self.tile_flags, self.split = module.fill, module.tile_flags, module.split
-        self.subtract_edges, self.mirror_table = module.subtract_edges, module.mirror_table
-        self.worker_bytes = module.worker_bytes
-
-    def loaded(self, dtype: Any, masked: bool) -> bool:
-        return True
-
-    def split_table(self, T: NDArray[Any], threads: int) -> NDArray[np.int32]:
-        """Every chord's split from the mirrored table (O(n^3): an exported table only)."""
-        if hasattr(self.m, "split_table"):
-            return self.m.split_table(T, threads)  # type: ignore[no-any-return]
-        n = len(T)
-        out = np.full((n, n), -1, dtype=np.int32)
-        for i in range(n):
-            for j in range(i + 2, n):
-                out[i, j] = self.split(T, i, j, True)
-        return out
-
-
-class _NumbaMinplus:
-    """numba's min-plus kernels (:mod:`optri.engines._minplus`) behind the core's calls."""
-
-    def __init__(self) -> None:
-        try:
-            import numba
-
-            from . import _jit_kernels as K
-        except ImportError as exc:
-            raise MissingDependencyError(
-                f"the min-plus fill needs numba here ({exc}); install it with: pip install numba"
-            ) from exc
-        self.numba, self.K = numba, K
-        self.split = K.minplus_split
-        self.subtract_edges, self.mirror_table = K.subtract_edges, K.mirror_table
-
-    def tile_flags(self, n: int, tile: int) -> Any:
-        return self.K.tile_flags(n, tile)
-
-    def worker_bytes(self, tile: int, itemsize: int) -> int:
-        from ._minplus import worker_bytes
-
-        return int(worker_bytes(tile, itemsize))
-
-    def loaded(self, dtype: Any, masked: bool) -> bool:
-        return is_loaded(self.K.minplus_tiles, dtype, masked)
-
-    def fill(
-        self, T: Any, pts: Any, code: int, mask: Any, tile: int, threads: int, *flags: Any
-    ) -> None:
-        numba = self.numba
-        previous = numba.get_num_threads()
-        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-        try:
-            self.K.minplus_tiles(T, pts, code, mask, tile, threads, *flags)
-        finally:
-            numba.set_num_threads(previous)
-
-    def split_table(self, T: NDArray[Any], threads: int) -> NDArray[np.int32]:
-        return self.K.split_table((T, T), None, None)  # type: ignore[no-any-return]
+    return core.minplus
 
 
 # --- the generic kernel's problem ------------------------------------------------------
