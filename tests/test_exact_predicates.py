@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
+from optri._core import predicates as core
 
 from exact_oracle import between_q, ccw, exact_count, exact_mask, sign_q
 from optri import as_polygon, count_triangulations
@@ -31,7 +32,6 @@ from optri.predicates import (
     strictly_between,
     turn_signs,
 )
-from optri._core import predicates as core
 from optri.simple import valid_diagonals
 from optri.simple.mask import valid_diagonals_compiled, valid_diagonals_numpy
 

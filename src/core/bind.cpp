@@ -6,6 +6,7 @@ namespace optri {
 void bind_all(nanobind::module_& m) {
     (void)m;
     bind_predicates(m);
+    bind_simple(m);
 }
 
 }  // namespace optri

@@ -7,5 +7,6 @@ namespace optri {
 
 void bind_all(nanobind::module_& m);
 void bind_predicates(nanobind::module_& m);
+void bind_simple(nanobind::module_& m);
 
 }  // namespace optri
