@@ -4,7 +4,7 @@
 namespace optri {
 
 void bind_all(nanobind::module_& m) {
-    (void)m;
+    bind_generic(m);
     bind_predicates(m);
     bind_simple(m);
 }

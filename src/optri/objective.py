@@ -33,6 +33,7 @@ import math
 import operator
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from enum import IntEnum
 from typing import Any, Union
 
 from .errors import WeightError
@@ -41,6 +42,7 @@ __all__ = [
     "LEX_TIE_RTOL",
     "Cost",
     "Objective",
+    "ObjectiveCode",
     "ObjectiveLike",
     "as_objective",
     "lex_better",
@@ -58,6 +60,18 @@ _COMPONENTS = ("sum", "max")
 #: Rounding of a sum of m terms stays below about m * 1.1e-16 relatively, so ties are
 #: recognized for triangulations of up to about 10**4 vertices.
 LEX_TIE_RTOL = 1e-12
+
+
+class ObjectiveCode(IntEnum):
+    """Id by which the compiled core selects an objective (``enum class Objective``).
+
+    ``SUM`` and ``MAX`` also name the rule of each component of a pair; ``LEX``
+    is a lexicographic pair as a whole.
+    """
+
+    SUM = 0
+    MAX = 1
+    LEX = 2
 
 
 def lex_better(a1, a2, b1, b2):  # type: ignore[no-untyped-def]
@@ -132,6 +146,27 @@ class Objective:
     def is_lex(self) -> bool:
         """True for a lexicographic pair."""
         return len(self.components) > 1
+
+    @property
+    def code(self) -> ObjectiveCode:
+        """The compiled core's id of the whole objective (``LEX`` for a pair).
+
+        >>> as_objective("max").code, as_objective(("max", "sum")).code
+        (<ObjectiveCode.MAX: 1>, <ObjectiveCode.LEX: 2>)
+        """
+        if self.is_lex:
+            return ObjectiveCode.LEX
+        return ObjectiveCode.SUM if self.components[0] == "sum" else ObjectiveCode.MAX
+
+    @property
+    def component_codes(self) -> tuple[ObjectiveCode, ...]:
+        """Each component's rule, ``SUM`` or ``MAX``.
+
+        >>> [int(c) for c in as_objective(("max", "sum")).component_codes]
+        [1, 0]
+        """
+        codes = {"sum": ObjectiveCode.SUM, "max": ObjectiveCode.MAX}
+        return tuple(codes[c] for c in self.components)
 
     @property
     def name(self) -> str | tuple[str, ...]:
