@@ -15,13 +15,18 @@ import optri
 from optri import config
 from optri.engines import interrupts, jit, memo
 from optri.engines.progress import tile_work
-from optri.errors import EngineUnavailableError, TableTooLargeError, WeightError
+from optri.errors import (
+    EngineUnavailableError,
+    InvalidParameterError,
+    TableTooLargeError,
+    WeightError,
+)
 from optri.polygon import as_polygon
 from optri.solve import build_problem
 from strategies import MAX_LED_EDGE_PAIRS, TWO_PHASE_CASES
 from strategies import ellipse_polygon as convex_polygon
 
-numba = pytest.importorskip("numba")
+THREADS = "OPTRI_NUM_THREADS"  # the compiled engines' thread count (optri.engines.threads)
 
 WEIGHTS = ["perimeter", "diagonal", "area", "max_angle", "min_angle", "aspect_ratio"]
 OBJECTIVES = ["sum", "max"]
@@ -177,19 +182,13 @@ def test_fast_float32_gate_admits_the_bottleneck() -> None:
 def test_fast_memory_check_counts_each_threads_buffers(monkeypatch: pytest.MonkeyPatch) -> None:
     # n = 5000: 256-tiles, 1 MB of buffers a thread; a limit with room for the table and
     # one thread's buffers, not two, is refused on two threads
-    if numba.config.NUMBA_NUM_THREADS < 2:
-        pytest.skip("needs two numba threads")
     n = 5000
     per_thread = jit._worker_bytes(n, np.float64)
     assert per_thread == (1 << 20) + 16 * 16 * 8  # 1 MB and a spare packed row a strip
     monkeypatch.setattr(config, "MEMORY_LIMIT_BYTES", jit.estimate_bytes(n) + 3 * per_thread // 2)
-    old = numba.get_num_threads()
-    numba.set_num_threads(2)
-    try:
-        with pytest.raises(TableTooLargeError, match="5000 x 5000"):
-            optri.triangulate(convex_polygon(n, 1), method="fast")
-    finally:
-        numba.set_num_threads(old)
+    monkeypatch.setenv(THREADS, "2")
+    with pytest.raises(TableTooLargeError, match="5000 x 5000"):
+        optri.triangulate(convex_polygon(n, 1), method="fast")
 
 
 def test_fast_memory_estimator_refuses(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -199,38 +198,42 @@ def test_fast_memory_estimator_refuses(monkeypatch: pytest.MonkeyPatch) -> None:
     assert jit.estimate_bytes(3000, np.float32) < jit.estimate_bytes(3000)
 
 
-def test_fast_leaves_the_callers_thread_count_alone() -> None:
-    # the engine changes numba's (per calling thread) count only when the problem wants
-    # another one (below config.FAST_PARALLEL_MIN_N: one thread), and always puts it back
-    if numba.config.NUMBA_NUM_THREADS < 2:
-        pytest.skip("needs two numba threads")
-    old = numba.get_num_threads()
-    try:
-        for setting in (2, 1):
-            numba.set_num_threads(setting)
-            for n, threads in ((300, 1), (1000, setting)):
-                got = optri.triangulate(convex_polygon(n, 3), method="fast")
-                assert got.stats["threads"] == threads
-                assert numba.get_num_threads() == setting
-    finally:
-        numba.set_num_threads(old)
+def test_fast_threads_follow_the_setting(monkeypatch: pytest.MonkeyPatch) -> None:
+    # OPTRI_NUM_THREADS (else the core's OpenMP limit) from the size thresholds on, one
+    # thread below them (config.FAST_PARALLEL_MIN_N, FAST_GENERIC_PARALLEL_MIN_N); a
+    # problem's options["threads"] wins
+    for setting in (2, 1, 3):
+        monkeypatch.setenv(THREADS, str(setting))
+        for n, threads in ((300, 1), (1000, setting)):
+            got = optri.triangulate(convex_polygon(n, 3), method="fast")
+            assert got.stats["threads"] == threads
+        for n, threads in ((100, 1), (260, setting)):
+            got = optri.triangulate(convex_polygon(n, 3), "max_angle", "max", method="fast")
+            assert got.stats["threads"] == threads
+    monkeypatch.delenv(THREADS)
+    from optri import _core
+
+    got = optri.triangulate(convex_polygon(260, 3), "area", "max", method="fast")
+    assert got.stats["threads"] == _core.max_threads()
+    problem = build_problem(as_polygon(convex_polygon(30, 1)), "area", "max", keep_table=False)
+    problem.options["threads"] = 2
+    assert jit.solve(problem).stats["threads"] == 2
+    monkeypatch.setenv(THREADS, "two")
+    with pytest.raises(InvalidParameterError, match=THREADS):
+        optri.triangulate(convex_polygon(260, 3), "area", "max", method="fast")
 
 
-def test_fast_reproducible_across_runs_and_threads() -> None:
+def test_fast_reproducible_across_runs_and_threads(monkeypatch: pytest.MonkeyPatch) -> None:
     pts = convex_polygon(1000, 7)
-    old = numba.get_num_threads()
-    try:
-        results = []
-        for threads in (1, 2, 2):
-            numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-            results.append(optri.triangulate(pts, method="fast"))
-    finally:
-        numba.set_num_threads(old)
-    first = results[0]
-    for r in results[1:]:
+    results = []
+    for threads in (1, 2, 2):
+        monkeypatch.setenv(THREADS, str(threads))
+        results.append(optri.triangulate(pts, method="fast"))
+        results.append(optri.triangulate(pts[:400], "max_angle", "max", method="fast"))
+    for r, first in zip(results[2:], results[:-2]):  # each run against the one before
         assert r.weight == first.weight  # bit for bit: min is exact, sums are ordered
         assert np.array_equal(r.triangles, first.triangles)
-    first.check()
+    results[0].check()
 
 
 @pytest.mark.parametrize("n, tile", [(400, 16), (523, 32)])
@@ -241,22 +244,16 @@ def test_two_threads_fill_the_one_thread_table(
     # where a tile waits for rows or cells another one is still writing (a pair's shared
     # far splits, the tile below, the left neighbour); one started too early reads an
     # unfinished cell or loses a minimum to the other thread, and the table differs
-    if numba.config.NUMBA_NUM_THREADS < 2:
-        pytest.skip("needs two numba threads")
     monkeypatch.setattr(config, "FAST_TILE", tile)
     monkeypatch.setattr(config, "FAST_PARALLEL_MIN_N", 0)
     pts = convex_polygon(n, 5)
-    old = numba.get_num_threads()
-    try:
-        numba.set_num_threads(1)
-        want = optri.triangulate(pts, method="fast", keep_table=True).table
-        numba.set_num_threads(2)
-        for run in range(40):  # a race shows in some runs only
-            got = optri.triangulate(pts, method="fast", keep_table=True)
-            assert got.stats["threads"] == 2
-            assert np.array_equal(got.table, want), run
-    finally:
-        numba.set_num_threads(old)
+    monkeypatch.setenv(THREADS, "1")
+    want = optri.triangulate(pts, method="fast", keep_table=True).table
+    monkeypatch.setenv(THREADS, "2")
+    for run in range(40):  # a race shows in some runs only
+        got = optri.triangulate(pts, method="fast", keep_table=True)
+        assert got.stats["threads"] == 2
+        assert np.array_equal(got.table, want), run
 
 
 def test_fast_masked_chords_equal_memo() -> None:
@@ -399,9 +396,11 @@ def test_watched_raises_a_real_sigint_only_once_the_fill_has_returned(
 
 
 def test_a_kernels_first_call_is_watched(monkeypatch: pytest.MonkeyPatch) -> None:
-    # the first call of a kernel compiles it or loads it from the disk cache, partly in
-    # llvmlite callbacks that swallow Ctrl-C: it runs in the helper, whatever its size;
-    # so does the first call for another table dtype (a new specialization)
+    # the first call of a numba kernel compiles it or loads it from the disk cache, partly
+    # in llvmlite callbacks that swallow Ctrl-C: it runs in the helper, whatever its size;
+    # so does the first call for another table dtype (a new specialization). The core's
+    # generic kernel has nothing to compile: it never asks
+    numba = pytest.importorskip("numba")
     @numba.njit(cache=False)
     def never_called(x):  # type: ignore[no-untyped-def]
         return x + 1
@@ -442,16 +441,15 @@ def test_a_kernels_first_call_is_watched(monkeypatch: pytest.MonkeyPatch) -> Non
 
         monkeypatch.setattr(jit, "is_loaded", is_loaded)
         optri.triangulate(pts, method="fast")  # min-plus
-        optri.triangulate(pts, "max_angle", "max", method="fast")  # generic
-    assert len(watched) == 2  # both first calls, neither later one
+        optri.triangulate(pts, "max_angle", "max", method="fast")  # generic: never asks
+    assert len(watched) == 1 and len(asked) == 2  # the min-plus first call, not the later one
     a = np.linspace(0, 2 * np.pi, 12, endpoint=False)
     star = np.column_stack((np.cos(a), np.sin(a))) * np.where(np.arange(12) % 2, 0.5, 1.0)[:, None]
-    for method_args in ((), ("max_angle", "max")):  # each asks for its table's dtype
-        optri.triangulate(pts, *method_args, method="fast", dtype=np.float32)
-        assert asked[-1] == (np.float32, False)
-        optri.triangulate(star, *method_args, method="fast")  # and for a chord mask
-        assert asked[-1] == (np.float64, True)
-    assert asked[:4] == [(np.float64, False)] * 4
+    optri.triangulate(pts, method="fast", dtype=np.float32)  # asks for its table's dtype
+    assert asked[-1] == (np.float32, False)
+    optri.triangulate(star, method="fast")  # and for a chord mask
+    assert asked[-1] == (np.float64, True)
+    assert asked[:2] == [(np.float64, False)] * 2
 
 
 def test_fast_watched_generic_fill_stops_when_the_caller_raises(
@@ -490,8 +488,7 @@ def test_fast_watched_generic_fill_stops_when_the_caller_raises(
     assert not any(t.name == "optri-fill" and t.is_alive() for t in threading.enumerate())
 
 
-@numba.njit(cache=False)
-def _njit_perimeter(v, i, k, j):
+def _perimeter(v, i, k, j):  # type: ignore[no-untyped-def]
     if v.shape[0] == 13:  # a NaN for one polygon size, to test detection
         return math.nan
     a = math.hypot(v[i, 0] - v[k, 0], v[i, 1] - v[k, 1])
@@ -501,9 +498,11 @@ def _njit_perimeter(v, i, k, j):
 
 
 def test_fast_custom_njit_weight_and_nan(monkeypatch: pytest.MonkeyPatch) -> None:
+    numba = pytest.importorskip("numba")
+    njit_perimeter = numba.njit(cache=False)(_perimeter)
     pts = convex_polygon(30, 9)[::-1]  # clockwise input: indices are the caller's
-    w = optri.custom_weight(_njit_perimeter)
-    assert w.compiled is _njit_perimeter  # recognized as numba-compiled: runs in the kernel
+    w = optri.custom_weight(njit_perimeter)
+    assert w.compiled is njit_perimeter  # recognized as numba-compiled: runs in the kernel
     a = optri.triangulate(pts, w, method="fast")
     b = optri.triangulate(pts, "perimeter", method="fast")
     assert close(a.weight, b.weight)
@@ -538,35 +537,35 @@ def test_fast_is_auto_default_above_threshold() -> None:
         assert optri.triangulate(pts).method == "fast"
 
 
-def test_fast_unavailable_without_numba(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_fast_generic_path_needs_no_numba(monkeypatch: pytest.MonkeyPatch) -> None:
+    # built-in weights run in the compiled core: numba is imported for a user's
+    # numba.njit weight only
     import sys
 
-    monkeypatch.setitem(sys.modules, "numba", None)
-    assert "numba" in (jit.unavailable() or "")
+    want = optri.triangulate(convex_polygon(30, 4), "max_angle", "max", method="fast")
+    monkeypatch.setitem(sys.modules, "numba", None)  # import numba fails
+    assert jit.unavailable() is None
+    got = optri.triangulate(convex_polygon(30, 4), "max_angle", "max", method="fast")
+    assert got.weight == want.weight
+    assert np.array_equal(got.triangles, want.triangles)
 
 
 def test_fast_tile_queue_waits_for_its_neighbours(monkeypatch: pytest.MonkeyPatch) -> None:
     # tiny tiles, every tile-diagonal in one kernel call, two threads: each tile must
     # wait for the tiles left of it and below it (done flags), else it reads unfinished
     # cells; the table must equal the one-thread, one-call-per-diagonal table bit for bit
-    if numba.config.NUMBA_NUM_THREADS < 2:
-        pytest.skip("needs two numba threads")
     monkeypatch.setattr(config, "FAST_TILE", 4)
     monkeypatch.setattr(config, "FAST_PARALLEL_MIN_N", 0)
     pts = convex_polygon(400, 11)
-    old = numba.get_num_threads()
-    try:
-        numba.set_num_threads(1)
-        ref = optri.triangulate(pts, method="fast", keep_table=True)
-        numba.set_num_threads(2)
-        for watch in (0, 1e18, 0):  # in a helper thread, in this one
-            monkeypatch.setattr(config, "FAST_WATCH_WORK", watch)
-            got = optri.triangulate(pts, method="fast", keep_table=True)
-            assert got.stats["threads"] == 2
-            assert np.array_equal(got.table, ref.table, equal_nan=True)
-            assert got.weight == ref.weight
-    finally:
-        numba.set_num_threads(old)
+    monkeypatch.setenv(THREADS, "1")
+    ref = optri.triangulate(pts, method="fast", keep_table=True)
+    monkeypatch.setenv(THREADS, "2")
+    for watch in (0, 1e18, 0):  # in a helper thread, in this one
+        monkeypatch.setattr(config, "FAST_WATCH_WORK", watch)
+        got = optri.triangulate(pts, method="fast", keep_table=True)
+        assert got.stats["threads"] == 2
+        assert np.array_equal(got.table, ref.table, equal_nan=True)
+        assert got.weight == ref.weight
 
 
 class _SignalingEmpty:

@@ -4,15 +4,18 @@ For each :class:`~optri.weights.WeightCode` (but ``CUSTOM``) the weight is
 evaluated by
 
 (a) the Python formula of :mod:`optri.weights` (what the Python engines call),
-(b) the same formula compiled by numba (what ``method="fast"`` inlines), and
+(b) its C++ twin in the compiled core (``src/core/weights.hpp``, what
+    ``method="fast"`` calls), through ``optri._core.generic``, and
 (c) its CUDA twin, the device functions of :mod:`optri.engines._gpu_device`,
     run under numba's CUDA simulator in a subprocess (``NUMBA_ENABLE_CUDASIM``
     must be set before numba is imported).
 
-(a) and (b) must agree bit for bit. (c) must agree within :data:`ULPS` units in
-the last place: it is a second text of the formulas, kept term by term in the
-same order (under the simulator it runs as Python, so it agrees to the bit
-today), and on a GPU libdevice's ``acos`` may differ by an ulp or two. The test
+(a) and (b) must agree bit for bit, here and on triangles whose coordinates
+span float64's whole range (the scaled paths of the formulas). (c) must agree
+within :data:`ULPS` units in the last place: it is a second text of the
+formulas, kept term by term in the same order (under the simulator it runs as
+Python, so it agrees to the bit today), and on a GPU libdevice's ``acos`` may
+differ by an ulp or two. The test
 iterates over ``WeightCode``, so a weight added without its GPU twin fails here
 (the device ``weight`` returns +inf for a code it does not know).
 """
@@ -27,11 +30,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from optri._core import generic as core
 
-import optri.engines._jit_weights  # noqa: F401  (registers the formulas with numba)
 from gpu_env import subprocess_env
-from optri.engines.compiled import kernel
-from optri.weights import WEIGHTS, WeightCode, edge_weight, triangle_weight
+from optri.weights import WEIGHTS, WeightCode, edge_weight, edge_weight_row, triangle_weight
 
 #: Units in the last place the CUDA twin may differ by.
 ULPS = 4
@@ -100,26 +102,31 @@ def python_values(kind, code, data, rows):
     return np.array([edge_weight(code, p, *e) for e in rows])
 
 
-@kernel()  # numba.njit, cached like the engine's kernels (never stale)
-def compiled_triangles(code, p, rows):
-    out = np.empty(len(rows))
-    for t in range(len(rows)):
-        out[t] = triangle_weight(code, p, rows[t, 0], rows[t, 1], rows[t, 2])
-    return out
-
-
-@kernel()
-def compiled_edges(code, p, rows):
-    out = np.empty(len(rows))
-    for t in range(len(rows)):
-        out[t] = edge_weight(code, p, rows[t, 0], rows[t, 1])
-    return out
-
-
 def compiled_values(kind, code, data, rows):
     p = np.ascontiguousarray(data.reshape(len(data), -1), dtype=np.float64)  # as jit.py
-    run = compiled_triangles if kind == "triangle" else compiled_edges
-    return run(int(code), p, np.array(rows, dtype=np.int64))
+    if kind == "triangle":
+        return np.array([core.triangle_weight(int(code), p, *t) for t in rows])
+    return np.array([core.edge_weight(int(code), p, *e) for e in rows])
+
+
+def extreme(dim: int, seed: int) -> dict[str, np.ndarray]:
+    """Points whose sides, squares or cubes leave float64's range: the scaled paths."""
+    rng = np.random.default_rng(seed)
+    out = {}
+    for scale in (1e300, 1e154, 1e-155, 1e-300, 1e-310, 2.0**-1070):
+        p = rng.uniform(-1.0, 1.0, (8, dim)) * scale
+        p[7] = p[6] * 1e-3
+        out[f"{dim}-D x {scale:g}"] = p
+    mixed = rng.uniform(-1.0, 1.0, (8, dim))
+    mixed[0] *= 1e300
+    mixed[1] *= 1e-300
+    mixed[2] = -mixed[0]
+    mixed[3], mixed[4] = 1.7e308, -1.7e308  # differences overflow to infinity
+    out[f"{dim}-D mixed"] = mixed
+    return out
+
+
+EXTREME = {**extreme(2, seed=4), **extreme(3, seed=5)}
 
 
 @pytest.fixture(scope="module")
@@ -155,8 +162,7 @@ def disagreements(other, ulps):
     """One line per weight code and data set where ``other`` differs from the formula.
 
     ``other(j, kind, code, data, rows)`` gives job ``j``'s values. One test over
-    every code, not one per code: the numba kernels then compile once per xdist
-    worker, and the simulator runs once.
+    every code, not one per code: the simulator then runs once.
     """
     problems = []
     for code in CODES:
@@ -179,9 +185,49 @@ def disagreements(other, ulps):
     return problems
 
 
-def test_python_and_numba_weights_agree_bit_for_bit():
+def bits(values):
+    return np.asarray(values, dtype=np.float64).view(np.int64)
+
+
+def test_python_and_core_weights_agree_bit_for_bit():
     problems = disagreements(lambda j, *job: compiled_values(*job), ulps=0)
     assert not problems, "\n".join(problems)
+
+
+@pytest.mark.parametrize("name", sorted(EXTREME))
+def test_python_and_core_weights_agree_bit_for_bit_over_the_whole_range(name):
+    data = EXTREME[name]
+    rows = [tuple(r) for r in data.tolist()]
+    triples = list(itertools.combinations(range(len(data)), 3))
+    for code in CODES:
+        if registered(code).needs == "values":
+            continue
+        want = [triangle_weight(code, rows, *t) for t in triples]
+        got = compiled_values("triangle", code, data, triples)
+        assert np.array_equal(bits(got), bits(want)), (code.name, name)
+        pairs = list(itertools.combinations(range(len(data)), 2))
+        want = [edge_weight(code, rows, *e) for e in pairs]
+        got = compiled_values("edge", code, data, pairs)
+        assert np.array_equal(bits(got), bits(want)), (code.name, name)
+    # the scaled paths were taken: sides outside [2**-250, 2**250], where cubes leave the range
+    sides = [math.dist(rows[a], rows[b]) for a, b in itertools.combinations(range(len(rows)), 2)]
+    assert any(not 2.0**-250 < s < 2.0**250 for s in sides), name
+
+
+@pytest.mark.parametrize("name", sorted(EXTREME) + ["2-D", "3-D"])
+@pytest.mark.parametrize("code", [WeightCode.PERIMETER, WeightCode.DIAGONAL])
+def test_edge_weight_rows_agree_bit_for_bit(name, code):
+    data = EXTREME.get(name)
+    if data is None:
+        data = DATA["points"][name]
+    p = np.ascontiguousarray(data, dtype=np.float64)
+    n = len(p)
+    for a in range(n):
+        for b0 in range(n):
+            want = np.empty(n - b0)
+            edge_weight_row(code, p, a, b0, want)
+            got = core.edge_weight_row(int(code), p, a, b0, n - b0)
+            assert np.array_equal(bits(got), bits(want)), (a, b0)
 
 
 def test_cuda_twin_agrees_with_the_python_formula(cuda_values):

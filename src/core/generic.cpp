@@ -444,6 +444,22 @@ void bind_generic(nb::module_& root) {
             return edge_weight(code, p, a, b);
         },
         "code"_a, "pts"_a, "a"_a, "b"_a, "e(a, b) of an edge-decomposable weight.");
+    m.def(
+        "edge_weight_row",
+        [](int code, Coords pts, int64_t a, int64_t b0, int64_t count) {
+            const int64_t n = static_cast<int64_t>(pts.shape(0));
+            if (a < 0 || a >= n || b0 < 0 || count < 0 || b0 + count > n) {
+                throw nb::index_error("vertex index out of range");
+            }
+            Points p{pts.data(), n, static_cast<int64_t>(pts.shape(1))};
+            auto* buf = new double[static_cast<size_t>(std::max<int64_t>(count, 1))];
+            edge_weight_row(code, p, a, b0, buf, count);
+            nb::capsule owner(buf, [](void* q) noexcept { delete[] static_cast<double*>(q); });
+            return nb::ndarray<nb::numpy, double, nb::ndim<1>>(buf, {static_cast<size_t>(count)},
+                                                               owner);
+        },
+        "code"_a, "pts"_a, "a"_a, "b0"_a, "count"_a,
+        "[e(a, b0), ..., e(a, b0 + count - 1)] by the row formula (edge_weight_row).");
 }
 
 }  // namespace optri

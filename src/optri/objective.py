@@ -20,9 +20,9 @@ component decides. Primaries that are equal in exact arithmetic (two
 triangulations of a grid polygon with the same total perimeter, summed in
 another order) differ by a few rounding errors, so without this the secondary
 would never be consulted. Every engine applies the same rule: the Python
-engines and brute force through :attr:`Objective.less`, the compiled engine
-through :func:`lex_better` (compiled from this source), and the two-phase
-"max"-led pairs through a gate loosened by the same tolerance
+engines and brute force through :attr:`Objective.less`, the compiled core
+through its twin of :func:`lex_better` (``src/core/objective.hpp``), and the
+two-phase "max"-led pairs through a gate loosened by the same tolerance
 (:func:`tie_ceiling`). Integer values (the product weight on integer input)
 compare exactly.
 """
@@ -77,7 +77,8 @@ class ObjectiveCode(IntEnum):
 def lex_better(a1, a2, b1, b2):  # type: ignore[no-untyped-def]
     """Whether ``(a1, a2)`` is lexicographically below ``(b1, b2)``, ties within LEX_TIE_RTOL.
 
-    Plain Python that numba compiles into the compiled engine's ``best_split``.
+    The compiled core's ``lex_better`` (``src/core/objective.hpp``) is this
+    function with the same operations; numba compiles this one into its kernels.
 
     >>> lex_better(3.0, 1.0, 3.0 + 1e-15, 2.0), lex_better(3.0, 1.0, 3.1, 0.0)
     (True, True)

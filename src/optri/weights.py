@@ -29,20 +29,23 @@ indices, or ``w(vertices, i, k, j) -> float`` to receive the vertex array.
 One source
 ----------
 The formulas below are plain Python over ``p[v][c]`` (coordinate ``c`` of
-vertex ``v``): the Python engines call them on rows of tuples, and the
-compiled engine compiles these very functions with numba
-(:mod:`optri.engines._jit_weights`), so both compute the same numbers. The
-CUDA device functions (:mod:`optri.engines._gpu_device`) are the one twin.
+vertex ``v``): the Python engines call them on rows of tuples. Their compiled
+twin is ``src/core/weights.hpp`` in the compiled core (what ``method="fast"``
+calls): the same operations in the same order, so both compute the same
+numbers bit for bit. The numba kernels (:mod:`optri.engines._jit_weights`)
+compile these very functions; the CUDA device functions
+(:mod:`optri.engines._gpu_device`) are a third text.
 
 To add a weight: write its formula here, give it a :class:`WeightCode`, add
 its branch to :func:`triangle_weight` (a sum over sides also to
 :func:`edge_weight` and :attr:`Weight.edge_decomposable`) and register it at
-the end of this module; then write its CUDA twin in the device functions
-``weight`` (and ``edge``) of :mod:`optri.engines._gpu_device`.
-``tests/test_weights.py`` needs no edit: for every ``WeightCode`` it evaluates
-the Python formula, its numba compilation and the CUDA twin (under numba's
-CUDA simulator) on the same random and degenerate triangles, and fails until
-all three agree (the first two bit for bit, CUDA within a few ulps).
+the end of this module; then its branch in ``src/core/weights.hpp`` and its
+CUDA twin in the device functions ``weight`` (and ``edge``) of
+:mod:`optri.engines._gpu_device`. ``tests/test_weights.py`` needs no edit: for
+every ``WeightCode`` it evaluates the Python formula, the C++ twin and the CUDA
+twin (under numba's CUDA simulator) on the same random and degenerate
+triangles, and fails until all three agree (the first two bit for bit, CUDA
+within a few ulps).
 """
 
 from __future__ import annotations
@@ -79,7 +82,11 @@ TriangleFn = Callable[[int, int, int], float]
 
 
 class WeightCode(IntEnum):
-    """Id by which compiled engines select a built-in weight (``CUSTOM``: a callable)."""
+    """Id by which compiled engines select a built-in weight (``CUSTOM``: a callable).
+
+    The compiled core's ``enum class WeightCode`` (``src/core/weights.hpp``) has
+    the same values.
+    """
 
     CUSTOM = -1
     PERIMETER = 0
@@ -546,29 +553,38 @@ def weight_number(value: Any, name: str, tri: tuple[int, int, int]) -> float:
 
 
 def compiled_weight_error(
-    weight: Weight, polygon: Polygon, allowed: Any, exc: BaseException, budget: int = 1_000_000
+    weight: Weight,
+    polygon: Polygon,
+    allowed: Any,
+    exc: BaseException | None = None,
+    budget: int = 1_000_000,
 ) -> WeightError:
-    """The :class:`WeightError` for ``exc``, raised by ``weight`` inside a compiled kernel.
+    """The :class:`WeightError` for an exception ``weight`` raised inside compiled code.
 
-    The kernel does not say which triangle failed, so the user's function is called
-    again from Python over the triangles the kernel evaluates (chords of ``allowed``,
-    shortest first), at most ``budget`` of them, to name the first that raises or
-    returns a non-number.
+    The compiled code does not say which triangle failed, nor (``exc`` None) what it
+    raised, so the user's function is called again from Python over the triangles
+    the kernel evaluates (chords of ``allowed``, shortest first), at most ``budget``
+    of them, to name the first that raises or returns a non-number. The error's
+    ``__cause__`` is ``exc``, else the exception that call raised.
     """
     func = weight.func
     assert func is not None
-    found = _first_failing(func, polygon, allowed, budget)
+    found, raised = _first_failing(func, polygon, allowed, budget)
+    cause = exc if exc is not None else raised
     where = f"triangle {found}" if found is not None else "a triangle"
-    first = (str(exc).strip().splitlines() or [""])[0]
-    return WeightError(
-        f"weight {weight.name!r} raised {type(exc).__name__} inside the compiled engine on "
-        f"{where}: {first}"
+    what = type(cause).__name__ if cause is not None else "an exception"
+    first = (str(cause).strip().splitlines() or [""])[0] if cause is not None else ""
+    error = WeightError(
+        f"weight {weight.name!r} raised {what} inside the compiled engine on {where}: {first}"
     )
+    error.__cause__ = cause
+    return error
 
 
 def _first_failing(
     func: Callable[..., Any], polygon: Polygon, allowed: Any, budget: int
-) -> tuple[int, int, int] | None:
+) -> tuple[tuple[int, int, int] | None, BaseException | None]:
+    """The first triangle on which ``func`` raises (and what) or returns a non-number."""
     orig, verts, n = polygon.order.tolist(), polygon.vertices, polygon.n
     ok = (lambda a, b: True) if allowed is None else (lambda a, b: bool(allowed[a, b]))
     calls = 0
@@ -583,14 +599,14 @@ def _first_failing(
                 tri = (orig[i], orig[k], orig[j])
                 calls += 1
                 if calls > budget:
-                    return None
+                    return None, None
                 try:
                     value = func(verts, *tri)
-                except Exception:
-                    return tri
+                except Exception as exc:
+                    return tri, exc
                 if not isinstance(value, numbers.Real):
-                    return tri
-    return None
+                    return tri, None
+    return None, None
 
 
 def _short(value: Any) -> str:

@@ -25,6 +25,13 @@ compiled code reads (any file mentioning numba, and the plain-Python formulas
 in ``COMPILED_ELSEWHERE``) therefore run with an empty cache of their own;
 the others share one cache warmed by the unmutated run. Hypothesis runs with
 a fixed seed, so a run is repeatable.
+
+A mutant of the compiled core (a file under ``src/core/``) is compiled first:
+the copy's core is configured once in a build folder of the run's own (CMake,
+as ``make core`` does) and rebuilt for each such mutant, its extension module
+copied into the copy's ``src/optri``; afterwards the source comes back with a
+fresh modification time (so the next build recompiles it) and so does the
+unmutated extension. A mutant that does not compile is an *error*.
 """
 
 from __future__ import annotations
@@ -65,6 +72,8 @@ SKIP = shutil.ignore_patterns(
     "demo-output",
 )
 PYTEST = ("-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "--hypothesis-seed=0")
+#: Files of the compiled core: their mutants are built before their tests run.
+CORE = "src/core/"
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -161,12 +170,22 @@ def _mutant(copy: Path, m: Mutation, work: Path, shared_cache: Path, timeout: fl
     cache = shared_cache
     if "numba" in text or m.file in COMPILED_ELSEWHERE:
         cache = work / f"numba-cache-{m.name}"  # see the module docstring
+    core = m.file.startswith(CORE)
+    extensions = {e: e.read_bytes() for e in _extensions(copy)} if core else {}
     try:
         path.write_text(text.replace(m.old, m.new, 1))
+        built, log = _build_core(copy, work) if core else (True, "")
+        if not built:
+            return _result(m, "error", 0.0, "the mutant does not compile: " + log[-300:])
         rc, out, seconds = _pytest(copy, list(m.tests), cache, timeout)
     finally:
         path.write_bytes(original)
-        os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+        if core:  # newer than the mutant's objects: the next build compiles it again
+            os.utime(path)
+            for e, data in extensions.items():
+                e.write_bytes(data)
+        else:
+            os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns))
         if cache != shared_cache:
             shutil.rmtree(cache, ignore_errors=True)
     if rc is None:
@@ -178,6 +197,37 @@ def _mutant(copy: Path, m: Mutation, work: Path, shared_cache: Path, timeout: fl
     else:
         state = "error"
     return _result(m, state, seconds, _summary_line(out) if state != "survived" else "")
+
+
+def _extensions(copy: Path) -> list[Path]:
+    """The copy's compiled core (``src/optri/_core*.so`` or ``.pyd``)."""
+    return sorted(p for p in (copy / "src" / "optri").glob("_core*") if p.suffix in (".so", ".pyd"))
+
+
+def _build_core(copy: Path, work: Path) -> tuple[bool, str]:
+    """Compile the copy's core in ``work``'s build folder and put it in ``src/optri``."""
+    build = work / "core-build"
+    tools = Path(sys.executable).parent
+    cmake = shutil.which("cmake", path=str(tools)) or shutil.which("cmake") or "cmake"
+    steps = [[cmake, "--build", str(build)]]
+    if not (build / "CMakeCache.txt").exists():
+        configure = [cmake, "-S", str(copy), "-B", str(build), "-DCMAKE_BUILD_TYPE=Release"]
+        configure.append(f"-DPython_EXECUTABLE={sys.executable}")
+        ninja = shutil.which("ninja", path=str(tools)) or shutil.which("ninja")
+        if ninja:
+            configure += ["-G", "Ninja", f"-DCMAKE_MAKE_PROGRAM={ninja}"]
+        steps.insert(0, configure)
+    for cmd in steps:
+        proc = subprocess.run(cmd, capture_output=True, text=True)
+        if proc.returncode != 0:
+            return False, proc.stdout + proc.stderr
+    built = sorted(p for p in build.glob("_core*") if p.suffix in (".so", ".pyd"))
+    if not built:
+        return False, "no extension module was built"
+    for old in _extensions(copy):
+        old.unlink()
+    shutil.copy2(built[0], copy / "src" / "optri" / built[0].name)
+    return True, ""
 
 
 def _pytest(

@@ -1,37 +1,31 @@
-"""Numba kernels of the compiled engine: one n x n table, filled in place.
+"""numba's recurrence on one n x n table, for the numba kernels not in the compiled core.
+
+The compiled engine's generic path runs in the compiled core
+(``optri._core.generic``); ``best_split`` and ``trace`` here serve the
+many-polygon kernel (:mod:`optri.simple._many_kernels`), and the min-plus
+fill's trace and split table the numba min-plus path.
 
 Table layout: ``T[i, j]`` (``i < j``) holds the cost of chord ``(i, j)`` and
 ``T[j, i]`` the same value, so for a cell ``(i, j)`` both operands of every
 split, ``cost(i, k)`` = ``T[i, k]`` and ``cost(k, j)`` = ``T[j, k]``, are read
 along contiguous rows ``T[i]`` and ``T[j]``.
-
-Two evaluation orders of the one recurrence (``best_split``):
-
-* ``minplus_tiles`` (:mod:`optri.engines._minplus`): sum objective with an
-  edge-decomposable weight, as a pure min-plus product in register blocks
-  (:mod:`optri.engines._llvm`).
-* ``generic_tiles``: any built-in or numba-compiled weight, ``sum`` or
-  ``max``, one table per component of a lexicographic objective, over the
-  same tiles, each cell scanning all its splits.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange, types
+from numba import prange, types
 from numba.extending import overload
 
 from ..objective import lex_better
 from ..weights import WeightCode
 from ._jit_weights import triangle_weight
-from ._llvm import load_acquire
 from ._minplus import minplus_split, minplus_tiles, mirror_table, subtract_edges, tile_flags
 from .compiled import kernel
 
 __all__ = [
     "NO_GATE",
     "best_split",
-    "generic_tiles",
     "minplus_split",
     "minplus_tiles",
     "mirror_table",
@@ -39,7 +33,6 @@ __all__ = [
     "subtract_edges",
     "tile_flags",
     "trace",
-    "uncached",
 ]
 
 NO_GATE = -2  # codes[2] when the problem has no gate
@@ -47,7 +40,7 @@ NO_GATE = -2  # codes[2] when the problem has no gate
 
 # --- generic path (any compiled weight, sum / max / lexicographic) -------------------
 #
-# Arguments travel in three packed tuples, built by optri.engines.jit:
+# Arguments travel in three packed tuples (built by optri.simple._many_kernels):
 #   tables = (T1, T2)            cost tables of components 1 and 2 (T2 read only if lex)
 #   weigh  = (pts, codes, gate, verts, order, wfn1, wfn2, wfng)
 #            built-in weights by code (codes = [w1, w2, gate weight or NO_GATE]) on
@@ -140,44 +133,6 @@ def best_split(tables, weigh, rule, i, j):
     return b1, b2, arg
 
 
-@kernel(parallel=True, nogil=True)
-def generic_tiles(tables, weigh, rule, mask, tile, stop, reached):
-    """Fill the cost table(s), tile-diagonal by tile-diagonal.
-
-    ``mask``: None (every chord allowed) or a boolean ``n x n`` array of the
-    allowed chords, each its own compiled version (the ``mask is None`` branch
-    is pruned when numba compiles). Sides must hold the neutral cost already.
-    Tiles on one tile-diagonal are independent; inside a tile, cells go rows
-    upwards, columns rightwards, so both halves of every split are final when read.
-    ``reached[0]`` is set to ``d + 1`` once tile-diagonal ``d`` is finished. Runs
-    without the GIL: another thread may watch ``reached`` and set ``stop[0]``;
-    the call returns after the tile-diagonal under way, as it does once a
-    weight has returned NaN (``rule[2]``).
-    """
-    T1, T2 = tables
-    lex, nan = rule[1], rule[2]
-    n = T1.shape[0]
-    nt = (n + tile - 1) // tile
-    for d in range(nt):
-        if load_acquire(stop, 0) != 0 or nan[0] != 0:
-            break
-        for t in prange(nt - d):
-            i0, i1 = t * tile, min(n, t * tile + tile)
-            j0, j1 = (t + d) * tile, min(n, (t + d) * tile + tile)
-            for i in range(i1 - 1, i0 - 1, -1):
-                for j in range(max(j0, i + 2), j1):
-                    if mask is not None and not mask[i, j]:
-                        c1, c2 = np.inf, np.inf
-                    else:
-                        c1, c2, _ = best_split(tables, weigh, rule, i, j)
-                    T1[i, j] = c1
-                    T1[j, i] = c1
-                    if lex:
-                        T2[i, j] = c2
-                        T2[j, i] = c2
-        reached[0] = d + 1
-
-
 # --- reconstruction and the exported table ---------------------------------------------
 
 
@@ -235,20 +190,3 @@ def split_table(tables, weigh, rule):
             else:
                 out[i, j] = best_split(tables, weigh, rule, i, j)[2]
     return out
-
-
-_TWINS: dict[str, object] = {}
-
-
-def uncached(name: str) -> object:
-    """Kernel ``name`` compiled without the disk cache, for a user's numba weight.
-
-    A user function's type differs in every process, so caching its
-    specializations would only grow the cache; the callees above are inlined,
-    so they add no cached entries either.
-    """
-    if name not in _TWINS:
-        cached = globals()[name]
-        options = {k: v for k, v in cached.targetoptions.items() if k != "nopython"}
-        _TWINS[name] = njit(**options)(cached.py_func)
-    return _TWINS[name]

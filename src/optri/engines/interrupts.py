@@ -23,6 +23,7 @@ from __future__ import annotations
 import contextlib
 import inspect
 import signal
+import sys
 import threading
 from collections.abc import Iterator
 from typing import Any
@@ -156,7 +157,7 @@ def _mask_position(kernel: Any) -> int:
 _LOADED: set[tuple[int, np.dtype[Any], bool | None]] = set()
 
 
-def watched(fill: Any, threads: int | None, stop: Any, poll: Any) -> None:
+def watched(fill: Any, threads: int, stop: Any, poll: Any) -> None:
     """Run ``fill`` (a kernel call that releases the GIL) in a helper thread, polling meanwhile.
 
     ``poll()`` runs every ``config.FAST_PROGRESS_SECONDS``. Ctrl-C, a stop signal
@@ -164,23 +165,22 @@ def watched(fill: Any, threads: int | None, stop: Any, poll: Any) -> None:
     ``stop[0] = 1``, which the kernel checks between pieces of its work (a tile, a
     row) to return early; once ``fill`` has returned, the exception goes on from
     here, where Python delivers signals. An exception in the helper is raised
-    here too. ``threads``: numba threads for the helper (a per-thread setting), or
-    None for a kernel of the compiled core (which takes its thread count as an argument).
+    here too. ``threads``: numba threads for the helper (a per-thread setting), where
+    numba is loaded.
 
     >>> import numpy as np
     >>> stop, out = np.zeros(1, dtype=np.int64), []
-    >>> watched(lambda: out.append("filled"), None, stop, lambda: None)
+    >>> watched(lambda: out.append("filled"), 1, stop, lambda: None)
     >>> out, int(stop[0])
     (['filled'], 0)
     """
+    numba = sys.modules.get("numba")  # kernels of the compiled core take threads as an argument
     failure: list[BaseException] = []
     finished = threading.Event()
 
     def target() -> None:
-        if threads is not None:
-            import numba
-
-            numba.set_num_threads(threads)  # numba's thread count is per calling thread
+        if numba is not None:  # numba's thread count is per calling thread
+            numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
         try:
             fill()
         except BaseException as exc:  # noqa: BLE001 - handed to the calling thread

@@ -1,24 +1,24 @@
-"""The compiled engine (``method="fast"``): numba kernels on one n x n table.
+"""The compiled engine (``method="fast"``): the compiled core's kernels on one n x n table.
 
 The table holds each chord's cost above the diagonal and its transpose below,
-so both operands of every split stream along contiguous rows (see
-:mod:`optri.engines._jit_kernels`). The sum of an edge-decomposable weight
-(perimeter, diagonal) runs as a cache-blocked min-plus product
-(:mod:`optri.engines._minplus`); every other
-compiled weight and the ``"max"`` and lexicographic objectives run the generic
-recurrence (a lexicographic pair uses a second table). Split vertices are not
-stored: the O(n) cells on the optimal path are re-scanned afterwards.
+so both operands of every split stream along contiguous rows. The sum of an
+edge-decomposable weight (perimeter, diagonal) runs as a cache-blocked min-plus
+product (``optri._core.minplus``); every other built-in or numba-compiled weight
+and the ``"max"`` and lexicographic objectives run the generic recurrence
+(``optri._core.generic``; a lexicographic pair uses a second table). Split
+vertices are not stored: the O(n) cells on the optimal path are re-scanned
+afterwards.
 
-Each fill is one kernel call; a long one runs in a helper thread while the
-calling thread reports progress and takes Ctrl-C, which stops the fill at its
-next tile (min-plus) or tile-diagonal (generic). Compiled code is cached on
-disk (:mod:`optri.engines.compiled`), so only the first process ever pays the
-compilation.
+Each fill is one kernel call that releases the GIL; a long one runs in a helper
+thread while the calling thread reports progress and takes Ctrl-C, which stops
+the fill at its next tile (min-plus) or tile-diagonal (generic). Threads:
+:mod:`optri.engines.threads`. A user's ``numba.njit`` weight is compiled into a C
+function (``numba.cfunc``) the core calls through a pointer; numba is imported
+for that alone.
 """
 
 from __future__ import annotations
 
-import importlib.util
 import math
 import sys
 from typing import Any
@@ -27,12 +27,20 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import config
-from ..errors import EngineUnavailableError, NoTriangulationError, OptriError, WeightError
+from ..errors import (
+    EngineUnavailableError,
+    MissingDependencyError,
+    NoTriangulationError,
+    OptriError,
+    WeightError,
+)
+from ..objective import ObjectiveCode
 from ..weights import Weight, WeightCode, compiled_weight_error, edge_weight
 from .interrupts import interruptible, is_loaded, watched
 from .memory import new_table, release_table, require_memory
 from .problem import Problem, Solution, with_sides
 from .progress import diagonal_work, table_work, tile_work, work_reporter
+from .threads import threads_for
 
 __all__ = [
     "SUPPORTS_GATES",
@@ -46,25 +54,17 @@ __all__ = [
 
 #: The generic kernel honours :attr:`Problem.gates` (one gate: max-led lexicographic pairs).
 SUPPORTS_GATES = True
-_NO_GATE = -2  # mirrors _jit_kernels.NO_GATE without importing numba
 
 _DTYPES = (np.dtype(np.float64), np.dtype(np.float32))
-_OVERHEAD = 8 << 20  # vertex copies, traceback stack, numba's thread pool
+_OVERHEAD = 8 << 20  # vertex copies, traceback stack, the threads' stacks
 
 
 def unavailable() -> str | None:
-    """Why the compiled engine cannot run here (numba missing), or None.
-
-    Looks numba up without importing it (0.3 s), which only a solve needs.
-    """
-    if sys.modules.get("numba") is not None:  # imported by an earlier solve
-        return None
+    """Why the compiled engine cannot run here (the compiled core missing), or None."""
     try:
-        found = importlib.util.find_spec("numba") is not None
-    except (ImportError, ValueError) as exc:
-        return f"numba cannot be imported ({exc}); install it with: pip install numba"
-    if not found:
-        return "numba is not installed; install it with: pip install numba"
+        from .. import _core  # noqa: F401
+    except ImportError as exc:
+        return f"the compiled core optri._core cannot be imported ({exc}); reinstall optri"
     return None
 
 
@@ -88,10 +88,7 @@ def unsupported(problem: Problem) -> str | None:
 
 
 def auto_accepts(problem: Problem) -> bool:
-    """``method="auto"`` uses this engine from ``config.FAST_AUTO_MIN_N`` vertices on.
-
-    Below that, starting numba costs more than the Python DP itself.
-    """
+    """``method="auto"`` uses this engine from ``config.FAST_AUTO_MIN_N`` vertices on."""
     return problem.n >= config.FAST_AUTO_MIN_N
 
 
@@ -118,110 +115,166 @@ def solve(problem: Problem) -> Solution:
 
     ``Solution.stats``: ``cells`` (chords computed), ``threads``, ``minplus``
     (1 on the min-plus path) and ``tile`` (its tile size).
+
+    Raises
+    ------
+    EngineUnavailableError
+        The problem needs what the engine cannot do (:func:`unsupported`).
+    WeightError
+        A weight returned NaN, or a user's compiled weight raised.
+    NoTriangulationError
+        No triangulation avoids the forbidden chords.
+    TableTooLargeError
+        The table would not fit ``config.MEMORY_LIMIT_BYTES``.
     """
     reason = unsupported(problem)
     if reason is not None:
         raise EngineUnavailableError(f"method='fast' cannot take this problem: {reason}")
     for w in problem.weights:
         w.check(problem.polygon)
-    import numba
-
-    from . import _jit_kernels as K
-
     n, lex = problem.n, problem.objective.is_lex
     dtype = np.dtype(problem.dtype)
     minplus = _is_minplus(problem)
-    previous = numba.get_num_threads()
-    threads = _threads(numba, problem, minplus, previous)
+    small = config.FAST_PARALLEL_MIN_N if minplus else config.FAST_GENERIC_PARALLEL_MIN_N
+    threads = threads_for(problem.options.get("threads"), n, small)
+    kernels = _minplus_kernels() if minplus else None
     require_memory(
         estimate_bytes(n, dtype, lex, bool(problem.keep_table))
         + (n * n if problem.allowed is not None else 0)  # a possible copy of the mask
-        + (threads * _worker_bytes(n, dtype) if minplus else 0),
+        + (threads * _worker_bytes(n, dtype, kernels) if minplus else 0),
         f"the fast engine's {n} x {n} {dtype.name} table{'s' if lex else ''}",
         "use dtype=float32 (half the memory) or method='gpu'",
     )
-    if threads != previous:  # 6-48 us a call of set_num_threads right after a fill
-        numba.set_num_threads(threads)
-    try:
-        with interruptible():  # Ctrl-C: KeyboardInterrupt; a numba weight's error: itself
-            return _solve(K, problem, minplus, threads)
-    except Exception as exc:
-        wrapped = _user_weight_error(problem, exc)
-        if wrapped is exc:
-            raise
-        raise wrapped from exc
-    finally:
-        if threads != previous:
-            numba.set_num_threads(previous)
+    with interruptible():  # Ctrl-C inside a kernel comes out as KeyboardInterrupt
+        if minplus:
+            return _solve_minplus(problem, kernels, threads)
+        return _solve_generic(problem, threads)
 
 
-def _user_weight_error(problem: Problem, exc: Exception) -> Exception:
-    """``exc`` as a :class:`WeightError` when it came from a user's numba weight."""
-    if isinstance(exc, OptriError):
-        return exc
-    for w in problem.weights:
-        if w.compiled is not None:
-            return compiled_weight_error(w, problem.polygon, problem.allowed, exc)
-    return exc
+def _solve_minplus(problem: Problem, K: Any, threads: int) -> Solution:
+    n = problem.n
+    code = int(problem.weights[0].code)  # an int: typing an IntEnum costs 0.2 ms a call
+    pts = _points(problem)
+    mask = None if problem.allowed is None else with_sides(problem.allowed)
+    T = new_table(n, np.dtype(problem.dtype))
+    # before the fill, which pushes the interpreter's data out of the caches
+    e_last = edge_weight(code, pts, 0, n - 1)
+    tile = minplus_tile(n)
+    done, stop = K.tile_flags(n, tile)
+
+    def fill() -> None:
+        K.fill(T, pts, code, mask, tile, threads, done, stop)
+
+    report = work_reporter(problem) or _no_report
+    if n**3 / 6 <= config.FAST_WATCH_WORK and K.loaded(T.dtype, mask is not None):
+        fill()
+    else:
+        work = tile_work(n, tile)
+        watched(fill, threads, stop, lambda: report(int(work @ done)))
+    report(table_work(n))
+    cost = float(T[0, n - 1]) - e_last
+    tris, bad = _walk(n, lambda i, j: K.split(T, i, j, False))
+    _raise_if_bad(bad)
+    table = None
+    if problem.keep_table:
+        out = np.triu(T, 1).astype(np.float64)  # the table holds E = cost + e(i, j)
+        K.subtract_edges(out, pts, code)
+        K.mirror_table(T)  # the splits read column j as row j of the lower half
+        table = _export(out, K.split_table(T, threads))
+    release_table(T)  # read no more; not on an error, where a kernel may still run
+    return Solution(cost, tris, table, _stats(n, threads, 1, tile))
 
 
-def _solve(K: Any, problem: Problem, minplus: bool, threads: int) -> Solution:
+def _solve_generic(problem: Problem, threads: int) -> Solution:
+    from .._core import generic as G
+
     n, lex = problem.n, problem.objective.is_lex
     dtype = np.dtype(problem.dtype)
-    args = _Args(problem, K)
-    tables = (new_table(n, dtype), np.empty((n, n) if lex else (1, 1), dtype=dtype))
-    T1, T2 = tables
-    if minplus:
-        # before the fill, which pushes the interpreter's data out of the caches
-        e_last = edge_weight(problem.weights[0].code, args.pts, 0, n - 1)
-        _fill_minplus(K, problem, T1, args, threads)
-        cost: Any = float(T1[0, n - 1]) - e_last
-    else:
-        _fill_generic(problem, tables, args, threads)
-        cost = (float(T1[0, n - 1]), float(T2[0, n - 1])) if lex else float(T1[0, n - 1])
-    tris, bad = args.kernel("trace")(tables, *args.walk(minplus))
-    args.raise_on_nan()
+    prob = _generic_problem(problem)
+    T1 = new_table(n, dtype)
+    T2 = np.empty((n, n) if lex else (1, 1), dtype=dtype)
+    neutral = problem.objective.neutral
+    idx = np.arange(n - 1)
+    for T, v in zip((T1, T2), neutral if isinstance(neutral, tuple) else (neutral,)):
+        T[idx, idx + 1] = T[idx + 1, idx] = v
+    tile = int(config.FAST_GENERIC_TILE)
+    stop, reached = np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64)
+
+    def fill() -> None:
+        G.generic_tiles(T1, T2, prob, tile, threads, stop, reached)
+
+    report = work_reporter(problem) or _no_report
+    # a weight evaluation costs about 20 min-plus steps, which FAST_WATCH_WORK counts in
+    if 20 * n**3 / 6 <= config.FAST_WATCH_WORK:
+        fill()
+    else:  # splits of tile-diagonals 0 .. d - 1, for d = reached[0]
+        work = diagonal_work(n, tile)
+        watched(fill, threads, stop, lambda: report(int(work[reached[0]])))
+    _raise_on_flags(problem, prob)
+    report(table_work(n))
+    cost: Any = (float(T1[0, n - 1]), float(T2[0, n - 1])) if lex else float(T1[0, n - 1])
+    tris, bad = G.trace(T1, T2, prob)
+    _raise_on_flags(problem, prob)
+    _raise_if_bad(bad)
+    table = None
+    if problem.keep_table:
+        out = np.triu(T1, 1).astype(np.float64)  # the diagonal is never written
+        table = _export(out, G.split_table(T1, T2, prob, threads))
+    release_table(T1)
+    return Solution(cost, tris, table, _stats(n, threads, 0, tile))
+
+
+# --- helpers -----------------------------------------------------------------------
+
+
+def _stats(n: int, threads: int, minplus: int, tile: int) -> dict[str, int]:
+    return {"cells": (n - 1) * (n - 2) // 2, "threads": threads, "minplus": minplus, "tile": tile}
+
+
+def _no_report(done: int) -> None:
+    """``report(done)`` where nobody listens."""
+
+
+def _points(problem: Problem) -> NDArray[np.float64]:
+    """The vertices in internal order as an n x dims float64 array (values: n x 1)."""
+    data = np.asarray(problem.polygon.data, dtype=np.float64)
+    return np.ascontiguousarray(data.reshape(len(data), -1))
+
+
+def _raise_if_bad(bad: tuple[int, int]) -> None:
     if bad[0] >= 0:
         raise NoTriangulationError(
             f"no valid triangulation of sub-polygon ({bad[0]}, {bad[1]}): every split has "
             f"an infinite or invalid cost",
             (int(bad[0]), int(bad[1])),
         )
-    table = _export(K, problem, tables, args, minplus) if problem.keep_table else None
-    release_table(T1)  # read no more; not on an error, where a kernel may still run
-    stats = {
-        "cells": (n - 1) * (n - 2) // 2,
-        "threads": threads,
-        "minplus": int(minplus),
-        "tile": minplus_tile(n) if minplus else int(config.FAST_GENERIC_TILE),
-    }
-    return Solution(cost, tris.astype(np.int64, copy=False), table, stats)
 
 
-# --- helpers -----------------------------------------------------------------------
+def _export(out: NDArray[np.float64], splits: NDArray[np.int32]) -> NDArray[np.float64]:
+    """The paper's table: costs (primary component) above the diagonal, splits below."""
+    out[np.isneginf(out)] = 0.0
+    out += np.tril(splits.T.astype(np.float64), -1)
+    return out
 
 
-def _threads(numba: Any, problem: Problem, minplus: bool, available: int) -> int:
-    """Threads for this problem: ``options["threads"]``, else all above the size threshold.
+def _walk(n: int, split: Any) -> tuple[NDArray[np.int64], tuple[int, int]]:
+    """Optimal triangles from chord (0, n-1) down, ``split(i, j)`` giving each chord's k.
 
-    ``available``: numba's thread count for the calling thread, read once a call.
+    Returns ``(triangles, bad)``, ``bad = (i, j)`` of a chord with no valid
+    split, else ``(-1, -1)``; at most n - 2 triangles.
     """
-    wanted = problem.options.get("threads")
-    if wanted is None:
-        small = config.FAST_PARALLEL_MIN_N if minplus else config.FAST_GENERIC_PARALLEL_MIN_N
-        wanted = available if problem.n >= small else 1
-    return max(1, min(int(wanted), numba.config.NUMBA_NUM_THREADS))
-
-
-def _worker_bytes(n: int, dtype: Any) -> int:
-    """Each thread's buffers in the min-plus fill: a tile of edge weights, the copied operand.
-
-    >>> _worker_bytes(500, np.float64), _worker_bytes(8000, np.float64)
-    (164352, 1050624)
-    """
-    from ._minplus import worker_bytes  # the kernels' module (imports numba)
-
-    return worker_bytes(minplus_tile(n), np.dtype(dtype).itemsize)
+    tris: list[tuple[int, int, int]] = []
+    stack = [(0, n - 1)]
+    while stack:
+        i, j = stack.pop()
+        if j - i < 2:
+            continue
+        k = int(split(i, j))
+        if k <= i or k >= j or len(tris) >= n - 2:
+            return np.array(tris, dtype=np.int64).reshape(-1, 3), (i, j)
+        tris.append((i, k, j))
+        stack += [(k, j), (i, k)]
+    return np.array(tris, dtype=np.int64).reshape(-1, 3), (-1, -1)
 
 
 def minplus_tile(n: int) -> int:
@@ -230,10 +283,7 @@ def minplus_tile(n: int) -> int:
     64 below 800 vertices, 128 below 4000, 256 from there. Larger tiles do
     more work per byte read from memory and per value of the far products'
     copied operand (the far products dominate at large n); smaller ones leave
-    less work to the near splits (a larger share at small n). Measured on the
-    Xeon of ``docs/fast-engine.md``, whole calls: 128 against 64 is 5 % faster
-    at n = 900, 2-3 % at 1000, 4-9 % at 1500-2000, the same at 700; 256
-    against 128 is 2-5 % faster at 4000-5000, 2-3 % slower at 3000-3500.
+    less work to the near splits (a larger share at small n).
 
     >>> minplus_tile(500), minplus_tile(1000), minplus_tile(4000)
     (64, 128, 256)
@@ -249,52 +299,139 @@ def _is_minplus(problem: Problem) -> bool:
     return problem.weights[0].edge_decomposable
 
 
-class _Args:
-    """The kernels' packed arguments (see :mod:`optri.engines._jit_kernels`).
+def _worker_bytes(n: int, dtype: Any, kernels: Any = None) -> int:
+    """Each thread's buffers in the min-plus fill: a tile of edge weights, the copied operand.
 
-    ``weigh = (pts, codes, gate, verts, order, wfn1, wfn2, wfng)``,
-    ``rule = (is_max, lex, nan)``; ``mask``, the allowed chords, None when all are.
+    >>> _worker_bytes(500, np.float64), _worker_bytes(8000, np.float64)
+    (164352, 1050624)
     """
+    K = kernels if kernels is not None else _minplus_kernels()
+    return int(K.worker_bytes(minplus_tile(n), np.dtype(dtype).itemsize))
 
-    def __init__(self, problem: Problem, kernels: Any) -> None:
-        ws = problem.weights
-        second = ws[1] if len(ws) > 1 else ws[0]
-        self.names = [w.name for w in ws]
-        gate_w, thr = problem.gates[0] if problem.gates else (None, math.inf)
-        gate_code = _NO_GATE if gate_w is None else gate_w.code
-        codes = np.array([ws[0].code, second.code, gate_code], dtype=np.int64)
-        gate = np.array([_gate_threshold(thr, problem.dtype)], dtype=np.float64)
-        lex = problem.objective.is_lex
-        fns = (
-            _compiled_fn(ws[0]),
-            _compiled_fn(second) if lex else None,
-            None if gate_w is None else _compiled_fn(gate_w),
-        )
-        self.custom = any(f is not None for f in fns)
-        data = np.asarray(problem.polygon.data, dtype=np.float64)
-        self.pts = np.ascontiguousarray(data.reshape(len(data), -1))
-        verts = _user_vertices(problem) if self.custom else self.pts
+
+# --- the min-plus kernels -----------------------------------------------------------
+
+
+def _minplus_kernels() -> Any:
+    """The min-plus kernels: ``optri._core.minplus``, else numba's (:class:`_NumbaMinplus`)."""
+    from .. import _core
+
+    core = getattr(_core, "minplus", None)
+    return _CoreMinplus(core) if core is not None else _NumbaMinplus()
+
+
+class _CoreMinplus:
+    """``optri._core.minplus`` with the engine's few extra calls; nothing to compile."""
+
+    def __init__(self, module: Any) -> None:
+        self.m = module
+        self.fill, self.tile_flags, self.split = module.fill, module.tile_flags, module.split
+        self.subtract_edges, self.mirror_table = module.subtract_edges, module.mirror_table
+        self.worker_bytes = module.worker_bytes
+
+    def loaded(self, dtype: Any, masked: bool) -> bool:
+        return True
+
+    def split_table(self, T: NDArray[Any], threads: int) -> NDArray[np.int32]:
+        """Every chord's split from the mirrored table (O(n^3): an exported table only)."""
+        if hasattr(self.m, "split_table"):
+            return self.m.split_table(T, threads)  # type: ignore[no-any-return]
+        n = len(T)
+        out = np.full((n, n), -1, dtype=np.int32)
+        for i in range(n):
+            for j in range(i + 2, n):
+                out[i, j] = self.split(T, i, j, True)
+        return out
+
+
+class _NumbaMinplus:
+    """numba's min-plus kernels (:mod:`optri.engines._minplus`) behind the core's calls."""
+
+    def __init__(self) -> None:
+        try:
+            import numba
+
+            from . import _jit_kernels as K
+        except ImportError as exc:
+            raise MissingDependencyError(
+                f"the min-plus fill needs numba here ({exc}); install it with: pip install numba"
+            ) from exc
+        self.numba, self.K = numba, K
+        self.split = K.minplus_split
+        self.subtract_edges, self.mirror_table = K.subtract_edges, K.mirror_table
+
+    def tile_flags(self, n: int, tile: int) -> Any:
+        return self.K.tile_flags(n, tile)
+
+    def worker_bytes(self, tile: int, itemsize: int) -> int:
+        from ._minplus import worker_bytes
+
+        return int(worker_bytes(tile, itemsize))
+
+    def loaded(self, dtype: Any, masked: bool) -> bool:
+        return is_loaded(self.K.minplus_tiles, dtype, masked)
+
+    def fill(
+        self, T: Any, pts: Any, code: int, mask: Any, tile: int, threads: int, *flags: Any
+    ) -> None:
+        numba = self.numba
+        previous = numba.get_num_threads()
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+        try:
+            self.K.minplus_tiles(T, pts, code, mask, tile, threads, *flags)
+        finally:
+            numba.set_num_threads(previous)
+
+    def split_table(self, T: NDArray[Any], threads: int) -> NDArray[np.int32]:
+        return self.K.split_table((T, T), None, None)  # type: ignore[no-any-return]
+
+
+# --- the generic kernel's problem ------------------------------------------------------
+
+
+def _generic_problem(problem: Problem) -> Any:
+    """The core's ``generic.Problem``: weights, gate, objective rules, mask, user weights."""
+    from .._core import generic as G
+
+    ws = problem.weights
+    lex = problem.objective.is_lex
+    second = ws[1] if lex else ws[0]
+    gate_w, thr = problem.gates[0] if problem.gates else (None, math.inf)
+    gate_code = G.NO_GATE if gate_w is None else int(gate_w.code)
+    rules = problem.objective.component_codes
+    slots = (ws[0], second if lex else None, gate_w)
+    custom = [w is not None and w.code == WeightCode.CUSTOM for w in slots]
+    vertices = order = None
+    users = [0, 0, 0]
+    if any(custom):
+        vertices = np.ascontiguousarray(problem.polygon.vertices, dtype=np.float64)
         order = np.ascontiguousarray(problem.polygon.order, dtype=np.int64)
-        self.weigh = (self.pts, codes, gate, verts, order, *fns)
-        comps = problem.objective.components
-        is_max = np.array([comps[0] == "max", comps[-1] == "max"], dtype=np.bool_)
-        self.nan = np.zeros(1, dtype=np.int64)
-        self.rule = (is_max, lex, self.nan)
-        self.mask = None if problem.allowed is None else with_sides(problem.allowed)
-        self.K = kernels
+        for s, w in enumerate(slots):
+            if custom[s]:
+                assert w is not None
+                users[s] = _user_address(w, problem, vertices.ndim)
+    return G.Problem(
+        _points(problem),
+        (int(ws[0].code), int(second.code), gate_code),
+        _gate_threshold(thr, problem.dtype),
+        (int(rules[0]), int(rules[-1] if lex else ObjectiveCode.SUM)),
+        lex,
+        None if problem.allowed is None else with_sides(problem.allowed),
+        vertices,
+        order,
+        tuple(users),
+    )
 
-    def kernel(self, name: str) -> Any:
-        """Kernel ``name``; its uncached twin when a user's numba weight is involved."""
-        return self.K.uncached(name) if self.custom else getattr(self.K, name)
 
-    def walk(self, minplus: bool) -> tuple[Any, Any]:
-        """``(weigh, rule)`` of ``trace`` and ``split_table``; ``(None, None)``: min-plus."""
-        return (None, None) if minplus else (self.weigh, self.rule)
-
-    def raise_on_nan(self) -> None:
-        if self.nan[0]:
-            names = " or ".join(repr(x) for x in dict.fromkeys(self.names))
-            raise WeightError(f"weight {names} returned NaN for a triangle")
+def _raise_on_flags(problem: Problem, prob: Any) -> None:
+    """A user weight's exception or a NaN weight, flagged by the kernel, as a WeightError."""
+    if prob.error:
+        slots = (problem.weights[0], problem.weights[-1], *(g for g, _ in problem.gates))
+        err = compiled_weight_error(slots[prob.error - 1], problem.polygon, problem.allowed)
+        raise err from err.__cause__
+    if prob.nan:
+        names = " or ".join(repr(w.name) for w in dict.fromkeys(problem.weights))
+        raise WeightError(f"weight {names} returned NaN for a triangle")
 
 
 def _gate_threshold(thr: float, dtype: Any) -> float:
@@ -304,96 +441,70 @@ def _gate_threshold(thr: float, dtype: Any) -> float:
     return float(thr)
 
 
-def _compiled_fn(weight: Weight) -> Any:
-    if weight.code != WeightCode.CUSTOM:
-        return None
-    return weight.compiled
+#: ``(id(dispatcher), ndim)`` -> ``(dispatcher, cfunc)``: a user's weight compiled once a
+#: process (the dispatcher is kept, so that its id is never reused).
+_CFUNCS: dict[tuple[int, int], tuple[Any, Any]] = {}
 
 
-def _user_vertices(problem: Problem) -> NDArray[np.float64]:
-    verts = np.asarray(problem.polygon.vertices, dtype=np.float64)
-    return np.ascontiguousarray(verts)
+def _user_address(weight: Weight, problem: Problem, ndim: int) -> int:
+    """Address of ``weight``'s C function, ``w(vertices, shape, i, k, j, error)``.
 
-
-def _fill_minplus(K: Any, problem: Problem, T: NDArray[Any], args: _Args, threads: int) -> None:
-    """The min-plus fill: one kernel call, watched from this thread when it is long.
-
-    Every tile-diagonal runs in one parallel region, so no thread waits at the
-    end of a call for another's last tile (at n = 4000 on the Xeon of
-    ``docs/fast-engine.md``, six calls of a few diagonals took 1.03x the time
-    of one). Beyond ``config.FAST_WATCH_WORK`` min-plus steps, and on the
-    kernel's first call in the process for this table's dtype, with or without a
-    chord mask (:func:`~.interrupts.is_loaded`), the kernel runs in a
-    helper thread while this one reports progress and takes Ctrl-C
-    (:func:`~.interrupts.watched`).
+    A compile error (the function cannot take a float64 vertex array and three
+    int64 indices, or returns no number) is a :class:`WeightError` naming the
+    first triangle on which the Python call fails.
     """
-    n = problem.n
-    code = int(problem.weights[0].code)  # an int: typing an IntEnum costs 0.2 ms a call
-    tile = minplus_tile(n)
-    done, stop = K.tile_flags(n, tile)
+    func = weight.compiled
+    key = (id(func), ndim)
+    hit = _CFUNCS.get(key)
+    if hit is None:
+        try:
+            hit = _CFUNCS[key] = (func, _cfunc(func, ndim))
+        except OptriError:
+            raise
+        except Exception as exc:
+            err = compiled_weight_error(weight, problem.polygon, problem.allowed, exc)
+            raise err from exc
+    return int(hit[1].address)
 
-    def fill() -> None:
-        K.minplus_tiles(T, args.pts, code, args.mask, tile, threads, done, stop)
 
-    report = work_reporter(problem) or _no_report
-    loaded = is_loaded(K.minplus_tiles, T.dtype, args.mask is not None)
-    if n**3 / 6 <= config.FAST_WATCH_WORK and loaded:
-        fill()
+def _cfunc(func: Any, ndim: int) -> Any:
+    """``func(vertices, i, k, j)`` (a numba dispatcher) as a C function for the core.
+
+    An exception inside ``func`` sets ``error[0] = 1`` (the kernel stops and the
+    engine calls ``func`` again from Python to name the triangle and the
+    exception).
+    """
+    numba = sys.modules.get("numba")
+    if numba is None:
+        import numba
+    from numba import types
+
+    signature = types.float64(
+        types.CPointer(types.float64),
+        types.CPointer(types.int64),
+        types.int64,
+        types.int64,
+        types.int64,
+        types.CPointer(types.int64),
+    )
+    if ndim == 1:
+
+        def call(ptr, shape, i, k, j, error):  # type: ignore[no-untyped-def]
+            vertices = numba.carray(ptr, (shape[0],))
+            try:
+                return float(func(vertices, i, k, j))
+            except Exception:  # noqa: BLE001 - handed back as a flag
+                error[0] = 1
+                return math.nan
+
     else:
-        work = tile_work(n, tile)
-        watched(fill, threads, stop, lambda: report(int(work @ done)))
-    report(table_work(n))
 
+        def call(ptr, shape, i, k, j, error):  # type: ignore[no-untyped-def]
+            vertices = numba.carray(ptr, (shape[0], shape[1]))
+            try:
+                return float(func(vertices, i, k, j))
+            except Exception:  # noqa: BLE001 - handed back as a flag
+                error[0] = 1
+                return math.nan
 
-def _no_report(done: int) -> None:
-    """``report(done)`` where nobody listens."""
-
-
-def _fill_generic(
-    problem: Problem, tables: tuple[NDArray[Any], NDArray[Any]], args: _Args, threads: int
-) -> None:
-    """The generic fill: one kernel call, watched from this thread when it is long.
-
-    A weight evaluation costs about 20 min-plus steps, which ``config.FAST_WATCH_WORK``
-    counts in. The kernel checks the stop flag, and a NaN weight, between tile-diagonals.
-    """
-    n = problem.n
-    neutral = problem.objective.neutral
-    neutrals = neutral if isinstance(neutral, tuple) else (neutral,)
-    idx = np.arange(n - 1)
-    for T, v in zip(tables, neutrals):
-        T[idx, idx + 1] = T[idx + 1, idx] = v
-    kernel = args.kernel("generic_tiles")
-    tile = int(config.FAST_GENERIC_TILE)
-    stop, reached = np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64)
-
-    def fill() -> None:
-        kernel(tables, args.weigh, args.rule, args.mask, tile, stop, reached)
-
-    report = work_reporter(problem) or _no_report
-    loaded = is_loaded(kernel, tables[0].dtype, args.mask is not None)
-    if 20 * n**3 / 6 <= config.FAST_WATCH_WORK and loaded:
-        fill()
-    else:  # splits of tile-diagonals 0 .. d - 1, for d = reached[0]
-        work = diagonal_work(n, tile)
-        watched(fill, threads, stop, lambda: report(int(work[reached[0]])))
-    args.raise_on_nan()
-    report(table_work(n))
-
-
-def _export(
-    K: Any,
-    problem: Problem,
-    tables: tuple[NDArray[Any], NDArray[Any]],
-    args: _Args,
-    minplus: bool,
-) -> NDArray[np.float64]:
-    """The paper's table: costs (primary component) above the diagonal, splits below."""
-    out = np.triu(tables[0], 1).astype(np.float64)  # the diagonal is never written
-    if minplus:  # the table holds E = cost + e(i, j), above the diagonal only
-        K.subtract_edges(out, args.pts, problem.weights[0].code)
-        K.mirror_table(tables[0])  # split_table reads column j as row j of the lower half
-    out[np.isneginf(out)] = 0.0
-    splits = args.kernel("split_table")(tables, *args.walk(minplus))
-    out += np.tril(splits.T.astype(np.float64), -1)
-    return out
+    return numba.cfunc(signature, cache=False)(call)
