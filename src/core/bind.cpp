@@ -5,6 +5,7 @@ namespace optri {
 
 void bind_all(nanobind::module_& m) {
     bind_generic(m);
+    bind_many(m);
     bind_minplus(m);
     bind_predicates(m);
     bind_simple(m);

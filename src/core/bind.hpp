@@ -7,6 +7,7 @@ namespace optri {
 
 void bind_all(nanobind::module_& m);
 void bind_generic(nanobind::module_& m);
+void bind_many(nanobind::module_& m);
 void bind_minplus(nanobind::module_& m);
 void bind_predicates(nanobind::module_& m);
 void bind_simple(nanobind::module_& m);

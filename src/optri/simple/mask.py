@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 from .. import config
 from ..engines.interrupts import watched
 from ..engines.memory import require_memory
+from ..engines.threads import available
 from ..errors import InvalidPolygonError, OptriError
 from ..polygon import Polygon, as_polygon, find_self_intersection, require_simple
 from ..predicates import chord_clear, in_cone, orient
@@ -132,19 +133,18 @@ def valid_diagonals_compiled(points: NDArray[np.float64]) -> NDArray[np.bool_]:
     against the edges outward from its first endpoint, stopping at the first
     blocker (O(n^3) in the worst case). From ``config.MASK_WATCH_MIN_N``
     vertices the kernels run in a helper thread, the walk's rows on every thread
-    (:func:`optri.engines.threads.available_threads`), and Ctrl-C stops them at
+    (:func:`optri.engines.threads.available`), and Ctrl-C stops them at
     the next ear or row.
     """
     from .._core import simple as core
-    from ..engines.threads import available_threads
 
     x = np.ascontiguousarray(points[:, 0], dtype=np.float64)
     y = np.ascontiguousarray(points[:, 1], dtype=np.float64)
     stop = np.zeros(1, dtype=np.int64)
     if len(x) >= config.MASK_WATCH_MIN_N:
-        threads = available_threads()
+        threads = available()
         found: list[tuple[NDArray[np.bool_], bool]] = []
-        watched(lambda: found.append(core.diagonals(x, y, stop, threads)), None, stop, _idle)
+        watched(lambda: found.append(core.diagonals(x, y, stop, threads)), threads, stop, _idle)
         mask, ok = found[0]
     else:
         mask, ok = core.diagonals(x, y, stop, 1)
