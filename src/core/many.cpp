@@ -70,10 +70,20 @@ struct Settings {
 
 // One thread's buffers, reused from polygon to polygon.
 struct Scratch {
-    std::vector<double> x, y, pts, table;
-    std::vector<int64_t> order, tris;
+    std::vector<double> x, y, pts, table, edges;
+    std::vector<int64_t> order, tris, identity;
     std::vector<uint8_t> mask;
 };
+
+// The triangle weight of an edge-decomposable weight from its n x n edge table (shape
+// {n, n}): (e(i, k) + e(k, j)) + e(i, j), triangle_weight's sum of the same edge weights,
+// each computed once per polygon instead of once per split. Given to the generic fill as
+// a weight of its own (the fill and its rules stay the engines').
+double edge_table_weight(const double* e, const int64_t* shape, int64_t i, int64_t k,
+                         int64_t j, int64_t* /*error*/) {
+    const int64_t n = shape[1];
+    return e[i * n + k] + e[k * n + j] + e[i * n + j];
+}
 
 // normalize_vertices' checks on rows s .. s + count - 1: the status, n without closing rows.
 Status normalized(const double* xy, int64_t s, int64_t count, int64_t& n) {
@@ -203,6 +213,24 @@ bool optimum(const Settings& st, bool minplus, const uint8_t* mask, int64_t n, S
         pr.code[2] = generic::NO_GATE;
         pr.is_max[0] = pr.is_max[1] = st.is_max;
         pr.mask = mask;
+        const int64_t shape[2] = {n, n};
+        if (st.edge) {  // a sum of edge weights: each edge's weight taken once
+            sc.edges.resize(static_cast<size_t>(n * n));
+            sc.identity.resize(static_cast<size_t>(n));
+            for (int64_t a = 0; a < n; ++a) {
+                sc.identity[a] = a;
+                for (int64_t b = a + 1; b < n; ++b) {
+                    const bool chord = mask == nullptr || mask[a * n + b];
+                    const double e = chord ? edge_weight(st.code, pts, a, b) : 0.0;
+                    sc.edges[a * n + b] = sc.edges[b * n + a] = e;  // unused when no chord
+                }
+            }
+            pr.code[0] = pr.code[1] = static_cast<int>(WeightCode::custom);
+            pr.user[0] = pr.user[1] = &edge_table_weight;
+            pr.vertices = sc.edges.data();
+            pr.shape = shape;
+            pr.order = sc.identity.data();
+        }
         const generic::Tables<double> tb{T, nullptr, n};
         generic::Flags flags;
         generic::set_sides(tb, pr);
