@@ -4,8 +4,9 @@ For each size band, N seeded random star polygons (simple, non-convex) are
 triangulated, all in the same run, by
 
 * ``optri.triangulate_many`` on the list of vertex arrays: the compiled
-  many-polygon path (``optri.batch.compiled``, one numba call per chunk,
-  parallel over polygons), on all numba threads and on one;
+  many-polygon path (``optri.batch.compiled``, one call of the compiled core
+  per chunk, parallel over polygons), on all threads and on one
+  (``OPTRI_NUM_THREADS=1``);
 * the same with ``config.MANY_COMPILED = False``: ``optri.triangulate``
   polygon by polygon (``method="auto"`` keeps these sizes on the Python
   engine; the compiled path reproduces its results bit for bit, checked here);
@@ -20,6 +21,16 @@ only comparable within one run.
 
     python benchmarks/bench_many.py                        # 1000 polygons per band
     python benchmarks/bench_many.py --per-band 4000 --bands 8-64
+
+``--first-call`` measures instead what a new user meets: in a fresh process
+(with an empty numba cache, for a revision that still compiles kernels), the
+import of optri plus the first ``triangulate_many`` of 100 star polygons of
+8-64 vertices, then the best warm call on the same polygons. ``--src`` runs
+that child on another checkout's ``src`` (``git archive REV src | tar -x -C DIR``
+gives one), so two revisions compare in one run:
+
+    python benchmarks/bench_many.py --first-call --repeat 5
+    python benchmarks/bench_many.py --first-call --repeat 5 --src /tmp/old/src
 """
 
 from __future__ import annotations
@@ -28,6 +39,9 @@ import argparse
 import json
 import math
 import os
+import subprocess
+import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -79,14 +93,55 @@ def per_polygon(polys: list[np.ndarray]) -> list:
 
 
 def one_thread(polys: list[np.ndarray]) -> list:
-    import numba
-
-    previous = numba.get_num_threads()
-    numba.set_num_threads(1)
+    previous = os.environ.get("OPTRI_NUM_THREADS")
+    os.environ["OPTRI_NUM_THREADS"] = "1"
     try:
         return optri.triangulate_many(polys)
     finally:
-        numba.set_num_threads(previous)
+        if previous is None:
+            del os.environ["OPTRI_NUM_THREADS"]
+        else:
+            os.environ["OPTRI_NUM_THREADS"] = previous
+
+
+FIRST_CALL = r"""
+import json, math, sys, time
+start = time.perf_counter()
+import numpy as np
+import optri
+polys = []
+rng = np.random.default_rng(2024)
+for _ in range(100):
+    n = int(rng.integers(8, 65))
+    a = np.linspace(0, 2 * math.pi, n, endpoint=False) + rng.uniform(0, 1.5 * math.pi / n, n)
+    r = rng.uniform(0.3, 1.0, n)
+    polys.append(np.column_stack((r * np.cos(a), r * np.sin(a))).round(9))
+first = optri.triangulate_many(polys)
+t_first = time.perf_counter() - start
+warm = float("inf")
+for _ in range(int(sys.argv[1])):
+    t0 = time.perf_counter()
+    again = optri.triangulate_many(polys)
+    warm = min(warm, time.perf_counter() - t0)
+assert all(a.method == "many" and a.weight == b.weight for a, b in zip(first, again))
+print(json.dumps({"first": t_first, "warm": warm, "numba": "numba" in sys.modules,
+                  "cost": sum(r.weight for r in first)}))
+"""
+
+
+def first_call(src: Path, repeat: int) -> dict:
+    """The child above in a fresh process on ``src``, with an empty numba cache."""
+    with tempfile.TemporaryDirectory(prefix="optri-first-call-") as cache:
+        env = dict(os.environ, PYTHONPATH=str(src), NUMBA_CACHE_DIR=cache)
+        start = time.perf_counter()
+        out = subprocess.run(
+            [sys.executable, "-c", FIRST_CALL, str(repeat)],
+            env=env, capture_output=True, text=True, check=True,
+        )  # fmt: skip
+        whole = time.perf_counter() - start
+    result = json.loads(out.stdout.strip().splitlines()[-1])
+    result["process"] = whole
+    return result
 
 
 def band(lo: int, hi: int, count: int, seed: int, repeat: int, slow: int) -> dict:
@@ -139,12 +194,24 @@ def main() -> None:
         "--slow", type=int, default=1000, help="polygons timed on the per-polygon path (slow)"
     )
     ap.add_argument("--json", type=Path, help="write the results here too")
+    ap.add_argument("--first-call", action="store_true", help="first call in a fresh process")
+    ap.add_argument("--src", type=Path, help="with --first-call: the checkout's src to run")
     args = ap.parse_args()
-    bands = [tuple(int(x) for x in b.split("-")) for b in args.bands.split(",")]
-    import numba
-
     load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
-    print(f"load average {load} on {os.cpu_count()} cores; numba threads {numba.get_num_threads()}")
+    if args.first_call:
+        src = args.src or Path(__file__).resolve().parents[1] / "src"
+        print(f"load average {load} on {os.cpu_count()} cores; {src}")
+        r = first_call(src.resolve(), args.repeat)
+        print(
+            f"100 star polygons, 8-64 vertices: import + first call {r['first']:.3f} s "
+            f"(whole process {r['process']:.3f} s), warm {r['warm'] * 1e3:.2f} ms; "
+            f"numba imported: {r['numba']}; cost sum {r['cost']!r}"
+        )
+        return
+    bands = [tuple(int(x) for x in b.split("-")) for b in args.bands.split(",")]
+    from optri.engines.threads import available
+
+    print(f"load average {load} on {os.cpu_count()} cores; threads {available()}")
     print(f"{args.per_band} random star polygons per band, perimeter sum; polygons/s")
     head = ["vertices", "compiled", "1 thread", "per polygon", "shapely CDT", "earcut", "vs CDT"]
     print("".join(f"{h:>12}" for h in head) + "   CDT % above opt   earcut % above opt")

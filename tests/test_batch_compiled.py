@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 import optri
 from optri import config
 from optri.batch import iter_records
-from optri.batch.compiled import many_plan, mode_of, solve_compiled
+from optri.batch.compiled import STATUS, many_plan, mode_of, solve_compiled
 from optri.batch.each import SolveOptions, solve_each
 from optri.batch.solver import chunk_solver, solve_polygons
 from optri.engines import select_engine
@@ -229,8 +229,36 @@ def test_mode_mirrors_select_engine(method: str) -> None:
         assert mode_of(method, n) == {"table": 1, "memo": 1, "fast": 2}[name], (method, n)
 
 
-def test_minplus_flags_are_the_compiled_engines() -> None:
-    from optri.engines import _minplus
-    from optri.simple import _many_kernels
+def test_kernel_statuses_name_the_check_that_failed() -> None:
+    # the core's columnar answer: one status per polygon, its triangles from row first[p]
+    from optri._core import many
 
-    assert _many_kernels.MINPLUS_FASTMATH == _minplus.FASTMATH
+    rows = {
+        "ok": [[0, 0], [2, 0], [2, 1], [0, 1], [0, 0]],  # closed: the closing row dropped
+        "non-finite": [[0, 0], [1, 0], [np.nan, 1]],
+        "too few vertices": [[0, 0], [1, 0]],
+        "repeated vertex": [[0, 0], [1, 0], [0, 0]],  # closing rows go only down to 3
+        "no turn at the lowest vertex": [[0, 0], [1, 0], [2, 0]],
+        "not simple": [[0, 0], [1, 1], [1, 0], [0, 1]],
+        "size not taken": random_star(12, 0).tolist(),
+        "no finite optimum": [[0, 0], [1e308, 0], [1e308, 1e308], [0, 1e308]],
+    }
+    arrays = [np.array(r, dtype=np.float64) for r in rows.values()]
+    counts = np.array([len(a) for a in arrays], dtype=np.int64)
+    starts = np.concatenate(([0], np.cumsum(counts)[:-1])).astype(np.int64)
+    modes = np.array([mode_of("auto", n) if n < 10 else 0 for n in range(20)], dtype=np.int64)
+    status, sizes, cw, costs, tris, first = many.solve(
+        np.concatenate(arrays), starts, counts, modes, 0, False, True, 2
+    )
+    assert [STATUS_NAMES[s] for s in status.tolist()] == list(rows)
+    assert sizes.tolist()[:3] == [4, 3, 2]
+    rows_each = np.maximum(counts - 2, 0)  # n - 2 triangles at most, closing rows included
+    assert first.tolist() == np.concatenate(([0], np.cumsum(rows_each)[:-1])).tolist()
+    assert tris.shape == (int(rows_each.sum()), 3)
+    want = optri.triangulate(arrays[0])
+    assert costs[0] == want.weight and not cw[0]
+    assert np.array_equal(tris[:2], want.triangles)
+    assert np.isnan(costs[1:]).all()
+
+
+STATUS_NAMES = {code: name for name, code in STATUS.items()}

@@ -3,8 +3,9 @@
 The oracle is :mod:`fractions` (``exact_oracle.sign_q``). Inputs: points on and within
 a few ulps or 1e-15 of a line, at offsets up to 1e15; exactly collinear points at any
 magnitude from subnormal to 1e300; coordinates spread over the whole exponent range
-(the integer-limb stage). The Python form, the vectorized form and the numba-compiled
-form (the one the mask kernels inline) must all give the oracle's sign.
+(the integer-limb stage). The Python form, the vectorized form and the compiled core's
+(``src/core/predicates.hpp``, which the mask and many-polygon kernels inline, each of
+its stages alone) must all give the oracle's sign.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
+from optri._core import predicates as core
 
 from exact_oracle import between_q, ccw, exact_count, exact_mask, sign_q
 from optri import as_polygon, count_triangulations
@@ -31,7 +33,6 @@ from optri.predicates import (
     strictly_between,
     turn_signs,
 )
-from optri._core import predicates as core
 from optri.simple import valid_diagonals
 from optri.simple.mask import valid_diagonals_compiled, valid_diagonals_numpy
 
@@ -142,26 +143,6 @@ def test_core_filter_floor_and_subnormals():
     expected = [sign_q(*row) for row in rows.tolist()]
     assert core.orient_sign(rows).tolist() == expected
     assert len(set(expected)) == 3
-
-
-def test_compiled_orient_matches_fractions():
-    numba = pytest.importorskip("numba")
-    import optri.simple._kernels  # noqa: F401  (registers the exact helpers with numba)
-
-    sign = numba.njit(orient_sign)
-
-    @numba.njit
-    def all_signs(t):
-        out = np.empty(t.shape[0], dtype=np.int64)
-        for r in range(t.shape[0]):
-            out[r] = sign(t[r, 0], t[r, 1], t[r, 2], t[r, 3], t[r, 4], t[r, 5])
-        return out
-
-    batch = _adversarial_batch(0, 3000)
-    expected = [sign_q(*row) for row in batch.tolist()]
-    assert all_signs(batch).tolist() == expected
-    assert orient(batch[:, 0:2], batch[:, 2:4], batch[:, 4:6]).tolist() == expected
-    assert expected.count(0) > 1000  # the batch really is full of collinear triples
 
 
 #: Triples whose float determinant has the wrong sign although it exceeds eps (|l| + |r|)

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from optri._core import simple as core
 
-import optri.simple._kernels as kernels
 from optri.chain import _parens
 from optri.engines.recurrence import triangles_from_splits, walk
 from optri.errors import NoTriangulationError, OptriError
@@ -48,24 +48,25 @@ def test_chain_parenthesization_walk_raises_on_a_corrupt_table(splits):
 
 
 def test_visibility_walk_stops_on_a_corrupt_triangulation():
-    pytest.importorskip("numba")
     x, y = SQUARE[:, 0].copy(), SQUARE[:, 1].copy()
+    go = np.zeros(1, dtype=np.int64)
     good = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.int64)
-    mask, ok = kernels.visibility_mask(x, y, good)
+    mask, ok = core.visibility(x, y, good, go, 1)
     assert ok and mask[0, 2] and mask[1, 3]
     # triangle (0, 1, 2) twice, once reversed: the fan around vertex 0 cycles forever
     cyclic = np.array([[0, 1, 2], [2, 1, 0]], dtype=np.int64)
-    assert kernels.visibility_mask(x, y, cyclic)[1] is False
+    assert core.visibility(x, y, cyclic, go, 1)[1] is False
     out_of_range = np.array([[0, 1, 2], [0, 2, 9]], dtype=np.int64)
-    assert kernels.visibility_mask(x, y, out_of_range)[1] is False
+    assert core.visibility(x, y, out_of_range, go, 1)[1] is False
 
 
 def test_mask_raises_when_its_walk_stops(monkeypatch):
-    pytest.importorskip("numba")
+    visibility = core.visibility
 
-    def corrupt_ear_clip(x, y):
-        return np.array([[0, 1, 2], [2, 1, 0]], dtype=np.int64), True
+    def corrupt_diagonals(x, y, stop, threads):
+        cyclic = np.array([[0, 1, 2], [2, 1, 0]], dtype=np.int64)
+        return visibility(x, y, cyclic, stop, threads)
 
-    monkeypatch.setattr(kernels, "ear_clip", corrupt_ear_clip)
+    monkeypatch.setattr(core, "diagonals", corrupt_diagonals)
     with pytest.raises(OptriError, match="internal error"):
         valid_diagonals_compiled(SQUARE)

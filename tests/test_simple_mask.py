@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
+from optri._core import simple as core
 
 from optri import InvalidPolygonError, as_polygon, config
 from optri.engines.brute import all_index_triangulations
@@ -13,7 +14,6 @@ from optri.engines.problem import chord_rows
 from optri.enumeration.counting import count_table
 from optri.polygon import require_simple
 from optri.simple import allowed_chords, valid_diagonals
-from optri.simple._kernels import ear_clip_until, valid_mask, visibility_mask, visibility_rows
 from optri.simple.mask import _set_sides, valid_diagonals_compiled, valid_diagonals_numpy
 from simple_polys import (
     ccw_of,
@@ -99,7 +99,7 @@ def test_compiled_paths_agree(kind, seed):
     poly = as_polygon(pts)
     require_simple(poly)
     fast = valid_diagonals(poly)
-    scan = valid_mask(poly.data[:, 0].copy(), poly.data[:, 1].copy())
+    scan = core.valid_mask(poly.data[:, 0].copy(), poly.data[:, 1].copy())
     ref = valid_diagonals_numpy(poly.data)
     off = ~np.eye(poly.n, dtype=bool)
     sides = ref & ~scan & off
@@ -135,7 +135,7 @@ def test_waves_across_the_closing_chord_are_named_not_an_internal_error():
     poly = as_polygon(_arc_and_chord())
     with pytest.raises(InvalidPolygonError, match="edges 45-46 and 49-0 cross"):
         valid_diagonals(poly)
-    scan = valid_mask(poly.data[:, 0].copy(), poly.data[:, 1].copy())
+    scan = core.valid_mask(poly.data[:, 0].copy(), poly.data[:, 1].copy())
     _set_sides(scan)  # as the compiled path completes the scan's mask
     assert np.array_equal(valid_diagonals_compiled(poly.data), scan)
 
@@ -220,16 +220,19 @@ def test_the_parallel_walk_stops_when_asked_and_answers_as_the_serial_one():
     pts = random_star(300, 1)
     x, y = np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1])
     go, stop = np.zeros(1, dtype=np.int64), np.ones(1, dtype=np.int64)
-    tris, ok = ear_clip_until(x, y, go)
+    tris, ok = core.ear_clip(x, y, go)
     assert ok and tris.shape == (298, 3)
-    assert not ear_clip_until(x, y, stop)[1]
-    mask, ok = visibility_rows(x, y, tris, go)
+    assert not core.ear_clip(x, y, stop)[1]
+    mask, ok = core.visibility(x, y, tris, go, 2)
     assert ok and mask.any()
-    assert not visibility_rows(x, y, tris, stop)[1]
-    assert np.array_equal(mask, visibility_mask(x, y, tris)[0])
+    assert not core.visibility(x, y, tris, stop, 2)[1]
+    assert not core.diagonals(x, y, stop, 2)[1]
+    assert np.array_equal(mask, core.visibility(x, y, tris, go, 1)[0])
+    whole, ok = core.diagonals(x, y, go, 3)  # ear clipping and the walk in one call
+    assert ok and np.array_equal(whole, mask)
     broken = tris.copy()
     broken[7] = broken[8]  # a triangle twice, one missing: whatever the serial walk says
-    got, want = visibility_rows(x, y, broken, go), visibility_mask(x, y, broken)
+    got, want = core.visibility(x, y, broken, go, 2), core.visibility(x, y, broken, go, 1)
     assert got[1] == want[1] and (not got[1] or np.array_equal(got[0], want[0]))
     broken[7, 0] = 300  # no such vertex
-    assert not visibility_rows(x, y, broken, go)[1]
+    assert not core.visibility(x, y, broken, go, 2)[1]

@@ -11,6 +11,8 @@ void bind_all(nanobind::module_& m) {
     bind_contours(m);
     bind_generic(m);
     bind_minplus(m);
+    bind_many(m);
+    bind_simple(m);
 }
 
 }  // namespace optri

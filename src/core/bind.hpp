@@ -12,5 +12,7 @@ void bind_holes(nanobind::module_& m);
 void bind_contours(nanobind::module_& m);
 void bind_generic(nanobind::module_& m);
 void bind_minplus(nanobind::module_& m);
+void bind_many(nanobind::module_& m);
+void bind_simple(nanobind::module_& m);
 
 }  // namespace optri

@@ -49,9 +49,6 @@ EXPLORE_MAX_N = 40
 ANIMATE_MAX_FRAMES = 1500
 #: Notebook HTML (``Triangulation._repr_html_``) shows the n x n table up to this n.
 HTML_TABLE_MAX_N = 24
-#: Valid-diagonal mask: up to this n the numpy O(n^3) mask is used while numba is not
-#: loaded yet: it is instant there, and starting numba is not.
-MASK_NUMPY_MAX_N = 48
 #: ``count_triangulations(n)`` computes Catalan(n - 2) exactly (about 0.6 n digits: a second
 #: at n = 100,000, a minute at 1,000,000); it refuses larger n.
 COUNT_MAX_N = 200_000
@@ -152,9 +149,8 @@ FAST_GENERIC_TILE = 16
 #: (generic kernel: tile-diagonal); shorter fills run in the calling thread.
 FAST_WATCH_WORK = 2e9
 #: Simple polygons: from this many vertices the chord mask (ear clipping, then a
-#: visibility walk from every vertex, on every numba thread) runs in a helper thread, so
-#: that Ctrl-C takes effect at the next ear or walk (a 14,000-vertex star: 6.4 s on 2
-#: threads, 9 s serial).
+#: visibility walk from every vertex, on every thread) runs in a helper thread, so
+#: that Ctrl-C takes effect at the next ear or walk; below it, on the calling thread alone.
 MASK_WATCH_MIN_N = 2000
 #: Compiled engine: seconds between progress reports of a watched fill.
 FAST_PROGRESS_SECONDS = 0.1

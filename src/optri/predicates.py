@@ -2,10 +2,10 @@
 
 Every yes/no question geometry asks (does the boundary turn left here, do two
 segments cross or touch, does a chord start into the polygon, does it pass
-through a vertex) is answered here, vectorized with numpy over leading axes.
-The compiled valid-diagonal kernels (:mod:`optri.simple._kernels`) compile the
-very same scalar functions, :func:`orient_sign` and :func:`strictly_between`,
-with numba.
+through a vertex) is answered here, vectorized with numpy over leading axes. The compiled core's
+kernels (the valid-diagonal mask, the many-polygon kernel) use its C++ twin,
+``src/core/predicates.hpp``: the same three stages, written out operation by
+operation, held to exact rational arithmetic by the same tests.
 
 The guarantee
 -------------
@@ -50,7 +50,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
-    "COMPILED_HELPERS",
     "ORIENT_FILTER",
     "chord_clear",
     "following",
@@ -85,7 +84,7 @@ _LIMBS = 170  # 26 * 170 bits hold any sum of products of two doubles, times 2**
 _OFFSET = 1126  # -(smallest exponent of a double's integer mantissa): 1074 + 52
 
 
-# --- scalar code: plain Python that numba compiles too (simple/_kernels.py) -----------
+# --- scalar code (src/core/predicates.hpp is its C++ twin) ---------------------------
 
 
 def two_sum(a, b):  # type: ignore[no-untyped-def]
@@ -272,7 +271,7 @@ def orient_sign(ax, ay, bx, by, cx, cy):  # type: ignore[no-untyped-def]
     """Exact sign of the turn a -> b -> c: +1 left, -1 right, 0 exactly collinear.
 
     The float filter, then :func:`orient_exact` for the few turns it cannot
-    certify. Plain Python that numba also compiles (:mod:`optri.simple._kernels`).
+    certify.
 
     >>> orient_sign(0.0, 0.0, 1.0, 0.0, 1.0, 1.0)
     1
@@ -310,13 +309,6 @@ def strictly_between(ax, ay, bx, by, cx, cy):  # type: ignore[no-untyped-def]
     if ax != bx:
         return min(ax, bx) < cx < max(ax, bx)
     return min(ay, by) < cy < max(ay, by)
-
-
-#: The scalar helpers numba must compile wherever a kernel calls :func:`orient_sign`.
-COMPILED_HELPERS = (
-    two_sum, two_diff, _split, two_product, _grow, _sign_of_products, orient_exact,
-    _mantissa, _add_shifted, _add_product, orient_bigint, strictly_between,
-)  # fmt: skip
 
 
 # --- vectorized forms ------------------------------------------------------------------

@@ -54,7 +54,6 @@ ROOT = Path(__file__).resolve().parents[2]
 #: Plain-Python files whose functions numba compiles into kernels elsewhere.
 COMPILED_ELSEWHERE = (
     "src/optri/weights.py",
-    "src/optri/predicates.py",
     "src/optri/objective.py",  # lex_better
 )
 SKIP = shutil.ignore_patterns(

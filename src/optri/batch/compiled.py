@@ -1,14 +1,15 @@
-"""The compiled solver for many small polygons: one numba call per chunk of polygons.
+"""The compiled solver for many small polygons: one call of the core per chunk of polygons.
 
 :func:`solve_compiled` has the signature of every chunk solver
 (``solver(arrays, options) -> results``, see :mod:`optri.batch.solver`). The
 polygons it can take (2-D vertex arrays of at most ``config.MANY_MAX_N``
 vertices, a built-in weight on coordinates, objective ``"sum"`` or ``"max"``,
 method ``"auto"``, ``"table"``, ``"memo"`` or ``"fast"``) go to
-:func:`optri.simple._many_kernels.solve_chunk` as ragged arrays (all vertices
-concatenated, plus where each polygon starts), ``config.MANY_KERNEL_CHUNK`` at
-a time: the input checks, the exact simplicity test, the chord mask and the
-DP run there, in parallel over polygons. Everything else, and every polygon
+:func:`optri._core.many.solve` as ragged arrays (all vertices concatenated,
+plus where each polygon starts), ``config.MANY_KERNEL_CHUNK`` at a time: the
+input checks, the exact simplicity test, the chord mask and the DP run there,
+in parallel over polygons, with the engines' own fills; it returns columns
+(statuses, sizes, orientations, costs, triangles), not objects. Everything else, and every polygon
 the kernel declines (a failed check, a non-finite optimum), is solved by
 :func:`~optri.batch.each.solve_each`, i.e. :func:`optri.triangulate`, so
 error messages and warnings are exactly its own.
@@ -33,7 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import config
-from ..engines import jit
+from ..engines.threads import available
 from ..errors import OptriError
 from ..objective import Objective, as_objective
 from ..polygon import as_polygon
@@ -42,11 +43,26 @@ from ..solve import build_problem
 from ..weights import WeightCode, resolve_weights
 from .each import Polygonal, Result, SolveOptions, solve_each
 
-__all__ = ["ManyPlan", "many_plan", "mode_of", "solve_compiled"]
+__all__ = ["STATUS", "ManyPlan", "many_plan", "mode_of", "solve_compiled"]
 
 #: Methods whose results the kernel reproduces.
 _METHODS = ("auto", "table", "memo", "fast")
-_MODE_NONE, _MODE_PYTHON, _MODE_FAST = 0, 1, 2  # mirrors simple._many_kernels (no numba here)
+#: ``modes[n]`` of the kernel: how it solves an n-gon (``_MODE_NONE``: not at all).
+_MODE_NONE, _MODE_PYTHON, _MODE_FAST = 0, 1, 2
+#: The kernel's status codes, by name: 0 is solved, any other falls back to
+#: :func:`~optri.batch.each.solve_each` (src/core/many.cpp's ``Status``).
+STATUS = {
+    "ok": 0,
+    "non-finite": 1,
+    "too few vertices": 2,
+    "repeated vertex": 3,
+    "no turn at the lowest vertex": 4,
+    "not simple": 5,
+    "size not taken": 6,
+    "mask walk failed": 7,
+    "no finite optimum": 8,
+    "zero-area triangle": 9,
+}
 
 
 @dataclass(frozen=True)
@@ -84,14 +100,14 @@ def many_plan(options: SolveOptions) -> ManyPlan | None:
     """The kernel's plan for ``options``, or None when it cannot take them.
 
     None for a custom or value weight, a lexicographic objective, another
-    method, ``config.MANY_COMPILED`` false, or without numba.
+    method, or ``config.MANY_COMPILED`` false.
 
     >>> many_plan(SolveOptions()).minplus, many_plan(SolveOptions(method="brute"))
     (True, None)
     """
     if not config.MANY_COMPILED or not isinstance(options.method, str):
         return None
-    if options.method not in _METHODS or jit.unavailable() is not None:
+    if options.method not in _METHODS:
         return None
     try:
         objective = as_objective(options.objective)
@@ -164,35 +180,19 @@ def _solve_chunk(
     results: list[Result | None],
 ) -> list[int]:
     """Run the kernel on ``arrays[idx]``, fill ``results``; returns the indices it declined."""
-    import numba
-
-    from ..simple._many_kernels import solve_chunk
+    from .._core import many
 
     counts = np.array([arrays[i].shape[0] for i in idx], dtype=np.int64)
     starts = np.zeros(len(idx), dtype=np.int64)
     np.cumsum(counts[:-1], out=starts[1:])
     xy = np.ascontiguousarray(np.concatenate([arrays[i] for i in idx]))
-    perm = np.argsort(-counts, kind="stable")
-    m = len(idx)
-    out = (
-        np.zeros(m, dtype=np.int64),
-        np.zeros(m, dtype=np.int64),
-        np.zeros(m, dtype=np.bool_),
-        np.zeros(m, dtype=np.float64),
-        np.zeros((max(int(counts.sum()) - 2 * m, 0), 3), dtype=np.int64),
-    )
-    threads = _threads(numba, options.threads, m)
-    previous = numba.get_num_threads()
-    numba.set_num_threads(threads)
+    wanted = available() if options.threads is None else int(options.threads)
+    threads = max(1, min(wanted, len(idx)))
     start = time.perf_counter()
-    try:
-        solve_chunk(
-            xy, starts, counts, perm, plan.modes, plan.code, plan.is_max, plan.minplus, threads, out
-        )
-    finally:
-        numba.set_num_threads(previous)
+    status, sizes, cw, costs, tris, first = many.solve(
+        xy, starts, counts, plan.modes, plan.code, plan.is_max, plan.minplus, threads
+    )
     seconds = time.perf_counter() - start
-    status, sizes, cw, costs, tris = out
     work = sizes.astype(np.float64) ** 3
     share = seconds / max(float(work[status == 0].sum()), 1.0)
     declined = []
@@ -200,19 +200,13 @@ def _solve_chunk(
         if status[r] != 0:
             declined.append(i)
             continue
-        n, t0 = int(sizes[r]), int(starts[r]) - 2 * r
+        n, t0 = int(sizes[r]), int(first[r])
         s = int(starts[r])  # vertices from the chunk's own copy: never the caller's array
         results[i] = _result(
             plan, options, xy[s : s + n], tris[t0 : t0 + n - 2], float(costs[r]), bool(cw[r])
         )
         results[i].stats["wall_seconds"] = share * work[r]  # type: ignore[union-attr]
     return declined
-
-
-def _threads(numba: Any, wanted: int | None, polygons: int) -> int:
-    """``wanted`` threads, else numba's current setting (``numba.set_num_threads``)."""
-    count = numba.get_num_threads() if wanted is None else int(wanted)
-    return max(1, min(count, numba.config.NUMBA_NUM_THREADS, polygons))
 
 
 def _result(

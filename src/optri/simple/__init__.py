@@ -3,8 +3,8 @@
 A triangulation of a simple polygon uses only its internal diagonals;
 restricting the recurrence's chords to them (Klincsek 1980) gives the exact
 optimum with every engine. :func:`allowed_chords` decides which chords exist;
-:func:`valid_diagonals` computes the mask (compiled kernels in
-:mod:`optri.simple._kernels`).
+:func:`valid_diagonals` computes the mask (the compiled core's mask kernels,
+``optri._core.simple``).
 """
 
 from __future__ import annotations

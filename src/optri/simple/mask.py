@@ -10,15 +10,13 @@ no zero-area triangle can be produced.
 
 from __future__ import annotations
 
-import sys
-from typing import Any
-
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import config
-from ..engines.interrupts import interruptible, is_loaded, watched
+from ..engines.interrupts import watched
 from ..engines.memory import require_memory
+from ..engines.threads import available
 from ..errors import InvalidPolygonError, OptriError
 from ..polygon import Polygon, as_polygon, find_self_intersection, require_simple
 from ..predicates import chord_clear, in_cone, orient
@@ -82,12 +80,10 @@ def valid_diagonals(polygon: ArrayLike | Polygon) -> NDArray[np.bool_]:
     -----
     Every test is exact (:mod:`optri.predicates`): a chord is a diagonal exactly
     when it is one for the float64 coordinates taken as exact numbers.
-    Compiled with numba: the polygon is ear-clipped (O(n^2)) and each vertex
-    sees through that triangulation, narrowing an angular window from triangle to
-    triangle (O(n) per vertex, O(n^2) in all); the simplicity check before it
-    takes about a quarter of that time.
-    Up to ``config.MASK_NUMPY_MAX_N`` vertices while numba is not loaded yet, and without
-    numba, :func:`valid_diagonals_numpy` is used (same result).
+    Compiled (``optri._core.simple``): the polygon is ear-clipped (O(n^2)) and
+    each vertex sees through that triangulation, narrowing an angular window from
+    triangle to triangle (O(n) per vertex, O(n^2) in all); the simplicity check
+    before it takes about a quarter of that time.
 
     Examples
     --------
@@ -114,19 +110,14 @@ def _diagonals(poly: Polygon) -> NDArray[np.bool_]:
         f"the chord mask of a {poly.n}-vertex simple polygon",
         "split the polygon into smaller pieces",
     )
-    if poly.n <= config.MASK_NUMPY_MAX_N and "numba" not in sys.modules:
-        return valid_diagonals_numpy(pts)  # small: not worth starting numba for
-    try:
-        return valid_diagonals_compiled(pts)
-    except ImportError:  # pragma: no cover - numba is a core dependency
-        return valid_diagonals_numpy(pts)
+    return valid_diagonals_compiled(pts)
 
 
 def mask_bytes(n: int) -> int:
-    """Peak bytes of :func:`valid_diagonals` for ``n`` vertices (measured: about 5 n^2).
+    """Peak bytes of :func:`valid_diagonals` for ``n`` vertices (about 5 n^2).
 
-    The ``(n, n)`` bool mask, the compiled walk's own ``(n, n)`` scratch and the
-    ear-clipping arrays; the numpy mask works in blocks of ``_BLOCK`` chords.
+    The ``(n, n)`` bool mask, the walk's ``(n, n)`` int32 table of triangles
+    left of each edge and the ear-clipping arrays.
 
     >>> mask_bytes(1000)
     6000000
@@ -140,65 +131,43 @@ def valid_diagonals_compiled(points: NDArray[np.float64]) -> NDArray[np.bool_]:
     For a simple polygon. Should ear clipping or the walk fail on one that is not
     (this function does not check), a direct check is used instead: each chord
     against the edges outward from its first endpoint, stopping at the first
-    blocker (O(n^3) in the worst case).
+    blocker (O(n^3) in the worst case). From ``config.MASK_WATCH_MIN_N``
+    vertices the kernels run in a helper thread, the walk's rows on every thread
+    (:func:`optri.engines.threads.available`), and Ctrl-C stops them at
+    the next ear or row.
     """
-    from ._kernels import ear_clip, ear_clip_until, valid_mask, visibility_mask, visibility_rows
+    from .._core import simple as core
 
     x = np.ascontiguousarray(points[:, 0], dtype=np.float64)
     y = np.ascontiguousarray(points[:, 1], dtype=np.float64)
-    with interruptible():  # Ctrl-C in a kernel: KeyboardInterrupt, not SystemError
-        if len(x) >= config.MASK_WATCH_MIN_N:
-            mask, ok = _watched_mask(x, y, ear_clip_until, visibility_rows)
-        elif not (is_loaded(ear_clip) and is_loaded(visibility_mask)):  # loads or compiles
-            mask, ok = _watched_mask(
-                x,
-                y,
-                lambda x, y, stop: ear_clip(x, y),
-                lambda x, y, t, stop: visibility_mask(x, y, t),
+    stop = np.zeros(1, dtype=np.int64)
+    if len(x) >= config.MASK_WATCH_MIN_N:
+        threads = available()
+        found: list[tuple[NDArray[np.bool_], bool]] = []
+        watched(lambda: found.append(core.diagonals(x, y, stop, threads)), threads, stop, _idle)
+        mask, ok = found[0]
+    else:
+        mask, ok = core.diagonals(x, y, stop, 1)
+    if not ok:  # input that is not simple (ear clipping may still succeed on it)
+        if find_self_intersection(points) is None:
+            raise OptriError(
+                "internal error: the ear-clipping triangulation is inconsistent "
+                "(a bounded walk stopped); please report this input"
             )
-        else:
-            tris, ok = ear_clip(x, y)
-            if ok:
-                mask, ok = visibility_mask(x, y, tris)
-        if not ok:  # input that is not simple (ear clipping may still succeed on it)
-            if find_self_intersection(points) is None:
-                raise OptriError(
-                    "internal error: the ear-clipping triangulation is inconsistent "
-                    "(a bounded walk stopped); please report this input"
-                )
-            mask = valid_mask(x, y)  # the scan needs no triangulation
+        mask = core.valid_mask(x, y)  # the scan needs no triangulation
     _set_sides(mask)
     return mask
 
 
-def _watched_mask(
-    x: NDArray[np.float64], y: NDArray[np.float64], clip: Any, rows: Any
-) -> tuple[NDArray[np.bool_], bool]:
-    """``clip(x, y, stop)``, then ``rows(x, y, triangles, stop)``, in a watched helper thread.
-
-    With ``ear_clip_until`` and ``visibility_rows``, Ctrl-C takes effect at the next
-    ear or walk (both check the stop flag); with the serial kernels on their first call
-    (loading or compiling them), once they return. See
-    :func:`optri.engines.interrupts.watched`.
-    """
-    import numba
-
-    stop = np.zeros(1, dtype=np.int64)
-    found: list[tuple[NDArray[np.bool_], bool]] = []
-
-    def walk() -> None:
-        tris, ok = clip(x, y, stop)
-        found.append(rows(x, y, tris, stop) if ok else (np.zeros((0, 0), dtype=np.bool_), False))
-
-    watched(walk, numba.get_num_threads(), stop, lambda: None)
-    return found[0]
+def _idle() -> None:
+    """Nothing to report while the mask is computed (the poll of :func:`watched`)."""
 
 
 def valid_diagonals_numpy(points: NDArray[np.float64]) -> NDArray[np.bool_]:
     """Pure-numpy :func:`valid_diagonals` of CCW ``points``; O(n^3), for small n.
 
     The same predicates evaluated for every chord against every vertex and
-    edge at once; used without numba and as a second implementation in tests.
+    edge at once: a second implementation, which the tests compare against.
     """
     p = np.asarray(points, dtype=np.float64)
     n = p.shape[0]
