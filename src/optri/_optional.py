@@ -15,6 +15,7 @@ EXTRAS = {
     "scipy": "mesh",
     "shapely": "shapely",
     "numba_cuda": "gpu",
+    "numba": "numba",
     "dask": "dask",
     "distributed": "dask",
     "geopandas": "geo",
@@ -31,7 +32,7 @@ def import_optional(name: str, extra: str | None = None) -> ModuleType:
 
     The message names the ``pip install 'optri[extra]'`` that brings it (``extra``
     overrides :data:`EXTRAS` where one package serves several extras); core
-    dependencies (numpy, numba, matplotlib, click, rich) are named as packages.
+    dependencies (numpy, matplotlib, click, rich) are named as packages.
 
     >>> import_optional("math").pi > 3
     True

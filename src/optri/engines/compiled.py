@@ -39,7 +39,7 @@ _PACKAGE = Path(__file__).resolve().parents[1]
 
 #: Folders and files (relative to the package) whose code numba compiles: every kernel
 #: module and every module a kernel calls into (tests/test_architecture.py checks this).
-KERNEL_SOURCES = ("engines", "simple", "holes", "weights.py", "predicates.py", "objective.py")
+KERNEL_SOURCES = ("engines", "weights.py", "objective.py")
 #: Cache directories of other source versions kept beside the current one.
 _KEEP_OLD = 3
 
@@ -89,7 +89,7 @@ def kernel(**options: Any) -> Callable[[Callable[..., Any]], Any]:
     """``numba.njit(cache=True, **options)``, cached under :func:`cache_dir`.
 
     Used as ``@kernel(parallel=True)`` on the functions of the kernel modules
-    (``optri/engines/_jit_kernels.py``, ``optri/simple/_kernels.py``, ...).
+    (the GPU engine's modules).
     """
 
     def decorate(func: Callable[..., Any]) -> Any:
