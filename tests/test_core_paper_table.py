@@ -20,8 +20,10 @@ def test_table1_upper_part_cell_by_cell():
 
 def test_vertex_style_is_consistent():
     t = optri.triangulate([5, 1, 5, 1, 5], "product", method="table")
-    cells, _ = table_cells(t, "vertex")
+    cells, _ = table_cells(t, "vertex", base=0)  # the API's vertex numbers
     assert cells[0][4] == "35" and cells[4][0] == "1"
+    cells, _ = table_cells(t, "vertex")  # the paper's labels, one more
+    assert cells[0][4] == "35" and cells[4][0] == "2"
 
 
 def test_no_table_error_and_plot():
