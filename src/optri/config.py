@@ -172,6 +172,11 @@ DOMAIN_MIN_SOLVER_SECONDS = 0.05
 #: lower bound counts as proven (the solver's own optimality tolerance is about 1e-9).
 DOMAIN_PROVEN_RTOL = 1e-9
 
+#: Polygons with holes: the integer program's costs are scaled (by a power of two) so the
+#: largest is near ``2**DOMAIN_COST_EXPONENT``: HiGHS's absolute tolerances (1e-7, 1e-6)
+#: then lie far below ``DOMAIN_PROVEN_RTOL`` of the optimum, at every scale of the input.
+DOMAIN_COST_EXPONENT = 20
+
 _DEFAULTS = {k: v for k, v in dict(globals()).items() if k.isupper()}
 
 

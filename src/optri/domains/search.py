@@ -123,8 +123,8 @@ def solve_component(
 
 
 def _meets(value: float, bound: float) -> bool:
-    """``value`` is within the proven tolerance of its lower ``bound``."""
-    return value - bound <= config.DOMAIN_PROVEN_RTOL * max(1.0, abs(value))
+    """``value`` is within the proven tolerance of its lower ``bound``, relative at every scale."""
+    return value - bound <= config.DOMAIN_PROVEN_RTOL * abs(value)
 
 
 def _block(
@@ -203,8 +203,10 @@ def _sum_block(
             "no triangulation of the polygon with holes satisfies the constraints"
         )
     if out.status == "optimal" and out.chosen is not None:
+        # re-checked in float64 against the pieces' own weights, not the solver's word
         value = total(setup.values[out.chosen, c], "sum")
-        return Found(out.chosen, value, value, True)
+        if _meets(value, out.bound):
+            return Found(out.chosen, value, value, True)
     setup.parts.add("bridge")
     options = ([] if out.chosen is None else [out.chosen]) + fallbacks()
     floor = sum_floor(setup.cand, block, fixed, setup.values[:, c])
