@@ -49,3 +49,12 @@ def test_proven_means_optimal_at_every_scale(exponent: int) -> None:
         assert got.gap == pytest.approx((got.weight - got.bound) / got.weight)
     # the same program at every scale: the answer in the data's units scales exactly
     assert got.weight / s == pytest.approx(0.23525686641164514, rel=1e-12)
+
+
+@pytest.mark.parametrize("method", ["auto", "ip", "bridge"])
+def test_weights_summing_past_float64_are_a_clear_error(method: str) -> None:
+    # every triangle's perimeter is finite, their sum is not
+    outer = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float) * 2e306
+    hole = np.array([[4, 4], [4, 6], [6, 6], [6, 4]], float) * 2e306
+    with pytest.raises(optri.WeightError, match="float64"):
+        optri.triangulate((outer, [hole]), "perimeter", method=method)

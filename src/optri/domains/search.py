@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import config
-from ..errors import MissingDependencyError, NoTriangulationError
+from ..errors import MissingDependencyError, NoTriangulationError, WeightError
 from .bounds import max_floor, sum_floor
 from .bridge import bridge_block
 from .candidates import Candidates
@@ -86,9 +86,19 @@ class Found:
 
 
 def total(values: NDArray[np.float64], component: str) -> float:
-    """Sum (exactly rounded) or maximum of triangle weights; ``-inf`` for none under max."""
+    """Sum (exactly rounded) or maximum of triangle weights; ``-inf`` for none under max.
+
+    Raises :class:`~optri.errors.WeightError` when a sum of finite weights passes
+    float64's range (its rounded value would be infinite: no optimum to compare).
+    """
     if component == "sum":
-        return float(math.fsum(values.tolist()))
+        try:
+            return float(math.fsum(values.tolist()))
+        except OverflowError:
+            raise WeightError(
+                "the triangle weights sum past float64's range (about 1.8e308); "
+                "scale the coordinates down"
+            ) from None
     return float(values.max()) if len(values) else -math.inf
 
 
