@@ -153,9 +153,11 @@ def test_planted_parts_are_never_adopted(tmp_path, out_name):
     parts.mkdir()
     forged = [_forged(r) for r in clean]
     (parts / "part-00000.ndjson").write_text("".join(json.dumps(r) + "\n" for r in forged))
+    # and one past the input's end, which no run would redo
+    (parts / "part-00099.ndjson").write_text(json.dumps({**forged[0], "id": "planted"}) + "\n")
     s = optri.batch(src, out, workers=1, chunk_size=len(clean))
     got = list(iter_records(s.output))
-    assert [r["cost"] for r in got] == [r["cost"] for r in clean]
+    assert [(r["id"], r["cost"]) for r in got] == [(r["id"], r["cost"]) for r in clean]
 
 
 def test_a_part_changed_after_it_was_written_is_redone(tmp_path):
