@@ -58,3 +58,24 @@ def test_weights_summing_past_float64_are_a_clear_error(method: str) -> None:
     hole = np.array([[4, 4], [4, 6], [6, 6], [6, 4]], float) * 2e306
     with pytest.raises(optri.WeightError, match="float64"):
         optri.triangulate((outer, [hole]), "perimeter", method=method)
+
+
+def test_a_solver_optimum_that_misses_its_bound_is_not_called_proven(monkeypatch) -> None:
+    # a solver saying "optimal" with a bound its solution does not meet in float64
+    import optri.domains.search as search
+
+    real = search.solve_program
+
+    def lying(*args, **kwargs):
+        out = real(*args, **kwargs)
+        if out.status != "optimal" or kwargs.get("relax"):
+            return out
+        return type(out)(out.chosen, out.bound - 0.25 * abs(out.bound), out.status, out.nodes)
+
+    monkeypatch.setattr(search, "solve_program", lying)
+    outer = [[0, 0], [10, 0], [10, 10], [0, 10]]
+    hole = [[4, 4], [4, 6], [6, 6], [6, 4]]
+    got = optri.triangulate((outer, [hole]), "perimeter", method="ip")
+    got.check()
+    assert got.optimality == "heuristic", (got.optimality, got.bound, got.weight)
+    assert got.bound <= got.weight and got.gap > 0
