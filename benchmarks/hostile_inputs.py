@@ -3,7 +3,9 @@
     PYTHONPATH=src python benchmarks/hostile_inputs.py [--quick] [--json]
 
 Categories: API parameters, extreme coordinates, files given to the CLI, batch
-lines, meshes at scales, processes. Outcomes:
+lines, meshes at scales, processes, and outputs and faults (an output that is the
+input, planted links and parts, a finished output reused for another job, "proven"
+at three scales, exact ints near 2**63, killed workers, endless stdin, layers). Outcomes:
 
 * ``own_error``: the library raised one of optri's exceptions;
 * ``cli_error``: the CLI exited 2 with one ``optri: error:``/usage line;
@@ -500,6 +502,182 @@ def processes(tmp: Path) -> None:
     record(cat, "lost" if lost else "own_error", f"concurrent batch exit codes {codes}")
 
 
+def killer(vertices, i, k, j):
+    """A user weight whose worker process dies (as by the OOM killer) on a heptagon."""
+    if len(vertices) == 7:
+        os.kill(os.getpid(), signal.SIGKILL)
+    return 1.0
+
+
+def _kept(cat: str, label: str, path: Path, before: bytes, argv: list[str]) -> None:
+    """Run the CLI; ``path`` must still hold ``before`` (else the run lost a file)."""
+    run_cli(cat, label, argv)
+    if not path.exists() or path.read_bytes() != before:
+        record(cat, "lost", f"{label}: {path.name} changed")
+
+
+def _batch_ok(src: Path, out: Path, *args: str) -> None:
+    CliRunner().invoke(main, ["batch", str(src), "-o", str(out), "-j", "1", "-q", *args])
+
+
+def outputs_and_faults(tmp: Path) -> None:
+    """Issue 55: outputs, work files, reuse, "proven", exact ints, faults and limits."""
+    cat = "outputs_faults"
+    base = tmp / "o55"
+    base.mkdir()
+    rows = "".join(json.dumps({"id": i, "coordinates": PENT}) + "\n" for i in range(6))
+    for name in ("f.ndjson", "f.gpkg", "f.geojson"):
+        src = base / name
+        if name == "f.ndjson":
+            src.write_text(rows)
+        else:
+            (base / "seed.ndjson").write_text(rows)
+            _batch_ok(base / "seed.ndjson", src)
+        before = src.read_bytes()
+        for spelling in (src, base / "x" / ".." / name, base / f"link-{name}"):
+            (base / "x").mkdir(exist_ok=True)
+            if spelling.name.startswith("link") and not spelling.exists():
+                spelling.symlink_to(src)
+            for extra in ([], ["--overwrite"]):
+                argv = ["batch", str(src), "-o", str(spelling), "-j", "1", *extra]
+                _kept(cat, f"output is input {spelling.name} {extra}", src, before, argv)
+    # an input named like a part inside the output directory
+    d = base / "dir"
+    d.mkdir()
+    part = d / "part-00000.ndjson"
+    part.write_text(rows)
+    argv = ["batch", str(part), "-o", f"{d}/", "--overwrite", "-j", "1"]
+    _kept(cat, "input inside output dir", part, rows.encode(), argv)
+    # a user's file of a sample's name
+    (base / "octagon.csv").write_text("x,y\n0,0\n")
+    argv = ["data", "-o", str(base), "octagon.csv"]
+    _kept(cat, "optri data -o over a user file", base / "octagon.csv", b"x,y\n0,0\n", argv)
+    # a private output stays private
+    src = base / "f.ndjson"
+    private = base / "private.ndjson"
+    private.write_text("secret\n")
+    private.chmod(0o600)
+    _batch_ok(src, private, "--overwrite")
+    mode = private.stat().st_mode & 0o777
+    record(cat, "answer" if mode == 0o600 else "silent", f"private output mode {oct(mode)}")
+    # planted links and parts
+    precious = base / "precious"
+    precious.write_text("keep\n")
+    (base / ".l.ndjson.lock").symlink_to(precious)
+    _kept(
+        cat, "lock symlink", precious, b"keep\n", ["batch", str(src), "-o", str(base / "l.ndjson")]
+    )
+    elsewhere = base / "elsewhere"
+    elsewhere.mkdir()
+    (base / ".p.ndjson.parts").symlink_to(elsewhere)
+    run_cli(cat, "parts folder symlink", ["batch", str(src), "-o", str(base / "p.ndjson")])
+    if list(elsewhere.iterdir()):
+        record(cat, "lost", "parts written through a planted link")
+    planted = base / "planted"
+    planted.mkdir()
+    fake = json.dumps({"id": 0, "status": "ok", "cost": -1.0, "triangles": [[0, 1, 2]]})
+    (planted / "part-00000.ndjson").write_text(fake + "\n")
+    _batch_ok(src, planted)
+    costs = [r["cost"] for r in iter_records(planted)]
+    record(cat, "silent" if -1.0 in costs else "answer", "planted part")
+    # a finished output reused only for the same job
+    other = base / "g.ndjson"
+    other.write_text(rows.replace('"id": 5', '"id": 7'))
+    for label, args in (
+        ("other input", [str(other)]),
+        ("-w area", [str(src), "-w", "area"]),
+        ("-O max", [str(src), "-O", "max"]),
+        ("--method memo", [str(src), "--method", "memo"]),
+    ):
+        out = base / "done.ndjson"
+        _batch_ok(src, out, "--overwrite")
+        before = out.read_bytes()
+        res = CliRunner().invoke(main, ["batch", *args, "-o", str(out), "-j", "1", "-q"])
+        reused = res.exit_code == 0 and out.read_bytes() == before
+        record(cat, "silent" if reused else "cli_error", f"finished output, {label}")
+    # exact integers near 2**63 (27 cases)
+    from optri.engines.brute import all_index_triangulations
+
+    for a in (-1, 5, 9):
+        for b in (0, 3, 9):
+            for c in (3, 7, -2):
+                v = [2**63 + a, 3, 2**63 + b, 7 + c]
+                want = min(
+                    sum(v[i] * v[k] * v[j] for i, k, j in t) for t in all_index_triangulations(4)
+                )
+                got = optri.triangulate(v, "product").weight
+                exact = type(got) is int and got == want
+                record(cat, "answer" if exact else "silent", f"product {v}")
+    # "proven" on martinez's issue96 at three scales
+    ring = Path(__file__).parents[1] / "tests" / "data" / "rings" / "martinez_issue96.geojson"
+    outer, hole = json.loads(ring.read_text())["features"][0]["geometry"]["coordinates"][0]
+    for e in (-20, 0, 20):
+        s = math.ldexp(1.0, e)
+        poly = (np.array(outer[:-1]) * s, [np.array(hole[:-1]) * s])
+        got = optri.triangulate(poly, "diagonal")
+        tiling = optri.triangulate(poly, "diagonal", method="bridge")
+        wrong = got.optimality == "proven" and got.weight > tiling.weight * (1 + 1e-9)
+        record(cat, "silent" if wrong else "answer", f"issue96 at 2**{e}: {got.optimality}")
+    # faults and limits
+    heptagon = [[0, 0], [4, 0], [6, 2], [5, 5], [2, 6], [-1, 4], [-1, 1]]
+    kill_in = base / "kill.ndjson"
+    kill_in.write_text(
+        "".join(
+            json.dumps({"id": f"p{i}", "coordinates": heptagon if i == 2 else PENT}) + "\n"
+            for i in range(6)
+        )
+    )
+    run_api(
+        cat,
+        "a worker killed by the system",
+        lambda: optri.batch(kill_in, base / "kill_out.ndjson", weight=killer, workers=2),
+        bad=False,
+    )
+    reasons = [r["reason"] or "" for r in iter_records(base / "kill_out.ndjson")]
+    if sum("worker process died" in r for r in reasons) != 1:
+        record(cat, "lost", "killed worker: not one error record")
+    t = 2 * np.pi * np.arange(6000) / 6000
+    r = np.where(np.arange(6000) % 2 == 0, 1.0, 0.6)
+    star = base / "star.csv"
+    star.write_text(
+        "x,y\n"
+        + "".join(
+            f"{x!r},{y!r}\n" for x, y in zip((r * np.cos(t)).tolist(), (r * np.sin(t)).tolist())
+        )
+    )
+    run_cli(cat, "enumerate a 6000-vertex star", ["enumerate", str(star), "-n", "1"])
+    os.environ["OPTRI_MAX_INPUT_BYTES"] = "4096"
+    try:
+        for cmd in (["solve", "-"], ["batch", "-", "-o", str(base / "s.ndjson")]):
+            signal.alarm(HANG_SECONDS)
+            try:
+                res = CliRunner().invoke(main, cmd, input=rows.encode() * 200)
+            finally:
+                signal.alarm(0)
+            limited = res.exit_code == 2 and "OPTRI_MAX_INPUT_BYTES" in res.output
+            record(cat, "cli_error" if limited else "traceback", f"endless stdin {cmd[0]}")
+    finally:
+        del os.environ["OPTRI_MAX_INPUT_BYTES"]
+    big = 2e306
+    sq = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float) * big
+    hole_sq = np.array([[4, 4], [4, 6], [6, 6], [6, 4]], float) * big
+    run_api(cat, "holes: weights sum past float64", lambda: optri.triangulate((sq, [hole_sq])))
+    try:
+        import pyogrio
+    except ImportError:
+        return
+    layers = base / "layers.gpkg"
+    _batch_ok(src, layers)
+    gdf = pyogrio.read_dataframe(layers)[["geometry"]].iloc[:1]
+    pyogrio.write_dataframe(gdf, layers, layer="roofs")
+    run_cli(cat, "gpkg with two layers", ["batch", str(layers), "-o", str(base / "m.ndjson")])
+    run_cli(
+        cat,
+        "gpkg --layer roofs",
+        ["batch", str(layers), "-o", str(base / "m.ndjson"), "--layer", "roofs", "-j", "1"],
+    )
+
+
 def _warm_up() -> None:
     """Compile (or load) every kernel first: a first compile is not a hang."""
     ring = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0.1]])
@@ -538,6 +716,7 @@ def main_(argv: list[str] | None = None) -> int:
             ("batch_lines", lambda: batch_lines(tmp)),
             ("meshes_at_scales", lambda: meshes(tmp)),
             ("processes", lambda: processes(tmp)),
+            ("outputs_faults", lambda: outputs_and_faults(tmp)),
         ):
             if name not in args.skip:
                 fn()

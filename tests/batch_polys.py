@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -55,3 +56,12 @@ def write_feature_collection(path: Path, rows: list[dict]) -> Path:
     ]
     path.write_text(json.dumps({"type": "FeatureCollection", "features": feats}, indent=1))
     return path
+
+
+def killer(vertices, i, k, j):
+    """A user weight whose process dies (as by the OOM killer) on any heptagon."""
+    if len(vertices) == 7:
+        import signal
+
+        os.kill(os.getpid(), signal.SIGKILL)
+    return 1.0

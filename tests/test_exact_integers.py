@@ -77,3 +77,26 @@ def test_integer_engine_equals_brute_force(values, objective):
 def test_non_integer_values_stay_floats():
     t = optri.triangulate([1.5, 3, 1, 4, 1, 5], "product")
     assert isinstance(t.weight, float) and t.method != "integer"
+
+
+def _brute_product(values: list[int], objective: str = "sum") -> int:
+    """Exact optimum by enumeration, in Python ints (the oracle)."""
+    from optri.engines.brute import all_index_triangulations
+
+    agg = sum if objective == "sum" else max
+    n = len(values)
+    return min(
+        agg(values[i] * values[k] * values[j] for i, k, j in tris)
+        for tris in all_index_triangulations(n)
+    )
+
+
+@pytest.mark.parametrize("base", [2**31, 2**53, 2**62, 2**63, 2**64, 2**100])
+@pytest.mark.parametrize("offsets", [(5, 9), (0, 1), (-3, 7)])
+def test_mixed_small_and_huge_ints_stay_exact(base, offsets):
+    # small and huge Python ints in one list: numpy would make floats of them
+    values = [base + offsets[0], 3, base + offsets[1], 7, base - 1]
+    want = _brute_product(values)
+    for method in ("auto", "integer"):
+        got = optri.triangulate(values, "product", method=method)
+        assert type(got.weight) is int and got.weight == want

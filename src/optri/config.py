@@ -168,6 +168,27 @@ DOMAIN_MIN_SOLVER_SECONDS = 0.05
 #: lower bound counts as proven (the solver's own optimality tolerance is about 1e-9).
 DOMAIN_PROVEN_RTOL = 1e-9
 
+#: Polygons with holes: the integer program's costs are scaled (by a power of two) so the
+#: largest is near ``2**DOMAIN_COST_EXPONENT``: HiGHS's absolute tolerances (1e-7, 1e-6)
+#: then lie far below ``DOMAIN_PROVEN_RTOL`` of the optimum, at every scale of the input.
+DOMAIN_COST_EXPONENT = 20
+
+#: A GeoPackage/FlatGeobuf write that fails with less free space than this on its disk is
+#: reported as a full disk (GDAL's own message seldom says so).
+BATCH_FULL_DISK_BYTES = 16 * 2**20
+
+#: Dask: how often the scheduler reruns a task whose worker died before it gives up
+#: (KilledWorker); optri then retries the chunk alone, then polygon by polygon.
+BATCH_WORKER_RETRIES = 0
+
+#: Dask: how often a wait checks that the cluster still has workers, and how long it may
+#: have none before the run stops with an error (a run never hangs on a dead cluster).
+BATCH_DASK_POLL_SECONDS = 5.0
+BATCH_DASK_NO_WORKER_SECONDS = 120.0
+
+#: The most bytes read from standard input (``-``); ``$OPTRI_MAX_INPUT_BYTES`` overrides it.
+MAX_INPUT_BYTES = 2**30
+
 _DEFAULTS = {k: v for k, v in dict(globals()).items() if k.isupper()}
 
 

@@ -32,6 +32,7 @@ __all__ = [
     "MissingDependencyError",
     "NoTriangulationError",
     "OptriError",
+    "OutputExistsError",
     "ParameterTypeError",
     "TableTooLargeError",
     "Terminated",
@@ -98,6 +99,10 @@ class BatchInputError(OptriError, ValueError):
 
     The message names the file and line, or the argument, and the way out.
     """
+
+
+class OutputExistsError(OptriError, FileExistsError):
+    """An output would replace a file optri did not write; ``overwrite`` says it may."""
 
 
 class BatchLockedError(BatchInputError):

@@ -265,7 +265,13 @@ def as_polygon(data: ArrayLike | Polygon) -> Polygon:
 
 
 def _integer_values(data: ArrayLike) -> tuple[int, ...] | None:
-    """The values as Python ints when the 1-D input is of integer type, else None."""
+    """The values as Python ints when the 1-D input is of integer type, else None.
+
+    A list of Python ints is taken as it is: numpy would turn ``[2**63 + 5, 3]``
+    (too large for int64, mixed with small ones) into rounded floats.
+    """
+    if isinstance(data, (list, tuple)) and data and all(_is_int(v) for v in data):
+        return tuple(int(v) for v in data)
     raw = np.asarray(data)
     if raw.dtype.kind in "iu":
         return tuple(int(v) for v in raw.tolist())
@@ -274,6 +280,10 @@ def _integer_values(data: ArrayLike) -> tuple[int, ...] | None:
         if all(isinstance(v, int) and not isinstance(v, bool) for v in vals):
             return tuple(vals)
     return None
+
+
+def _is_int(value: Any) -> bool:
+    return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
 
 
 def is_ring_pair(obj: Any) -> bool:

@@ -19,7 +19,7 @@ from ..engines.interrupts import stop_signals_unwind
 from ..errors import BatchFailedError, BatchInputError
 from ..io.atomic import write_json
 from .layer import Layer, warn_geographic
-from .layout import Layout, output_lock, plan_layout
+from .layout import Layout, file_sha256, job_key, output_lock, plan_layout
 from .project import local_projector
 from .readers import count_items, detect_input_format, open_layer
 from .records import ChunkTask, Item
@@ -45,6 +45,7 @@ class _Settings:
     fmt: str | None
     out_fmt: str | None
     project: bool
+    layer: str | None
 
 
 def batch(
@@ -64,6 +65,7 @@ def batch(
     fmt: str | None = None,
     out_fmt: str | None = None,
     project: bool = False,
+    layer: str | None = None,
 ) -> BatchSummary:
     r"""Triangulate every polygon of a layer, in parallel, into one record per feature.
 
@@ -103,6 +105,9 @@ def batch(
     project : bool
         Measure each polygon in metres, in a local azimuthal equidistant
         projection of the layer's CRS (see :mod:`optri.batch.project`).
+    layer : str, optional
+        The layer to read from a file holding several (GeoPackage); such a
+        file without ``layer`` is refused, its layers listed.
 
     Returns
     -------
@@ -112,7 +117,9 @@ def batch(
     ------
     BatchInputError
         Unreadable input (the message names file and line), output written with
-        other options, unknown format, suffix or scheduler.
+        other options or input (or not by a batch at all), an output that is the
+        input, a work folder or lock file that is a link or another user's,
+        unknown format, suffix, layer or scheduler.
     BatchLockedError
         Another run is writing the same output.
     WeightError, EngineUnavailableError
@@ -145,7 +152,17 @@ def batch(
     if not (workers == 1 and scheduler in (None, "local")):
         _require_picklable(options)
     settings = _Settings(
-        options, workers, chunk_size, scheduler, resume, overwrite, progress, fmt, out_fmt, project
+        options,
+        workers,
+        chunk_size,
+        scheduler,
+        resume,
+        overwrite,
+        progress,
+        fmt,
+        out_fmt,
+        project,
+        layer,
     )
     with stop_signals_unwind():  # kill and hang-up also remove half-written parts
         summary = _run(Path(inp), out, settings)
@@ -172,49 +189,66 @@ def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
         what = "is a directory, not a layer file" if inp.is_dir() else "no such file"
         raise BatchInputError(f"{inp}: {what}")
     layout = plan_layout(out, s.out_fmt)
+    layout.check_paths(inp)
     with output_lock(layout.lock, layout.target):
+        layout.check_work_folder()
+        job = _job(inp, kind, layout, s)
         if not s.overwrite:
             if layout.started() and not s.resume:
                 raise BatchInputError(f"{layout.target} exists; pass --overwrite or --resume")
             if layout.single and layout.target.exists():
+                layout.check_receipt(job)
                 return _summary_of_existing(layout, start)
-        layer, items = open_layer(inp, kind)
+        layer, items = open_layer(inp, kind, s.layer)
         items, size = _choose_chunk_size(items, s.chunk_size, None if s.overwrite else layout)
         crs = _projection(inp, layer, s.project)
         warn_geographic(layer.crs, s.project)
         if s.overwrite:  # only now: a bad input file must not cost the earlier output
             layout.clear()
-        layout.parts_dir.mkdir(parents=True, exist_ok=True)
-        layout.check_manifest(_manifest(inp, kind, layout, s, size))
+        layout.prepare()
+        manifest = {**job, "chunk_size": size}
+        layout.check_manifest(manifest)
         layout.remove_stale_temporaries()
-        total = (count_items(inp, kind) or 0) if s.progress is not None else 0
+        recorded = layout.recorded(job_key(manifest))
+        layout.drop_unrecorded(recorded)
+        total = (count_items(inp, kind, s.layer) or 0) if s.progress is not None else 0
         counter = Counter(s.progress, total)
-        _solve_all(layout, layer, items, size, s, crs, counter)
+        work = _Work(layout, layer, size, job_key(manifest), recorded)
+        _solve_all(work, items, s, crs, counter)
         write_json(layout.success, {"ok": counter.ok, "errors": counter.errors, "total": counter.n})
         if layout.single:
             assemble(layout.parts(), layout.fmt, layout.target, layer, layout.parts_dir)
+            layout.write_receipt(manifest)
             shutil.rmtree(layout.parts_dir, ignore_errors=True)
         duplicates, repeated = counter.repeated_hashes()
         report_duplicates(duplicates, repeated, iter_records(layout.target, layout.fmt))
         return counter.summary(layout.target, time.perf_counter() - start, duplicates)
 
 
+@dataclass(frozen=True)
+class _Work:
+    """Where the parts of one job go, and which earlier parts the ledger vouches for."""
+
+    layout: Layout
+    layer: Layer
+    size: int
+    job: str
+    recorded: dict[str, str]
+
+
 def _solve_all(
-    layout: Layout,
-    layer: Layer,
-    items: Iterator[Item],
-    size: int,
-    s: _Settings,
-    crs: str | None,
-    counter: Counter,
+    work: _Work, items: Iterator[Item], s: _Settings, crs: str | None, counter: Counter
 ) -> None:
     """Solve every pending chunk on the backend; the parent alone writes the parts."""
     in_flight: dict[int, list[Item]] = {}  # chunk index -> its Items (attributes included)
-    tasks = _pending_tasks(items, size, layout, {**s.options, "project": crs}, counter, in_flight)
+    layout = work.layout
+    tasks = _pending_tasks(items, work, {**s.options, "project": crs}, counter, in_flight)
 
     def done(task: ChunkTask, records: list[dict]) -> None:
         chunk = in_flight.pop(task.index)
-        write_part(layout.part(task.index), layout.part_fmt, records, chunk, layer, layout.fmt)
+        part = layout.part(task.index)
+        write_part(part, layout.part_fmt, records, chunk, work.layer, layout.fmt)
+        layout.record(task.index, task.index * work.size, len(records), work.job)
         counter.add(records, reused=False)
 
     with open_backend(s.scheduler, s.workers) as backend:
@@ -254,21 +288,20 @@ def iter_records(path: str | os.PathLike[str], fmt: str | None = None) -> Iterat
 
 def _pending_tasks(
     items: Iterable[Item],
-    size: int,
-    layout: Layout,
+    work: _Work,
     options: dict[str, Any],
     counter: Counter,
     in_flight: dict[int, list[Item]],
 ) -> Iterator[ChunkTask]:
-    """Chunk tasks by input position, skipping (and counting) parts already written."""
+    """Chunk tasks by input position, skipping (and counting) parts the ledger vouches for."""
     it = iter(items)
+    layout = work.layout
     for index in itertools.count():
-        chunk = list(itertools.islice(it, size))
+        chunk = list(itertools.islice(it, work.size))
         if not chunk:
             return
-        part = layout.part(index)
-        if part.exists():
-            counter.add(read_part(part, layout.part_fmt), reused=True)
+        if layout.adopted(index, work.recorded):
+            counter.add(read_part(layout.part(index), layout.part_fmt), reused=True)
             continue
         in_flight[index] = chunk
         yield ChunkTask(index, [item.for_worker() for item in chunk], **options)
@@ -304,19 +337,21 @@ def auto_chunk_size(sample: list[Item]) -> int:
     return int(min(hi, max(lo, config.BATCH_CHUNK_WORK // work)))
 
 
-def _manifest(inp: Path, kind: str, layout: Layout, s: _Settings, size: int) -> dict[str, Any]:
+def _job(inp: Path, kind: str, layout: Layout, s: _Settings) -> dict[str, Any]:
+    """What the records depend on: the input (path, size, time, content hash), options, version."""
     st = inp.stat()
     return {
         "input": str(inp.resolve()),
         "input_bytes": st.st_size,
         "input_mtime_ns": st.st_mtime_ns,
+        "input_sha256": file_sha256(inp),
         "input_format": kind,
+        "layer": s.layer,
         "format": layout.fmt,
         "weight": repr(s.options["weight"]),
         "objective": repr(s.options["objective"]),
         "method": s.options["method"],
         "project": s.project,
-        "chunk_size": size,
         "optri": __version__,
     }
 

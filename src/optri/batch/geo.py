@@ -28,11 +28,17 @@ __all__ = ["count_rows", "first_line", "open_arrow_layer"]
 _OGR_DRIVERS = {"gpkg": "GeoPackage", "fgb": "FlatGeobuf", "shp": "shapefile"}
 
 
-def open_arrow_layer(path: Path, kind: str) -> tuple[Layer, Iterator[Item]]:
-    """The header and the Items of a GeoParquet file or an OGR layer (its first layer)."""
+def open_arrow_layer(
+    path: Path, kind: str, name: str | None = None
+) -> tuple[Layer, Iterator[Item]]:
+    """The header and the Items of a GeoParquet file or an OGR layer.
+
+    ``name`` picks the layer of a file holding several (a GeoPackage); without
+    it such a file is refused, its layers listed.
+    """
     if kind == "parquet":
         return _open_parquet(path)
-    return _open_ogr(path, kind)
+    return _open_ogr(path, kind, name)
 
 
 def _open_parquet(path: Path) -> tuple[Layer, Iterator[Item]]:
@@ -55,10 +61,10 @@ def _open_parquet(path: Path) -> tuple[Layer, Iterator[Item]]:
     return layer, items()
 
 
-def _open_ogr(path: Path, kind: str) -> tuple[Layer, Iterator[Item]]:
+def _open_ogr(path: Path, kind: str, name: str | None) -> tuple[Layer, Iterator[Item]]:
     pyogrio = import_optional("pyogrio")
-    info = _ogr_info(path, kind)
-    query = _query(pyogrio, path, kind)
+    info = _ogr_info(path, kind, name)
+    query = _query(pyogrio, path, kind) or {"layer": info["layer"]}
     with pyogrio.open_arrow(path, use_pyarrow=True, batch_size=1, return_fids=True, **query) as (
         meta,
         r,
@@ -127,7 +133,7 @@ def _batch_items(
             yield Item(item_id, reason=str(exc), props=props)
 
 
-def count_rows(path: Path, kind: str) -> int | None:
+def count_rows(path: Path, kind: str, name: str | None = None) -> int | None:
     """Number of rows (Parquet metadata) or features (OGR layer info; None if unknown)."""
     if kind == "parquet":
         pq = import_optional("pyarrow.parquet")
@@ -135,20 +141,32 @@ def count_rows(path: Path, kind: str) -> int | None:
             return int(pq.ParquetFile(path).metadata.num_rows)
         except Exception as exc:
             raise BatchInputError(f"{path}: not a Parquet file ({first_line(exc)})") from None
-    count = int(_ogr_info(path, kind)["features"])
+    count = int(_ogr_info(path, kind, name)["features"])
     return count if count >= 0 else None
 
 
-def _ogr_info(path: Path, kind: str) -> dict:
+def _ogr_info(path: Path, kind: str, name: str | None = None) -> dict:
+    """The OGR layer's info (``"layer"``: its name): the only one, or the one named."""
     pyogrio = import_optional("pyogrio")
     try:
-        info = pyogrio.read_info(path)
+        layers = [str(row[0]) for row in pyogrio.list_layers(path)]
+        if name is None and len(layers) > 1:
+            raise BatchInputError(
+                f"{path}: holds {len(layers)} layers ({', '.join(layers)}); "
+                "choose one with --layer NAME"
+            )
+        if name is not None and name not in layers:
+            raise BatchInputError(f"{path}: no layer {name!r}; its layers are {', '.join(layers)}")
+        layer = name if name is not None else (layers[0] if layers else 0)
+        info = pyogrio.read_info(path, layer=layer)
+    except BatchInputError:
+        raise
     except Exception as exc:
-        name = _OGR_DRIVERS.get(kind, kind)
-        raise BatchInputError(f"{path}: not a {name} layer ({first_line(exc)})") from None
+        driver = _OGR_DRIVERS.get(kind, kind)
+        raise BatchInputError(f"{path}: not a {driver} layer ({first_line(exc)})") from None
     if not info.get("geometry_type"):
         raise BatchInputError(f"{path}: not a polygon layer (no geometry column)")
-    return dict(info)
+    return {**info, "layer": layer}
 
 
 def _wkb_column(schema: Any, path: Path) -> str:

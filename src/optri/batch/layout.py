@@ -17,11 +17,21 @@ like a file. Part ``k`` always holds input polygons ``k*chunk_size`` to
 ``(k+1)*chunk_size - 1``, so a part that exists is the same whichever run
 wrote it. While a run writes, ``.OUT.lock`` beside the output holds its pid and
 an exclusive lock, so a second run into the same output is refused.
+
+Nothing is trusted for being there: the lock file is opened without following a
+link, a parts folder that is a link or belongs to another user is refused, and a
+part file is adopted on resume only when the ledger ``_parts.ndjson`` names it
+with the SHA-256 of its bytes and the job (:func:`job_key`) it was made for. A
+single output file, once assembled, gets ``.OUT.optri.json`` beside it: the job
+it was made for, so a rerun reuses it only for the same job. An output that is
+(or resolves to) the input, or a folder holding the input, is always refused.
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
+import hashlib
 import json
 import os
 import shutil
@@ -35,10 +45,29 @@ from ..errors import BatchInputError, BatchLockedError
 from ..io.atomic import write_json
 from .writers import OUTPUT_FORMATS, PART_FORMATS, SINGLE_FILE_SUFFIXES
 
-__all__ = ["Layout", "output_lock", "plan_layout"]
+__all__ = ["Layout", "file_sha256", "job_key", "output_lock", "plan_layout"]
 
 MANIFEST = "_manifest.json"
 SUCCESS = "_SUCCESS"
+LEDGER = "_parts.ndjson"
+#: Manifest entries that do not change what the records are (how the work was cut).
+_NOT_JOB = ("chunk_size",)
+_NOFOLLOW = getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0)
+
+
+def file_sha256(path: str | os.PathLike[str]) -> str:
+    """SHA-256 of a file's bytes, read in blocks (memory stays flat)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def job_key(manifest: dict[str, Any]) -> str:
+    """A short hash of what makes a batch's records what they are (input, options, version)."""
+    job = {k: v for k, v in manifest.items() if k not in _NOT_JOB}
+    return hashlib.sha256(json.dumps(job, sort_keys=True).encode()).hexdigest()[:16]
 
 
 @dataclass(frozen=True)
@@ -83,6 +112,131 @@ class Layout:
         """The lock file beside the output."""
         return self.target.parent / f".{self.target.name}.lock"
 
+    @property
+    def ledger(self) -> Path:
+        """The ledger of complete parts: one JSON line per part, with its hash and job."""
+        return self.parts_dir / LEDGER
+
+    @property
+    def receipt(self) -> Path:
+        """Beside a single output file: the job it was assembled for."""
+        return self.target.parent / f".{self.target.name}.optri.json"
+
+    def check_paths(self, inp: Path) -> None:
+        """Refuse an output that is, or would hold, the input (whatever the path's spelling)."""
+        source = inp.resolve()
+        target = self.target.resolve()
+        if source == target or (self.target.exists() and _same_file(inp, self.target)):
+            raise BatchInputError(
+                f"{self.target}: is the input {inp}; write the output to another path"
+            )
+        folder = self.parts_dir.resolve()
+        if folder in source.parents:
+            raise BatchInputError(
+                f"{inp}: the input is inside the output {self.parts_dir}; "
+                "move it out or write the output elsewhere"
+            )
+
+    def prepare(self) -> None:
+        """Make the parts folder (private when hidden), or check the one there."""
+        if not os.path.lexists(self.parts_dir):
+            self.parts_dir.mkdir(mode=0o700 if self.single else 0o777, parents=True)
+        self.check_work_folder()
+
+    def check_work_folder(self) -> None:
+        """Refuse a parts folder that is a link (hidden ones) or belongs to another user."""
+        try:
+            st = os.lstat(self.parts_dir)
+        except FileNotFoundError:
+            return
+        if stat.S_ISLNK(st.st_mode) and self.single:
+            raise BatchInputError(
+                f"{self.parts_dir}: the work folder is a symbolic link; remove it "
+                "(optri never writes through a link it did not make)"
+            )
+        st = os.stat(self.parts_dir)
+        if not stat.S_ISDIR(st.st_mode):
+            raise BatchInputError(f"{self.parts_dir}: exists and is not a directory")
+        if hasattr(os, "geteuid") and st.st_uid != os.geteuid():
+            raise BatchInputError(
+                f"{self.parts_dir}: the work folder is owned by another user "
+                f"(uid {st.st_uid}); remove it or write the output elsewhere"
+            )
+
+    def recorded(self, job: str) -> dict[str, str]:
+        """``{part name: sha256}`` of the parts the ledger names for ``job``."""
+        out: dict[str, str] = {}
+        try:
+            fd = os.open(self.ledger, os.O_RDONLY | _NOFOLLOW)
+        except FileNotFoundError:
+            return out
+        except OSError as exc:
+            raise BatchInputError(f"{self.ledger}: unreadable ({exc.strerror})") from None
+        with os.fdopen(fd, encoding="utf-8", errors="replace") as fh:
+            for line in fh:
+                try:
+                    entry = json.loads(line)
+                except ValueError:
+                    continue  # a line cut short by a kill: its part is redone
+                if isinstance(entry, dict) and entry.get("job") == job:
+                    out[str(entry.get("part"))] = str(entry.get("sha256"))
+        return out
+
+    def adopted(self, index: int, recorded: dict[str, str]) -> bool:
+        """True when part ``index`` exists and holds exactly the bytes the ledger names."""
+        part = self.part(index)
+        digest = recorded.get(part.name)
+        if digest is None or part.is_symlink() or not part.is_file():
+            return False
+        return file_sha256(part) == digest
+
+    def record(self, index: int, first: int, count: int, job: str) -> None:
+        """Ledger entry for part ``index`` (input polygons ``first`` to ``first + count - 1``)."""
+        part = self.part(index)
+        entry = {
+            "part": part.name,
+            "first": first,
+            "records": count,
+            "sha256": file_sha256(part),
+            "job": job,
+        }
+        fd = os.open(self.ledger, os.O_WRONLY | os.O_APPEND | os.O_CREAT | _NOFOLLOW, 0o666)
+        try:
+            os.write(fd, (json.dumps(entry, separators=(",", ":")) + "\n").encode())
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+
+    def drop_unrecorded(self, recorded: dict[str, str]) -> None:
+        """Delete part files the ledger does not name (planted, or cut short by a kill)."""
+        for p in self.parts():
+            if p.name not in recorded:
+                p.unlink()
+
+    def check_receipt(self, manifest: dict[str, Any]) -> None:
+        """A finished single file is reused only for the job its receipt names."""
+        try:
+            fd = os.open(self.receipt, os.O_RDONLY | _NOFOLLOW)
+            with os.fdopen(fd, encoding="utf-8") as fh:
+                old = json.load(fh)
+        except FileNotFoundError:
+            raise BatchInputError(
+                f"{self.target} exists and was not written by this batch (no record of "
+                f"its job in {self.receipt.name}); pass --overwrite to replace it"
+            ) from None
+        except (OSError, ValueError) as exc:
+            raise BatchInputError(f"{self.receipt}: unreadable ({exc}); pass --overwrite") from None
+        _compare(self.target, {k: v for k, v in manifest.items() if k not in _NOT_JOB}, old)
+        if old.get("output_sha256") != file_sha256(self.target):
+            raise BatchInputError(
+                f"{self.target} was changed after the batch wrote it; pass --overwrite to redo it"
+            )
+
+    def write_receipt(self, manifest: dict[str, Any]) -> None:
+        """Name the job beside the assembled single file."""
+        job = {k: v for k, v in manifest.items() if k not in _NOT_JOB}
+        write_json(self.receipt, {**job, "output_sha256": file_sha256(self.target)})
+
     def started(self) -> bool:
         """True when an earlier run left output here."""
         if self.single and self.target.exists():
@@ -90,24 +244,35 @@ class Layout:
         return self.manifest.exists() or bool(self.parts())
 
     def clear(self) -> None:
-        """Remove earlier output (``overwrite``): only files a batch writes."""
+        """Remove earlier output (``overwrite``): only files a batch writes.
+
+        A single output file stays until its replacement is renamed over it: a
+        run that fails loses nothing, and the new file keeps the old one's mode.
+        """
         if self.single:
-            with contextlib.suppress(FileNotFoundError):
-                self.target.unlink()
-            shutil.rmtree(self.parts_dir, ignore_errors=True)
+            if self.parts_dir.is_symlink():
+                self.parts_dir.unlink()  # the link only, never what it points to
+            else:
+                shutil.rmtree(self.parts_dir, ignore_errors=True)
             return
         if not self.parts_dir.is_dir():
             return
         for p in self.parts_dir.iterdir():
-            if p.name in (MANIFEST, SUCCESS) or _is_ours(p.name):
+            if p.name in (MANIFEST, SUCCESS, LEDGER) or _is_ours(p.name):
                 p.unlink()
 
     def remove_stale_temporaries(self) -> None:
-        """Delete half-written files left by a run killed with SIGKILL."""
+        """Delete half-written files left by a run killed with SIGKILL.
+
+        Called with the output's lock held, so no live run owns any of them:
+        the parts' temporaries and the final file's (``.OUT.<pid>.<token>.tmp``).
+        """
+        stale = list(self.target.parent.glob(f".{_glob_escape(self.target.name)}.*.tmp"))
         if self.parts_dir.is_dir():
-            for p in self.parts_dir.glob(".part-*.tmp*"):
-                with contextlib.suppress(FileNotFoundError):
-                    p.unlink()
+            stale += self.parts_dir.glob(".part-*.tmp*")
+        for p in stale:
+            with contextlib.suppress(FileNotFoundError):
+                p.unlink()
 
     def check_manifest(self, manifest: dict[str, Any]) -> None:
         """Write the manifest, or check it matches the one of the run being resumed."""
@@ -116,14 +281,30 @@ class Layout:
                 old = json.loads(self.manifest.read_text())
             except (OSError, ValueError) as exc:
                 raise BatchInputError(f"{self.manifest}: unreadable ({exc})") from None
-            diff = sorted(k for k in manifest.keys() | old.keys() if manifest.get(k) != old.get(k))
-            if diff:
-                raise BatchInputError(
-                    f"{self.target} was written from a different input or options "
-                    f"(changed: {', '.join(diff)}); pass --overwrite to redo it"
-                )
+            _compare(self.target, manifest, old)
             return
         write_json(self.manifest, manifest)
+
+
+def _compare(target: Path, manifest: dict[str, Any], old: Any) -> None:
+    old = old if isinstance(old, dict) else {}
+    diff = sorted(k for k in manifest if manifest.get(k) != old.get(k))
+    if diff:
+        raise BatchInputError(
+            f"{target} was written from a different input or options "
+            f"(changed: {', '.join(diff)}); pass --overwrite to redo it"
+        )
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def _glob_escape(name: str) -> str:
+    return "".join(f"[{c}]" if c in "*?[" else c for c in name)
 
 
 def plan_layout(out: str | os.PathLike[str], out_fmt: str | None) -> Layout:
@@ -204,7 +385,21 @@ def output_lock(path: Path, target: Path) -> Iterator[None]:
 
 def _acquire(path: Path, target: Path, fcntl: Any) -> int:
     while True:
-        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT | _NOFOLLOW, 0o600)
+        except OSError as exc:
+            if exc.errno != errno.ELOOP:
+                raise
+            raise BatchInputError(
+                f"{path}: the lock file is a symbolic link; remove it (optri never writes "
+                "through a link it did not make)"
+            ) from None
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode) or (hasattr(os, "geteuid") and st.st_uid != os.geteuid()):
+            os.close(fd)
+            raise BatchInputError(
+                f"{path}: the lock file is not a regular file of yours; remove it"
+            )
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:

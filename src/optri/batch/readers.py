@@ -71,23 +71,30 @@ def detect_input_format(path: str | os.PathLike[str], fmt: str | None = None) ->
 
 
 def open_layer(
-    path: str | os.PathLike[str], fmt: str | None = None
+    path: str | os.PathLike[str], fmt: str | None = None, layer: str | None = None
 ) -> tuple[Layer, Iterator[Item]]:
     """The layer header of ``path`` and a stream of its polygons as Items, in file order.
 
     For a FeatureCollection the header's CRS is filled in when its ``"crs"``
-    member is read (before the features, as GDAL writes it).
+    member is read (before the features, as GDAL writes it). ``layer`` names
+    the layer of a file holding several (GeoPackage).
     """
     p = Path(path)
     kind = detect_input_format(p, fmt)
     if not p.is_file():
         raise BatchInputError(f"{p}: no such file")
+    _check_layer_name(p, kind, layer)
     if kind == "ndjson":
         return Layer(kind), _read_ndjson(p)
     if kind == "geojson":
-        layer = Layer(kind, crs=GEOJSON_DEFAULT_CRS)
-        return layer, _read_feature_collection(p, layer)
-    return geo.open_arrow_layer(p, kind)
+        header = Layer(kind, crs=GEOJSON_DEFAULT_CRS)
+        return header, _read_feature_collection(p, header)
+    return geo.open_arrow_layer(p, kind, layer)
+
+
+def _check_layer_name(path: Path, kind: str, layer: str | None) -> None:
+    if layer is not None and kind not in ("gpkg", "fgb", "shp"):
+        raise BatchInputError(f"{path}: a {kind} file holds one layer; --layer is for GeoPackage")
 
 
 def read_items(path: str | os.PathLike[str], fmt: str | None = None) -> Iterator[Item]:
@@ -95,7 +102,9 @@ def read_items(path: str | os.PathLike[str], fmt: str | None = None) -> Iterator
     return open_layer(path, fmt)[1]
 
 
-def count_items(path: str | os.PathLike[str], fmt: str | None = None) -> int | None:
+def count_items(
+    path: str | os.PathLike[str], fmt: str | None = None, layer: str | None = None
+) -> int | None:
     """A quick count (or estimate) of the polygons in ``path``, for progress bars."""
     p = Path(path)
     kind = detect_input_format(p, fmt)
@@ -103,7 +112,7 @@ def count_items(path: str | os.PathLike[str], fmt: str | None = None) -> int | N
         return sum(1 for line in _binary_lines(p) if line.strip())
     if kind == "geojson":  # every feature carries "type": "Feature"
         return _count_bytes(p, b'"Feature"')
-    return geo.count_rows(p, kind)
+    return geo.count_rows(p, kind, layer)
 
 
 def item_from_geojson(obj: Any, index: int) -> Item:

@@ -78,6 +78,8 @@ class ChunkTask:
     objective: Any = "sum"
     method: str = "auto"
     project: str | None = None
+    #: Set on a one-polygon task cut from a chunk whose worker died: the polygon's position.
+    offset: int | None = None
 
     @property
     def options(self) -> SolveOptions:

@@ -4,12 +4,20 @@ All three backends run the same :func:`~optri.batch.records.solve_chunk` and han
 results back to the calling process, which alone writes part files. At most
 ``config.BATCH_IN_FLIGHT_PER_WORKER * workers`` chunks are queued at once, so memory does not
 grow with the input.
+
+A worker process that dies (killed by the system, as the out-of-memory killer
+does) loses the chunks it held, and with a process pool every chunk in flight.
+Those chunks are retried once, one at a time, so a chunk that kills its worker
+alone is known to be the culprit; it is then split into its polygons, each tried
+once alone, and a polygon that still kills its worker gets an error record that
+names it. Every chunk is tried at most three times, so a run always ends.
 """
 
 from __future__ import annotations
 
 import concurrent.futures as cf
 import contextlib
+import dataclasses
 import logging
 import multiprocessing
 import os
@@ -17,6 +25,7 @@ import select
 import signal
 import threading
 import time
+from collections import deque
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from typing import Any
@@ -24,12 +33,16 @@ from typing import Any
 from .. import config
 from .._optional import import_optional
 from ..errors import BatchInputError
-from .records import ChunkTask, solve_chunk
+from .records import ChunkTask, error_record, solve_chunk
 
 __all__ = ["Backend", "default_workers", "open_backend", "run_tasks"]
 
 
 Result = tuple[int, list[dict]]
+
+
+class WorkerDied(Exception):
+    """The process solving a task ended without an answer (killed, out of memory)."""
 
 
 def default_workers() -> int:
@@ -44,6 +57,8 @@ class Backend:
     """Submit chunk tasks and wait for any of them: the one interface every scheduler has."""
 
     workers = 1
+    #: A dead worker loses every task in flight (a process pool), not only its own.
+    shared_fate = False
 
     def submit(self, task: ChunkTask) -> Any:
         """Start ``task``; return a handle for :meth:`wait_any`."""
@@ -54,8 +69,11 @@ class Backend:
         raise NotImplementedError
 
     def result(self, handle: Any) -> Result:
-        """The ``(index, records)`` of a finished handle."""
+        """The ``(index, records)`` of a finished handle; :class:`WorkerDied` if none came."""
         return handle.result()
+
+    def recover(self) -> None:
+        """Be ready for new tasks after a worker died (a pool makes new processes)."""
 
     def cancel(self, handles: Iterable[Any]) -> None:
         """Drop work not yet started (on interruption)."""
@@ -76,8 +94,11 @@ class _Inline(Backend):
 
 
 class _Pool(Backend):
-    def __init__(self, executor: cf.ProcessPoolExecutor, workers: int) -> None:
-        self.executor, self.workers = executor, workers
+    shared_fate = True
+
+    def __init__(self, make: Callable[[], cf.ProcessPoolExecutor], workers: int) -> None:
+        self.make, self.workers = make, workers
+        self.executor = make()
 
     def submit(self, task: ChunkTask) -> Any:
         return self.executor.submit(solve_chunk, task)
@@ -85,6 +106,16 @@ class _Pool(Backend):
     def wait_any(self, handles: Iterable[Any]) -> set[Any]:
         done, _ = cf.wait(list(handles), return_when=cf.FIRST_COMPLETED)
         return set(done)
+
+    def result(self, handle: Any) -> Result:
+        try:
+            return handle.result()  # type: ignore[no-any-return]
+        except cf.process.BrokenProcessPool:
+            raise WorkerDied from None
+
+    def recover(self) -> None:
+        self.executor.shutdown(wait=True, cancel_futures=True)
+        self.executor = self.make()
 
 
 class _Dask(Backend):
@@ -97,8 +128,32 @@ class _Dask(Backend):
         return self.client.submit(solve_chunk, task, pure=False)
 
     def wait_any(self, handles: Iterable[Any]) -> set[Any]:
-        done, _ = self.distributed.wait(list(handles), return_when="FIRST_COMPLETED")
-        return set(done)
+        """Wait for a task; give up when the cluster has had no worker for a while."""
+        handles = list(handles)
+        alone = None
+        while True:
+            try:
+                done, _ = self.distributed.wait(
+                    handles, timeout=config.BATCH_DASK_POLL_SECONDS, return_when="FIRST_COMPLETED"
+                )
+                return set(done)
+            except TimeoutError:
+                pass
+            if self.client.scheduler_info().get("workers"):
+                alone = None
+                continue
+            alone = alone or time.monotonic()
+            if time.monotonic() - alone > config.BATCH_DASK_NO_WORKER_SECONDS:
+                raise BatchInputError(
+                    f"the Dask cluster has had no worker for "
+                    f"{config.BATCH_DASK_NO_WORKER_SECONDS:g} s; rerun to resume"
+                )
+
+    def result(self, handle: Any) -> Result:
+        try:
+            return handle.result()  # type: ignore[no-any-return]
+        except self.distributed.KilledWorker:
+            raise WorkerDied from None
 
 
 def _worker_init(parent: int) -> None:
@@ -164,13 +219,17 @@ def open_backend(scheduler: Any, workers: int | None) -> Iterator[Backend]:
         # forkserver: workers never inherit the progress bar's thread or locks
         methods = multiprocessing.get_all_start_methods()
         ctx = multiprocessing.get_context("forkserver" if "forkserver" in methods else None)
-        executor = cf.ProcessPoolExecutor(
-            n, mp_context=ctx, initializer=_worker_init, initargs=(os.getpid(),)
-        )
+
+        def make() -> cf.ProcessPoolExecutor:
+            return cf.ProcessPoolExecutor(
+                n, mp_context=ctx, initializer=_worker_init, initargs=(os.getpid(),)
+            )
+
+        pool = _Pool(make, n)
         try:
-            yield _Pool(executor, n)
+            yield pool
         finally:
-            executor.shutdown(wait=True, cancel_futures=True)
+            pool.executor.shutdown(wait=True, cancel_futures=True)
         return
     with _dask_client(scheduler, workers) as client:
         n = workers or max(1, len(client.scheduler_info().get("workers", {})))
@@ -185,13 +244,17 @@ def _dask_client(scheduler: Any, workers: int | None) -> Iterator[Any]:
     distributed = import_optional("distributed")
     if scheduler == "dask":
         n = workers or default_workers()
-        cluster = distributed.LocalCluster(
-            n_workers=n,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=None,
-            silence_logs=logging.ERROR,  # its INFO/WARNING chatter would bury the progress bar
-        )
+        dask = import_optional("dask")
+        # a task whose worker dies is retried this often by the scheduler, then KilledWorker
+        retries = {"distributed.scheduler.allowed-failures": config.BATCH_WORKER_RETRIES}
+        with dask.config.set(retries):
+            cluster = distributed.LocalCluster(
+                n_workers=n,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                silence_logs=logging.ERROR,  # its INFO/WARNING chatter would bury the progress bar
+            )
         with cluster, distributed.Client(cluster) as client:
             yield client
         return
@@ -213,30 +276,94 @@ def run_tasks(
     """Run every task on ``backend``, calling ``on_done(task, records)`` as each finishes.
 
     Keeps at most ``config.BATCH_IN_FLIGHT_PER_WORKER * backend.workers`` tasks submitted; on any
-    exception (KeyboardInterrupt included) work not yet started is cancelled.
+    exception (KeyboardInterrupt included) work not yet started is cancelled. Tasks lost
+    with a dead worker are retried as the module's docstring says.
     """
     limit = max(1, config.BATCH_IN_FLIGHT_PER_WORKER * backend.workers)
-    pending: dict[Any, ChunkTask] = {}
+    run = _Run(backend, on_done)
     try:
         for task in tasks:
-            pending[backend.submit(task)] = task
-            while len(pending) >= limit:
-                _collect(backend, pending, on_done)
-        while pending:
-            _collect(backend, pending, on_done)
+            run.pending[backend.submit(task)] = task
+            while len(run.pending) >= limit:
+                run.collect()
+            run.retry_lost()
+        while run.pending or run.lost:
+            if run.pending:
+                run.collect()
+            run.retry_lost()
     except BaseException:
-        backend.cancel(pending)
+        backend.cancel(run.pending)
         raise
 
 
-def _collect(
-    backend: Backend,
-    pending: dict[Any, ChunkTask],
-    on_done: Callable[[ChunkTask, list[dict]], None],
-) -> None:
-    # finish in index order among the done ones, so equal runs write parts alike
-    done = sorted(backend.wait_any(pending), key=lambda h: pending[h].index)
-    for handle in done:
-        task = pending.pop(handle)
-        _, records = backend.result(handle)
-        on_done(task, records)
+class _Run:
+    """The tasks in flight, those lost with a dead worker, and chunks solved polygon by polygon."""
+
+    def __init__(self, backend: Backend, on_done: Callable[[ChunkTask, list[dict]], None]):
+        self.backend, self.on_done = backend, on_done
+        self.pending: dict[Any, ChunkTask] = {}
+        self.lost: deque[ChunkTask] = deque()
+        # chunk index -> (the whole chunk, its records so far) while solved polygon by polygon
+        self.split: dict[int, tuple[ChunkTask, list[dict | None]]] = {}
+
+    def collect(self) -> None:
+        """Wait for some tasks; finish in index order among the done ones (equal runs alike)."""
+        backend, pending = self.backend, self.pending
+        done = sorted(backend.wait_any(pending), key=lambda h: pending[h].index)
+        for handle in done:
+            task = pending.pop(handle)
+            try:
+                _, records = backend.result(handle)
+            except WorkerDied:
+                self.lost.append(task)
+                if backend.shared_fate:  # the pool is broken: everything in it is lost
+                    self.lost.extend(pending[h] for h in sorted(pending, key=lambda h: id(h)))
+                    pending.clear()
+                    backend.recover()
+                    return
+                continue
+            self.finish(task, records)
+
+    def retry_lost(self) -> None:
+        """Once nothing else runs, retry each lost task alone, so a death names its culprit."""
+        if not self.lost or self.pending:
+            return
+        while self.lost:
+            task = self.lost.popleft()
+            handle = self.backend.submit(task)
+            self.pending[handle] = task
+            self.backend.wait_any([handle])
+            del self.pending[handle]
+            try:
+                _, records = self.backend.result(handle)
+            except WorkerDied:
+                self.backend.recover()
+                self.lost.extendleft(reversed(self.blame(task)))
+                continue
+            self.finish(task, records)
+
+    def blame(self, task: ChunkTask) -> list[ChunkTask]:
+        """A task that killed its worker alone: its polygons one by one, or an error record."""
+        if len(task.items) > 1 and task.offset is None:
+            self.split[task.index] = (task, [None] * len(task.items))
+            return [
+                dataclasses.replace(task, items=[item], offset=k)
+                for k, item in enumerate(task.items)
+            ]
+        item = task.items[0]
+        reason = (
+            f"the worker process died while solving polygon {item.id!r} (killed by the "
+            "system, for example for lack of memory); it was retried once"
+        )
+        self.finish(task, [error_record(item.id, reason)])
+        return []
+
+    def finish(self, task: ChunkTask, records: list[dict]) -> None:
+        if task.offset is None:
+            self.on_done(task, records)
+            return
+        whole, got = self.split[task.index]
+        got[task.offset] = records[0]
+        if all(r is not None for r in got):
+            del self.split[task.index]
+            self.on_done(whole, [r for r in got if r is not None])

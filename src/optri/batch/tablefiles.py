@@ -12,8 +12,10 @@ feature's box in memory.
 from __future__ import annotations
 
 import contextlib
+import errno
 import json
 import os
+import shutil
 import warnings
 from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
@@ -21,7 +23,8 @@ from typing import Any
 
 from .. import config
 from .._optional import import_optional
-from ..io.atomic import atomic_write
+from ..errors import BatchInputError
+from ..io.atomic import atomic_write, kept_mode
 from .layer import Layer
 from .tables import GEOMETRY, conform, geo_metadata, has_z, records_table, unify
 
@@ -106,11 +109,28 @@ def _write_ogr(
                 crs=_wkt(layer.crs),
                 layer_options=_LAYER_OPTIONS.get(fmt),
             )
+        bits = kept_mode(path)
+        if bits is not None:
+            os.chmod(tmp, bits)
         os.replace(tmp, path)
+    except pyogrio.errors.DataLayerError as exc:  # GDAL says "failed", seldom why
+        raise BatchInputError(f"{path}: cannot write ({_why(exc, temp_dir)})") from None
     finally:
         for name in (str(tmp), *(str(tmp) + s for s in _SIDECARS)):
             with contextlib.suppress(FileNotFoundError):
                 os.unlink(name)
+
+
+def _why(exc: Exception, folder: Path) -> str:
+    """GDAL's message, and the free space when the disk is what failed."""
+    text = " ".join(str(exc).split())
+    try:
+        free = shutil.disk_usage(folder).free
+    except OSError:
+        return text
+    if free < config.BATCH_FULL_DISK_BYTES and os.strerror(errno.ENOSPC) not in text:
+        text = f"{os.strerror(errno.ENOSPC)}: {free} bytes free; GDAL: {text}"
+    return text
 
 
 def _wkt(crs: str | None) -> str | None:

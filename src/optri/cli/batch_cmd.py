@@ -33,6 +33,7 @@ __all__ = ["batch_command"]
     legacy="--out",
 )
 @click.option("--format", "fmt", type=click.Choice(list(INPUT_FORMATS)), help="Input format.")
+@click.option("--layer", help="The layer to read, in a GeoPackage holding several.")
 @click.option(
     "--out-format",
     type=click.Choice(list(OUTPUT_FORMATS)),
@@ -58,6 +59,7 @@ def batch_command(
     inp: str,
     output: str,
     fmt: str | None,
+    layer: str | None,
     out_format: str | None,
     weight: str,
     objective: str,
@@ -105,6 +107,7 @@ def batch_command(
                 fmt=fmt,
                 out_fmt=out_format,
                 project=project,
+                layer=layer,
             )
         except BatchFailedError as exc:
             _report(exc.summary, as_json, f"optri: {exc.summary}")

@@ -19,17 +19,22 @@ from .options import output_option
     required=False,
 )
 @click.option("--json", "as_json", is_flag=True, help="Print {name: path} as one JSON object.")
-def data_command(names: tuple[str, ...], output: str | None, as_json: bool) -> None:
+@click.option(
+    "--overwrite", is_flag=True, help="With -o: replace files of the same name with other contents."
+)
+def data_command(
+    names: tuple[str, ...], output: str | None, as_json: bool, overwrite: bool
+) -> None:
     """Locate or copy the bundled sample files.
 
     With no NAMES, list every sample and its path; with NAMES, print each path
     (for the shell: optri solve "$(optri data octagon.csv)"). With -o DIR, copy
     them into DIR: "optri data -o examples" makes the README's commands work in
-    any folder.
+    any folder; a file of yours there is never replaced without --overwrite.
     """
     chosen = list(names) or samples.names()
     if output is not None:
-        paths = [str(p) for p in samples.copy_to(output, chosen)]
+        paths = [str(p) for p in samples.copy_to(output, chosen, overwrite)]
     else:
         paths = [str(samples.path(name)) for name in chosen]
     if as_json:

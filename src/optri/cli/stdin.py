@@ -3,19 +3,20 @@
 Mesh files and batch layers are read by libraries that take a path and tell the
 format by its suffix, so ``-`` is copied into a temporary folder under a name
 whose suffix is the format told from the first bytes. The folder is removed on
-every way out (success, error, Ctrl-C, SIGTERM: both unwind).
+every way out (success, error, Ctrl-C, SIGTERM: both unwind). Standard input is
+read up to ``$OPTRI_MAX_INPUT_BYTES`` (:func:`optri.io.files.max_input_bytes`).
 """
 
 from __future__ import annotations
 
 import contextlib
 import shutil
-import sys
 import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from ..errors import InvalidPolygonError
+from ..io.files import copy_stdin
 
 __all__ = [
     "contour_input",
@@ -77,9 +78,12 @@ def sniff_layer(head: bytes) -> str:
 def _spooled(suffix_of: object) -> Iterator[Path]:
     folder = tempfile.mkdtemp(prefix="optri-stdin-")
     try:
-        data = sys.stdin.buffer.read()
-        path = Path(folder) / f"stdin.{suffix_of(data[:65536])}"  # type: ignore[operator]
-        path.write_bytes(data)
+        spool = Path(folder) / "stdin"
+        with open(spool, "wb") as fh:  # streamed to disk, up to the input limit
+            copy_stdin(fh)
+        with open(spool, "rb") as fh:
+            head = fh.read(65536)
+        path = spool.rename(Path(folder) / f"stdin.{suffix_of(head)}")  # type: ignore[operator]
         yield path
     finally:
         shutil.rmtree(folder, ignore_errors=True)

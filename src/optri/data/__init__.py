@@ -33,7 +33,7 @@ import os
 from collections.abc import Iterable
 from pathlib import Path
 
-from ..errors import UnknownSampleError
+from ..errors import OutputExistsError, UnknownSampleError
 from ..io.atomic import atomic_write
 
 __all__ = ["copy_to", "names", "path"]
@@ -91,15 +91,23 @@ def path(name: str) -> Path:
     return _HERE / name
 
 
-def copy_to(directory: str | os.PathLike[str], which: Iterable[str] | None = None) -> list[Path]:
+def copy_to(
+    directory: str | os.PathLike[str],
+    which: Iterable[str] | None = None,
+    overwrite: bool = False,
+) -> list[Path]:
     """Copy sample files into ``directory`` (created if missing), each written atomically.
 
     Parameters
     ----------
     directory : str or path-like
-        Where the copies go; an existing file of the same name is replaced.
+        Where the copies go. A file already there with the sample's bytes is
+        left as it is; one with other bytes (a file of yours) is replaced only
+        with ``overwrite``.
     which : iterable of str, optional
         Names to copy (default: all of :func:`names`).
+    overwrite : bool
+        Replace files of the same name whatever they hold.
 
     Returns
     -------
@@ -110,6 +118,9 @@ def copy_to(directory: str | os.PathLike[str], which: Iterable[str] | None = Non
     ------
     UnknownSampleError
         One of ``which`` is not a bundled file; nothing is written then.
+    OutputExistsError
+        ``directory`` holds a different file of a sample's name and
+        ``overwrite`` is false; nothing is written then.
 
     Examples
     --------
@@ -118,10 +129,26 @@ def copy_to(directory: str | os.PathLike[str], which: Iterable[str] | None = Non
     ['octagon.csv']
     """
     sources = [path(name) for name in (names() if which is None else which)]
-    written = []
-    for source in sources:
-        target = Path(directory) / source.name
-        with atomic_write(target, "wb") as fh:
-            fh.write(source.read_bytes())
-        written.append(target)
-    return written
+    targets = [Path(directory) / source.name for source in sources]
+    if not overwrite:
+        theirs = [t for s, t in zip(sources, targets) if _differs(t, s)]
+        if theirs:
+            raise OutputExistsError(
+                f"{', '.join(map(str, theirs))}: already there with other contents; "
+                "pass --overwrite (overwrite=True) to replace, or copy elsewhere"
+            )
+    for source, target in zip(sources, targets):
+        if overwrite or not target.exists() or _differs(target, source):
+            with atomic_write(target, "wb") as fh:
+                fh.write(source.read_bytes())
+    return targets
+
+
+def _differs(target: Path, source: Path) -> bool:
+    """True when ``target`` exists (as anything) and is not a copy of ``source``."""
+    if not os.path.lexists(target):
+        return False
+    try:
+        return target.is_symlink() or target.read_bytes() != source.read_bytes()
+    except OSError:
+        return True

@@ -120,13 +120,15 @@ def solve_program(
         return Outcome(None, math.inf, "infeasible")
     a, lo, hi = rows
     c = np.zeros(len(tris)) if costs is None else np.asarray(costs, dtype=np.float64)
+    scale = cost_scale(c)
+    c = c * scale  # a power of two: exact, and undone exactly on the bounds
     start = time.perf_counter()
     lp = _milp(opt, c, a, lo, hi, False, time_limit)
     if lp.status == 2:
         return Outcome(None, math.inf, "infeasible")
     if lp.status != 0:
         return Outcome(None, -math.inf, "limit")
-    bound = float(lp.fun)
+    bound = float(lp.fun) / scale
     chosen = _integral(lp.x, a, lo, hi, tris)
     if chosen is not None:
         return Outcome(chosen, bound, "optimal")
@@ -140,9 +142,28 @@ def solve_program(
     chosen = None if res.x is None else _integral(np.round(res.x), a, lo, hi, tris)
     dual = getattr(res, "mip_dual_bound", None)
     if dual is not None and np.isfinite(dual):
-        bound = max(bound, float(dual))
+        bound = max(bound, float(dual) / scale)
     status = "optimal" if res.status == 0 and chosen is not None else "limit"
     return Outcome(chosen, bound, status, nodes)
+
+
+def cost_scale(costs: NDArray[np.float64]) -> float:
+    """The power of two that brings the largest ``|cost|`` to ``2**config.DOMAIN_COST_EXPONENT``.
+
+    HiGHS's tolerances are absolute (about ``1e-7`` on reduced costs, ``1e-6`` on
+    the branch-and-bound gap), so a program posed in the data's own units
+    (polygons in degrees have triangle weights near ``1e-9``) is "optimal" while
+    far from it. Scaled, the program is the same at every scale of the input and
+    the tolerances sit many orders of magnitude below the proven tolerance
+    ``config.DOMAIN_PROVEN_RTOL``. A power of two scales every cost exactly.
+
+    >>> cost_scale(np.array([0.75, 0.5])) == 2.0**20, cost_scale(np.zeros(2))
+    (True, 1.0)
+    """
+    top = float(np.abs(costs).max(initial=0.0))
+    if not (top > 0.0 and math.isfinite(top)):
+        return 1.0
+    return math.ldexp(1.0, config.DOMAIN_COST_EXPONENT - math.frexp(top)[1])
 
 
 def _milp(

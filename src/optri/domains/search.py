@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import config
-from ..errors import MissingDependencyError, NoTriangulationError
+from ..errors import MissingDependencyError, NoTriangulationError, WeightError
 from .bounds import max_floor, sum_floor
 from .bridge import bridge_block
 from .candidates import Candidates
@@ -86,9 +86,19 @@ class Found:
 
 
 def total(values: NDArray[np.float64], component: str) -> float:
-    """Sum (exactly rounded) or maximum of triangle weights; ``-inf`` for none under max."""
+    """Sum (exactly rounded) or maximum of triangle weights; ``-inf`` for none under max.
+
+    Raises :class:`~optri.errors.WeightError` when a sum of finite weights passes
+    float64's range (its rounded value would be infinite: no optimum to compare).
+    """
     if component == "sum":
-        return float(math.fsum(values.tolist()))
+        try:
+            return float(math.fsum(values.tolist()))
+        except OverflowError:
+            raise WeightError(
+                "the triangle weights sum past float64's range (about 1.8e308); "
+                "scale the coordinates down"
+            ) from None
     return float(values.max()) if len(values) else -math.inf
 
 
@@ -123,8 +133,8 @@ def solve_component(
 
 
 def _meets(value: float, bound: float) -> bool:
-    """``value`` is within the proven tolerance of its lower ``bound``."""
-    return value - bound <= config.DOMAIN_PROVEN_RTOL * max(1.0, abs(value))
+    """``value`` is within the proven tolerance of its lower ``bound``, relative at every scale."""
+    return value - bound <= config.DOMAIN_PROVEN_RTOL * abs(value)
 
 
 def _block(
@@ -203,8 +213,10 @@ def _sum_block(
             "no triangulation of the polygon with holes satisfies the constraints"
         )
     if out.status == "optimal" and out.chosen is not None:
+        # re-checked in float64 against the pieces' own weights, not the solver's word
         value = total(setup.values[out.chosen, c], "sum")
-        return Found(out.chosen, value, value, True)
+        if _meets(value, out.bound):
+            return Found(out.chosen, value, value, True)
     setup.parts.add("bridge")
     options = ([] if out.chosen is None else [out.chosen]) + fallbacks()
     floor = sum_floor(setup.cand, block, fixed, setup.values[:, c])

@@ -6,11 +6,24 @@ import contextlib
 import json
 import os
 import secrets
+import stat
 from collections.abc import Iterator
 from pathlib import Path
 from typing import IO, Any
 
-__all__ = ["atomic_write", "write_json"]
+__all__ = ["atomic_write", "kept_mode", "write_json"]
+
+
+def kept_mode(target: str | os.PathLike[str]) -> int | None:
+    """The permission bits of an existing ``target`` (None: there is none), for its replacement.
+
+    A private (0600) file replaced by a new one made under the umask would
+    become readable by others: every replacement gets the old file's bits.
+    """
+    try:
+        return stat.S_IMODE(os.stat(target).st_mode)
+    except (FileNotFoundError, NotADirectoryError):
+        return None
 
 
 @contextlib.contextmanager
@@ -18,7 +31,8 @@ def atomic_write(path: str | os.PathLike[str], mode: str = "w") -> Iterator[IO[A
     """Open a temporary file beside ``path``; rename it over ``path`` on success.
 
     On any exception (or interruption) the temporary file is removed and an
-    existing ``path`` is left untouched. The temporary's name (this process's
+    existing ``path`` is left untouched; a replaced ``path`` keeps its
+    permission bits (:func:`kept_mode`). The temporary's name (this process's
     id and a random token) is chosen before the file is made, inside the guard
     that removes it, so a Ctrl-C or SIGTERM at any moment, even as the file
     comes into being, leaves nothing behind.
@@ -46,6 +60,9 @@ def atomic_write(path: str | os.PathLike[str], mode: str = "w") -> Iterator[IO[A
             yield fh
             fh.flush()
             os.fsync(fh.fileno())
+            bits = kept_mode(target)
+            if bits is not None:
+                os.chmod(fh.fileno(), bits)
         os.replace(tmp, target)
     except BaseException:
         if ours:

@@ -9,11 +9,13 @@ import re
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import BinaryIO
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import InvalidPolygonError
+from .. import config
+from ..errors import InvalidParameterError, InvalidPolygonError
 from .delimited import parse_delimited
 from .geo import rings_from_geojson, rings_from_wkt
 
@@ -85,6 +87,62 @@ def read_rings(
     return [parse_delimited(text, str(p), columns)]
 
 
+#: Environment variable: the most bytes read from standard input (a number; ``k``, ``M``,
+#: ``G`` suffixes allowed). Input that never ends stops there with a clear error.
+MAX_INPUT_ENV = "OPTRI_MAX_INPUT_BYTES"
+_UNITS = {"": 1, "K": 2**10, "M": 2**20, "G": 2**30, "T": 2**40}
+
+
+def max_input_bytes() -> int:
+    """The limit on standard input: ``$OPTRI_MAX_INPUT_BYTES`` or ``config.MAX_INPUT_BYTES``.
+
+    >>> max_input_bytes() > 0
+    True
+    """
+    text = os.environ.get(MAX_INPUT_ENV, "").strip().upper().removesuffix("B")
+    if not text:
+        return config.MAX_INPUT_BYTES
+    unit = text[-1] if text[-1] in _UNITS else ""
+    try:
+        value = int(text[: len(text) - len(unit)]) * _UNITS[unit]
+    except ValueError:
+        value = 0
+    if value <= 0:
+        raise InvalidParameterError(
+            f"{MAX_INPUT_ENV}={os.environ[MAX_INPUT_ENV]!r}: give a positive number of bytes "
+            "(suffixes K, M, G allowed)"
+        )
+    return value
+
+
+def copy_stdin(out: BinaryIO | None = None) -> bytes:
+    """Read standard input up to :func:`max_input_bytes`, into ``out`` (or returned).
+
+    Raises
+    ------
+    InvalidPolygonError
+        The input goes on past the limit (it may never end: ``yes | optri solve -``).
+    """
+    limit = max_input_bytes()
+    chunks, size = [], 0
+    src = sys.stdin.buffer
+    while True:
+        block = src.read(min(1 << 20, limit + 1 - size))
+        if not block:
+            break
+        size += len(block)
+        if size > limit:
+            raise InvalidPolygonError(
+                f"standard input is longer than {limit} bytes; pass a file, or raise the "
+                f"limit with {MAX_INPUT_ENV}"
+            )
+        if out is None:
+            chunks.append(block)
+        else:
+            out.write(block)
+    return b"".join(chunks)
+
+
 def read_text(path: str | os.PathLike[str]) -> str:
     """The text of a file (``"-"``: standard input), by :func:`decode_text`.
 
@@ -95,7 +153,7 @@ def read_text(path: str | os.PathLike[str]) -> str:
     """
     try:
         if str(path) == STDIN:
-            data = sys.stdin.buffer.read()
+            data = copy_stdin()
         else:
             data = Path(path).read_bytes()
     except OSError as exc:
