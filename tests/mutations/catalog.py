@@ -45,6 +45,9 @@ DOM_BRUTE = "tests/test_domains_brute.py"
 DOM_INV = "tests/test_domains_invariants.py"
 DOM_CAND = "tests/test_domains_candidates.py"
 BATCH_HOLES = "tests/test_batch_formats.py"
+CONTOURS_TILING = "tests/test_contours_tiling.py"
+CONTOURS_MESH = "tests/test_contours_mesh.py"
+CONTOURS_CLI = "tests/test_contours_cli.py"
 
 MUTATIONS: list[Mutation] = [
     # --- the list: two-phase rule, ties, check(), CLI errors, 3-D limit ---------
