@@ -234,7 +234,6 @@ def fill_holes(
     for h, loop in enumerate(loops):
         rec, patch = _fill_one(h, vertices, loop, joined, max_hole_edges, weight, method)
         if patch is not None:
-            joined.add(patch)
             if refine:
                 scales = boundary_scales(vertices, faces, loop.vertices)
                 forbidden = joined.pairs_among(loop.vertices)
