@@ -8,7 +8,6 @@ backend's own hook; a build without a C++ compiler must fail with one clear line
 
 from __future__ import annotations
 
-import importlib
 import re
 import shutil
 import subprocess
