@@ -261,41 +261,6 @@ def test_heavy_packages_load_only_in_kernel_modules_or_on_use():
     assert eager == []
 
 
-def test_kernel_modules_compile_only_hashed_sources():
-    from optri.engines.compiled import KERNEL_SOURCES
-
-    hashed = tuple("optri." + s.removesuffix(".py").replace("/", ".") for s in KERNEL_SOURCES)
-    unhashed = [
-        f"{n} -> {t}"
-        for n in KERNEL_MODULES
-        for t in MODS[n].top
-        if not t.startswith(hashed) and not (n == "optri.engines.compiled" and t == "optri.config")
-    ]
-    assert unhashed == []
-
-
-def test_source_hash_changes_with_any_kernel_source(tmp_path):
-    from optri.engines.compiled import KERNEL_SOURCES, source_hash
-
-    pkg = tmp_path / "optri"
-    for entry in KERNEL_SOURCES:
-        src = PACKAGE / entry
-        dst = pkg / entry
-        if src.is_dir():
-            for f in src.rglob("*.py"):
-                (dst / f.relative_to(src)).parent.mkdir(parents=True, exist_ok=True)
-                (dst / f.relative_to(src)).write_bytes(f.read_bytes())
-        else:
-            dst.parent.mkdir(parents=True, exist_ok=True)
-            dst.write_bytes(src.read_bytes())
-    before = source_hash(pkg)
-    assert before == source_hash(PACKAGE)
-    weights = pkg / "weights.py"
-    weights.write_text(weights.read_text() + "\n# edited\n")
-    source_hash.cache_clear()
-    assert source_hash(pkg) != before
-
-
 def test_at_most_twelve_modules_at_the_top():
     top = [p.name for p in PACKAGE.glob("*.py") if p.name not in ("__init__.py", "__main__.py")]
     assert len(top) <= 12, sorted(top)

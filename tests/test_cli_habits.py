@@ -349,37 +349,27 @@ def test_the_compile_notice_is_printed_once_per_run():
         announce_compile()  # nobody listening: nothing printed, nothing raised
 
 
-_KERNEL_MODULE = """
-from optri.engines.compiled import kernel
-
-@kernel()
-def plus_one(x):
-    return x + 1
-"""
-_COMPILE_RUN = """
-import sys, click
-sys.path.insert(0, sys.argv[1])
-from optri.cli.progress import compile_notice
-
-@click.command()
-def run():
-    with compile_notice():
-        import tiny_kernel
-        tiny_kernel.plus_one(41)
-
-run([])
-"""
-
-
-def test_a_real_first_compile_is_announced_and_a_cached_one_is_not(tmp_path):
+def test_a_user_numba_weight_is_announced_and_a_built_in_one_is_not(tmp_path):
     pytest.importorskip("numba")
-    (tmp_path / "tiny_kernel.py").write_text(_KERNEL_MODULE)
-    env = checkout_env(NUMBA_CACHE_DIR=str(tmp_path / "cache"))  # fresh: numba must compile
-    args = [sys.executable, "-c", _COMPILE_RUN, str(tmp_path)]
-    first = subprocess.run(args, capture_output=True, text=True, env=env, timeout=300)
-    assert first.returncode == 0 and first.stderr == COMPILE_NOTICE + "\n", first.stderr
-    again = subprocess.run(args, capture_output=True, text=True, env=env, timeout=300)
-    assert again.returncode == 0 and again.stderr == ""  # served from the disk cache
+    code = (
+        "import click, numba, numpy as np, optri\n"
+        "from optri.cli.progress import compile_notice\n"
+        "@numba.njit\n"
+        "def w(v, i, k, j):\n"
+        "    return abs(v[i, 0] - v[j, 0])\n"
+        "t = np.linspace(0, 2 * np.pi, 130, endpoint=False)\n"
+        "P = np.column_stack([np.cos(t), np.sin(t)])\n"
+        "@click.command()\n"
+        "def run():\n"
+        "    with compile_notice():\n"
+        "        optri.triangulate(P, 'area', method='fast')\n"
+        "        optri.triangulate(P, optri.custom_weight(w), method='fast')\n"
+        "run([])\n"
+    )
+    env = checkout_env(NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
+                         timeout=300)
+    assert res.returncode == 0 and res.stderr == COMPILE_NOTICE + "\n", res.stderr
 
 
 def test_solve_announces_a_compile_during_its_run(monkeypatch):

@@ -19,7 +19,7 @@ MEMORY_FRACTION = 0.8
 #: Hard override of the memory ceiling in bytes (None: ask the OS).
 MEMORY_LIMIT_BYTES: int | None = None
 #: Allocations smaller than this are not checked against the OS's counters (reading them
-#: costs 20-80 us, a tenth of a small polygon's solve): Python, numpy and numba already
+#: costs 20-80 us, a tenth of a small polygon's solve): Python and numpy already
 #: take several times as much. ``MEMORY_LIMIT_BYTES``, when set, is checked at every size.
 MEMORY_CHECK_MIN_BYTES = 32 << 20
 #: A table of the compiled engine this large or larger is kept this many seconds after
@@ -123,8 +123,8 @@ GPU_MAX_BLOCKS = 65535
 GPU_MEMORY_FRACTION = 0.9
 #: Hard override of the device memory ceiling in bytes (None: ask the device).
 GPU_MEMORY_LIMIT_BYTES: int | None = None
-#: ``method="auto"`` leaves smaller problems to the Python engines: loading numba and the
-#: cached kernels takes about 0.8 s of CPU, longer than the whole Python DP below ~150.
+#: ``method="auto"`` leaves smaller problems to the Python engines, whose results small
+#: polygons have always had (the min-plus table's sums can differ in the last bit).
 FAST_AUTO_MIN_N = 120
 #: Compiled engine: below this n the min-plus fill runs on one thread. A parallel region
 #: ends when every thread has finished, which on a busy machine waits for a descheduled
@@ -154,9 +154,6 @@ FAST_WATCH_WORK = 2e9
 MASK_WATCH_MIN_N = 2000
 #: Compiled engine: seconds between progress reports of a watched fill.
 FAST_PROGRESS_SECONDS = 0.1
-#: Compiled kernels: cache folder when NUMBA_CACHE_DIR is unset (None: beside the package,
-#: else ~/.cache/optri); read once, when the first kernel module loads.
-JIT_CACHE_DIR: str | None = None
 
 #: Polygons with holes: default ``time_limit`` of the search in seconds (None: no limit).
 DOMAIN_TIME_LIMIT: float | None = None

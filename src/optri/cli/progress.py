@@ -4,8 +4,8 @@ The bar appears once a run has taken ``config.CLI_PROGRESS_DELAY`` seconds
 (about one), whatever the input's size, and only on a terminal; it speaks the
 library's ``progress(done, total)`` protocol and pulses with the elapsed time
 while no report has come. The compile notice is one line, once per process,
-printed when numba starts compiling a kernel that is not in its disk cache
-(numba's "numba:compile" event, which fires only on a cache miss).
+printed when numba compiles a user's own ``numba.njit`` weight for the compiled
+core (built-in weights run on code compiled with the package: no notice).
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from ..engines.progress import on_compile
 
 __all__ = ["COMPILE_NOTICE", "announce", "compile_notice", "progress_bar"]
 
-COMPILE_NOTICE = "optri: compiling kernels (first run only)..."
+COMPILE_NOTICE = "optri: compiling your numba weight..."
 _ANNOUNCED: dict[str, bool] = {}  # outside a click context (another thread)
 
 

@@ -37,7 +37,7 @@ from ..weights import Weight, WeightCode, compiled_weight_error, edge_weight
 from .interrupts import interruptible, watched
 from .memory import new_table, release_table, require_memory
 from .problem import Problem, Solution, with_sides
-from .progress import diagonal_work, table_work, tile_work, work_reporter
+from .progress import announce_compile, diagonal_work, table_work, tile_work, work_reporter
 from .threads import threads_for
 
 __all__ = [
@@ -408,6 +408,7 @@ def _cfunc(func: Any, ndim: int) -> Any:
     import numba
     from numba import types
 
+    announce_compile()  # the one compilation left: the user's own numba weight
     signature = types.float64(
         types.CPointer(types.float64),
         types.CPointer(types.int64),

@@ -7,7 +7,7 @@ length, by tile, by recursion). Counted in chords, a bar read 38-52 % a quarter
 of the way through a fill and 62-74 % halfway; in split evaluations, 19-24 %
 and 42-49 % (the compiled engine counts a tile once it is finished).
 
-Also the compile hook: :mod:`optri.engines.compiled` calls :func:`announce_compile`
+Also the compile hook: the compiled engine calls :func:`announce_compile`
 when numba starts compiling a kernel (no cached copy on disk), and whoever
 registered with :func:`on_compile` (the CLI's "compiling kernels" line) hears of
 it, without importing numba itself.
@@ -50,7 +50,7 @@ def on_compile(callback: Callable[[], None]) -> Callable[[], None]:
 
 
 def announce_compile() -> None:
-    """Tell the :func:`on_compile` listeners that numba is compiling a kernel."""
+    """Tell the :func:`on_compile` listeners that numba is compiling a user's weight."""
     for callback in list(_COMPILE_LISTENERS):
         callback()
 
