@@ -194,28 +194,9 @@ void fill_tiles(const Tables<T>& tb, const Problem& pr, Flags& flags, int64_t ti
 template <class T>
 int64_t trace(const Tables<T>& tb, const Problem& pr, Flags& flags, int64_t* tris,
               int64_t bad[2]) {
-    const int64_t n = tb.n;
-    bad[0] = bad[1] = -1;
-    if (n < 2) return 0;
-    std::vector<int64_t> stack(2 * static_cast<size_t>(n) + 2);
-    int64_t top = 1, m = 0;
-    stack[0] = 0, stack[1] = n - 1;
-    while (top > 0) {
-        --top;
-        const int64_t i = stack[2 * top], j = stack[2 * top + 1];
-        if (j - i < 2) continue;
-        const int64_t k = best_split(tb, pr, flags, i, j).k;
-        if (k <= i || k >= j || m >= n - 2) {
-            bad[0] = i, bad[1] = j;
-            return m;
-        }
-        tris[3 * m] = i, tris[3 * m + 1] = k, tris[3 * m + 2] = j;
-        ++m;
-        stack[2 * top] = k, stack[2 * top + 1] = j;
-        stack[2 * top + 2] = i, stack[2 * top + 3] = k;
-        top += 2;
-    }
-    return m;
+    return walk(
+        tb.n, [&](int64_t i, int64_t j) { return best_split(tb, pr, flags, i, j).k; }, tris,
+        bad);
 }
 
 template <class T>

@@ -92,8 +92,38 @@ template <class T>
 void fill_tiles(const Tables<T>& tables, const Problem& pr, Flags& flags, int64_t tile,
                 int threads, const int64_t* stop, int64_t* reached);
 
+// The bounded walk from chord (0, n-1) down, each chord's split from split(i, j): the
+// triangles into tris (room for (n - 2) x 3, rows i < k < j); returns their count.
+// bad = (i, j) of the first chord whose split lies outside it (or one split too many:
+// a corrupt table never loops), else (-1, -1). Shared by trace and the many-polygon
+// kernel's min-plus walk.
+template <class Split>
+int64_t walk(int64_t n, Split split, int64_t* tris, int64_t bad[2]) {
+    bad[0] = bad[1] = -1;
+    if (n < 2) return 0;
+    std::vector<int64_t> stack(2 * static_cast<size_t>(n) + 2);
+    int64_t top = 1, m = 0;
+    stack[0] = 0, stack[1] = n - 1;
+    while (top > 0) {
+        --top;
+        const int64_t i = stack[2 * top], j = stack[2 * top + 1];
+        if (j - i < 2) continue;
+        const int64_t k = split(i, j);
+        if (k <= i || k >= j || m >= n - 2) {
+            bad[0] = i, bad[1] = j;
+            return m;
+        }
+        tris[3 * m] = i, tris[3 * m + 1] = k, tris[3 * m + 2] = j;
+        ++m;
+        stack[2 * top] = k, stack[2 * top + 1] = j;
+        stack[2 * top + 2] = i, stack[2 * top + 3] = k;
+        top += 2;
+    }
+    return m;
+}
+
 // Optimal triangles from chord (0, n-1) down into tris (room for (n - 2) x 3, rows
-// i < k < j); returns their count. bad = (i, j) of a chord with no finite split, else
+// i < k < j): walk() over the recurrence's best splits; returns their count. bad = (i, j) of a chord with no finite split, else
 // (-1, -1). Re-scans only the O(n) cells on the optimal path.
 template <class T>
 int64_t trace(const Tables<T>& tables, const Problem& pr, Flags& flags, int64_t* tris,

@@ -168,28 +168,6 @@ bool is_simple(const double* x, const double* y, int64_t n) {
     return true;
 }
 
-// trace's bounded walk from chord (0, n-1), each split from split(i, j); the count of
-// triangles written (n - 2 when whole), or -1 on a split outside its chord.
-template <class Split>
-int64_t walk(int64_t n, Split split, int64_t* tris) {
-    std::vector<int64_t> stack(2 * static_cast<size_t>(n));
-    int64_t top = 1, m = 0;
-    stack[0] = 0, stack[1] = n - 1;
-    while (top > 0) {
-        --top;
-        const int64_t i = stack[2 * top], j = stack[2 * top + 1];
-        if (j - i < 2) continue;
-        const int64_t k = split(i, j);
-        if (k <= i || k >= j || m >= n - 2) return -1;
-        tris[3 * m] = i, tris[3 * m + 1] = k, tris[3 * m + 2] = j;
-        ++m;
-        stack[2 * top] = k, stack[2 * top + 1] = j;
-        stack[2 * top + 2] = i, stack[2 * top + 3] = k;
-        top += 2;
-    }
-    return m;
-}
-
 // The optimum of the CCW polygon in sc.pts by the recurrence: false when it has no
 // finite optimum or its walk is inconsistent. Triangles into sc.tris.
 bool optimum(const Settings& st, bool minplus, const uint8_t* mask, int64_t n, Scratch& sc,
@@ -202,10 +180,11 @@ bool optimum(const Settings& st, bool minplus, const uint8_t* mask, int64_t n, S
     if (minplus) {
         minplus::fill_serial<double>(T, n, pts, st.code, mask);
         cost = T[n - 1] - edge_weight(st.code, pts, 0, n - 1);
-        const int64_t m = walk(
+        int64_t bad[2];
+        const int64_t m = generic::walk(
             n, [&](int64_t i, int64_t j) { return minplus::split<double>(T, n, i, j, false); },
-            sc.tris.data());
-        ok = m == n - 2;
+            sc.tris.data(), bad);
+        ok = bad[0] < 0 && m == n - 2;
     } else {
         generic::Problem pr;
         pr.pts = pts;
