@@ -39,8 +39,15 @@ def intersecting_pairs(
         return np.empty((0, 2), dtype=np.int64)
     flo, fhi = v[f].min(axis=1), v[f].max(axis=1)
     plo, phi = v[p].min(axis=1), v[p].max(axis=1)
-    span = float(np.ptp(v[np.unique(np.concatenate([f.ravel(), p.ravel()]))], axis=0).max())
+    lo = np.minimum(flo.min(axis=0), plo.min(axis=0))
+    span = float((np.maximum(fhi.max(axis=0), phi.max(axis=0)) - lo).max())
     pad = _EPS * max(span, 1e-300)
+    # only faces whose box meets the whole patch's box can meet one of its faces' boxes:
+    # one vectorized test, so the scan below runs over the patch's neighbourhood only
+    near = np.flatnonzero(
+        np.all((flo <= phi.max(axis=0) + pad) & (fhi >= plo.min(axis=0) - pad), axis=1)
+    )
+    f, flo, fhi = f[near], flo[near], fhi[near]
     # candidate pairs: overlapping boxes, by a sort along x and a scan
     pairs = []
     order = np.argsort(flo[:, 0])
@@ -77,7 +84,9 @@ def intersecting_pairs(
                     opposite = np.ones(len(sel), dtype=bool)
                 crosses = _segment_hits_triangle(v[s0], v[s1], v[second])
                 hit[sel] |= opposite & crosses
-    return pq[hit]
+    out = pq[hit]
+    out[:, 1] = near[out[:, 1]]  # back to the caller's face numbers
+    return out
 
 
 def _segment_hits_triangle(

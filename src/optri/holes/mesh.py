@@ -230,31 +230,28 @@ def fill_holes(
     records: list[HoleRecord] = []
     new_faces = [faces]
     points = [vertices]
-    count = len(vertices)
     for h, loop in enumerate(loops):
         rec, patch = _fill_one(h, vertices, loop, joined, max_hole_edges, weight, method)
         if patch is not None:
+            allv = np.concatenate(points) if len(points) > 1 else vertices
+            others = np.concatenate(new_faces)
             if refine:
                 scales = boundary_scales(vertices, faces, loop.vertices)
                 forbidden = joined.pairs_among(loop.vertices)
                 added, patch = refine_patch(
-                    np.concatenate(points), patch, loop.vertices, scales, density,
-                    forbidden=forbidden,
+                    allv, patch, loop.vertices, scales, density, forbidden=forbidden
                 )
                 if len(added):
-                    points.append(added)
+                    allv = np.concatenate([allv, added])
+                    free = np.arange(len(allv) - len(added), len(allv))
                     rec.vertices_added = len(added)
                     rec.faces_added = len(patch)
                     if fair is not None:
-                        free = np.arange(count, count + len(added))
-                        _fair_patch(rec, np.concatenate(points), new_faces, patch, free, fair,
-                                    points)
-                    count += len(added)
+                        allv = _fair_patch(rec, allv, others, patch, free, fair)
+                    points.append(allv[free])
             joined.add(patch)
             new_faces.append(patch)
-            rec.self_intersections = len(
-                intersecting_pairs(np.concatenate(points), np.concatenate(new_faces[:-1]), patch)
-            )
+            rec.self_intersections = len(intersecting_pairs(allv, others, patch))
         records.append(rec)
         if progress is not None:
             progress(h + 1, len(loops))
@@ -266,18 +263,16 @@ def fill_holes(
 def _fair_patch(
     rec: HoleRecord,
     allv: NDArray[np.float64],
-    new_faces: list[Ints],
+    others: Ints,
     patch: Ints,
     free: Ints,
     continuity: int,
-    points: list[NDArray[np.float64]],
-) -> None:
-    """Fair ``free`` (the last block of ``points``); undone when it adds crossings."""
-    others = np.concatenate(new_faces)
+) -> NDArray[np.float64]:
+    """``allv`` with ``free`` faired; as given when it fails or adds crossings (said in rec)."""
     res = fair_vertices(allv, np.concatenate([others, patch]), free, continuity)
     if not res.ok:
         rec.fair_reason = res.reason
-        return
+        return allv
     before = len(intersecting_pairs(allv, others, patch))
     after = len(intersecting_pairs(res.vertices, others, patch))
     if after > before:
@@ -285,9 +280,9 @@ def _fair_patch(
             f"the faired patch would cross the mesh ({after} crossings, {before} before); "
             f"the refined patch is kept"
         )
-        return
-    points[-1] = res.vertices[free]
+        return allv
     rec.faired = True
+    return res.vertices
 
 
 class _Edges:
