@@ -21,15 +21,18 @@ CORE_SOURCES := CMakeLists.txt $(shell find src/core -name '*.cpp' -o -name '*.h
 
 # pip install -e . brings the dependencies and proves the package builds; its import hook
 # is then replaced by a plain path file to src/ (the hook would shadow PYTHONPATH)
+USE_SRC = $(BIN)/python -c "import pathlib, shutil, site; \
+  sp = pathlib.Path(site.getsitepackages()[0]); \
+  [p.unlink() for p in sp.glob('_editable_skbc_optri.*')]; \
+  shutil.rmtree(sp / 'optri', ignore_errors=True); \
+  (sp / 'optri-src.pth').write_text('$(CURDIR)/src\n')"
+
 $(BASE): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e .
 	$(BIN)/python -m pip install --quiet "nanobind>=2.4" "cmake>=3.18" ninja
-	$(BIN)/python -c "import pathlib, shutil, site; sp = pathlib.Path(site.getsitepackages()[0]); \
-	  [p.unlink() for p in sp.glob('_editable_skbc_optri.*')]; \
-	  shutil.rmtree(sp / 'optri', ignore_errors=True); \
-	  (sp / 'optri-src.pth').write_text('$(CURDIR)/src\n')"
+	$(USE_SRC)
 	touch $(BASE)
 
 # the compiled core, rebuilt in place when a C++ source changes
@@ -42,9 +45,7 @@ $(CORE): $(BASE) $(CORE_SOURCES)
 
 $(STAMP): $(BASE)
 	$(BIN)/python -m pip install --quiet -e ".[dev]"
-	$(BIN)/python -c "import pathlib, shutil, site; sp = pathlib.Path(site.getsitepackages()[0]); \
-	  [p.unlink() for p in sp.glob('_editable_skbc_optri.*')]; \
-	  shutil.rmtree(sp / 'optri', ignore_errors=True)"
+	$(USE_SRC)
 	touch $(STAMP)
 
 demo: $(CORE)
