@@ -304,3 +304,34 @@ def test_project_equals_the_per_polygon_path():
     assert [bits(c) for c in solved.cost] == [bits(w.weight) for w in want]
     assert solved.triangulation(1).vertices.tolist() == want[1].vertices.tolist()
     assert 100 < solved.cost[0]  # metres, not degrees
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(layer=st.lists(rows(), min_size=1, max_size=8), z=st.booleans())
+def test_ragged_arrays_are_shapelys(layer, z):
+    """ragged_from_shapely lays rows out as shapely.to_ragged_array does (bad rows left out)."""
+    if z:  # some rows get a Z coordinate
+        layer = [
+            shapely.force_3d(g, 7.0) if g is not None and k % 2 else g for k, g in enumerate(layer)
+        ]
+    ragged = ragged_from_shapely(layer)
+    good = [g for g in layer if g is not None and g.geom_type in ("Polygon", "MultiPolygon")]
+    good = [g for g in good if not g.is_empty]
+    assert len(ragged) == len(layer)
+    assert [r is None for r in ragged.reason] == [any(g is x for x in good) for g in layer]
+    if not good:
+        assert ragged.coords.shape[0] == 0 and ragged.row_offsets[-1] == 0
+        return
+    multi = [shapely.MultiPolygon([g]) if g.geom_type == "Polygon" else g for g in good]
+    _, coords, (rings, parts, rows_) = shapely.to_ragged_array(multi)
+    assert np.array_equal(ragged.coords, coords, equal_nan=True)
+    assert ragged.ring_offsets.tolist() == rings.tolist()
+    assert ragged.part_offsets.tolist() == parts.tolist()
+    kept = ragged.row_offsets[
+        np.r_[[i for i, r in enumerate(ragged.reason) if r is None], len(layer)]
+    ]
+    assert np.diff(kept).tolist() == np.diff(rows_).tolist()
+    assert ragged.has_z == any(shapely.has_z(g) for g in good)
+    assert ragged.row_z.tolist() == [
+        r is None and bool(shapely.has_z(g)) for g, r in zip(layer, ragged.reason)
+    ]

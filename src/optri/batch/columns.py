@@ -188,28 +188,45 @@ def ragged_from_shapely(geoms: Any) -> Ragged:
         empty = np.zeros((0, 2), dtype=np.float64)
         return Ragged(empty, zero, zero, np.zeros(rows + 1, np.int64), False, reason, row_z)
     kept = arr[good]
-    kind_name, coords, offsets = shapely.to_ragged_array(kept)
-    if int(kind_name) == 3:  # only Polygons: one part per row
-        ring_offsets, part_offsets = (np.asarray(o, dtype=np.int64) for o in offsets)
-        per_row = np.ones(len(kept), dtype=np.int64)
-    else:
-        ring_offsets, part_offsets, row_offs = (np.asarray(o, dtype=np.int64) for o in offsets)
-        per_row = np.diff(row_offs)
-    # drop parts without rings (an empty part of a MultiPolygon): they add nothing
-    nrings = np.diff(part_offsets)
-    if (nrings == 0).any():
-        keep = nrings > 0
-        owner = np.repeat(np.arange(len(kept)), per_row)
-        per_row = np.bincount(owner[keep], minlength=len(kept)).astype(np.int64)
-        part_offsets = np.concatenate([part_offsets[:1], part_offsets[1:][keep]])
+    parts, per_row = _polygon_parts(shapely, kept)
+    holes = shapely.get_num_interior_rings(parts).astype(np.int64)
+    part_offsets = np.zeros(len(parts) + 1, dtype=np.int64)
+    np.cumsum(holes + 1, out=part_offsets[1:])
+    rings = parts
+    if holes.any():  # every part's rings in order; a hole-free part stands for its exterior
+        rings = np.empty(int(part_offsets[-1]), dtype=object)
+        rings[part_offsets[:-1][holes == 0]] = parts[holes == 0]
+        holed = np.flatnonzero(holes)
+        found, owner = shapely.get_rings(parts[holed], return_index=True)
+        size = holes[holed] + 1
+        within = np.arange(len(found)) - (np.cumsum(size) - size)[owner]
+        rings[part_offsets[holed][owner] + within] = found
+    has_z = bool(shapely.has_z(kept).any())
+    coords, owner = shapely.get_coordinates(rings, include_z=has_z, return_index=True)
+    ring_offsets = np.zeros(len(rings) + 1, dtype=np.int64)
+    np.cumsum(np.bincount(owner, minlength=len(rings)), out=ring_offsets[1:])
     parts_per_row[good] = per_row
     row_offsets = np.zeros(rows + 1, dtype=np.int64)
     np.cumsum(parts_per_row, out=row_offsets[1:])
-    coords = np.ascontiguousarray(coords, dtype=np.float64)
-    has_z = coords.shape[1] == 3
     if has_z:
         row_z[good] = shapely.has_z(kept)
+    coords = np.ascontiguousarray(coords, dtype=np.float64)
     return Ragged(coords, ring_offsets, part_offsets, row_offsets, has_z, reason, row_z)
+
+
+def _polygon_parts(shapely: Any, kept: NDArray[np.object_]) -> tuple[NDArray[np.object_], Ints]:
+    """The non-empty Polygons of non-empty (Multi)Polygons in row order, and how many per row."""
+    multi = shapely.get_type_id(kept) == 6
+    if not multi.any():
+        return kept, np.ones(len(kept), dtype=np.int64)
+    found, owner = shapely.get_parts(kept[multi], return_index=True)
+    full = ~shapely.is_empty(found)
+    found, owner = found[full], np.flatnonzero(multi)[owner[full]]
+    single = np.flatnonzero(~multi)
+    row = np.concatenate([single, owner])
+    order = np.argsort(row, kind="stable")  # get_parts keeps each row's parts in order
+    parts = np.concatenate([kept[single], found])[order]
+    return parts, np.bincount(row, minlength=len(kept)).astype(np.int64)
 
 
 def ragged_from_arrow(column: Any) -> Ragged:
@@ -647,45 +664,24 @@ def triangle_geometries(
     (['Polygon', 'Polygon'], [0, 0])
     """
     shapely = import_optional("shapely")
-    polys = _triangle_polygons(shapely, ragged, solved)
-    row = solved.triangle_row
-    flagged = np.flatnonzero((solved.status == OK) & solved.reason.astype(bool))
-    if len(flagged):  # only rows that warned can hold a degenerate triangle
-        suspect = np.flatnonzero(np.isin(row, flagged))
-        bad = suspect[~shapely.is_valid(polys[suspect])]
-        if len(bad):
-            keep = np.ones(len(polys), dtype=bool)
-            keep[bad] = False
-            polys, row = polys[keep], row[keep]
+    tris, row = _drawn(shapely, ragged, solved)
     if explode:
-        return polys, row
-    out = np.full(len(solved), None, dtype=object)
-    if len(polys):
-        shapely.geometrycollections(polys, indices=row, out=out)
-    return out, np.arange(len(solved), dtype=np.int64)
-
-
-def _triangle_polygons(shapely: Any, ragged: Ragged, solved: Solved) -> NDArray[np.object_]:
-    """One shapely Polygon per triangle of ``solved``, built in one call per dimension."""
-    tris = solved.triangles
-    closed = np.concatenate([tris, tris[:, :1]], axis=1)  # (T, 4): rings closed
-    if not ragged.has_z:
-        return shapely.polygons(ragged.coords[closed])
-    z = ragged.row_z[solved.triangle_row]
-    out = np.empty(len(tris), dtype=object)
-    if z.any():
-        out[z] = shapely.polygons(ragged.coords[closed[z]])
-    if not z.all():
-        out[~z] = shapely.polygons(ragged.coords[closed[~z]][..., :2])
-    return out
+        out = np.empty(len(tris), dtype=object)
+        for z, sel in _by_dimension(ragged, row):
+            out[sel] = _polygons(shapely, ragged.coords[:, : 3 if z else 2], tris[sel])
+        return out, row
+    # whole rows as WKB, read by GEOS in one call: no Python object per triangle
+    wkb = _collections_wkb(ragged, solved, tris, row)
+    return shapely.from_wkb(wkb), np.arange(len(solved), dtype=np.int64)
 
 
 def triangle_wkb(
     ragged: Ragged, solved: Solved, explode: bool = False
 ) -> tuple[NDArray[np.object_], Ints]:
-    """:func:`triangle_geometries` as WKB (bytes, None for an error row), for writers.
+    """:func:`triangle_geometries` as ISO WKB (bytes; None for an error row), built by numpy.
 
-    3-D rows are written with Z (ISO WKB), the others in 2-D.
+    Little-endian WKB, 3-D rows with Z (types 1003, 1007), the others in 2-D;
+    the same geometries as :func:`triangle_geometries`, without building them.
 
     Examples
     --------
@@ -696,6 +692,102 @@ def triangle_wkb(
     ('GeometryCollection', [0])
     """
     shapely = import_optional("shapely")
-    geoms, row = triangle_geometries(ragged, solved, explode)
-    dim = 3 if ragged.has_z else 2
-    return shapely.to_wkb(geoms, output_dimension=dim, flavor="iso"), row
+    tris, row = _drawn(shapely, ragged, solved)
+    if not explode:
+        return _collections_wkb(ragged, solved, tris, row), np.arange(len(solved), dtype=np.int64)
+    out = np.empty(len(tris), dtype=object)
+    for z, sel in _by_dimension(ragged, row):
+        records = _triangle_records(ragged.coords, tris[sel], z)
+        out[sel] = _split(records.tobytes(), records.dtype.itemsize)
+    return out, row
+
+
+def _drawn(shapely: Any, ragged: Ragged, solved: Solved) -> tuple[Ints, Ints]:
+    """The triangles to draw and their rows: all but those of zero area in the plane."""
+    tris, row = solved.triangles, solved.triangle_row
+    flagged = np.flatnonzero((solved.status == OK) & solved.reason.astype(bool))
+    if not len(flagged):  # only rows that warned can hold a degenerate triangle
+        return tris, row
+    suspect = np.flatnonzero(np.isin(row, flagged))
+    polys = _polygons(shapely, ragged.coords[:, :2], tris[suspect])
+    bad = suspect[~shapely.is_valid(polys)]
+    keep = np.ones(len(tris), dtype=bool)
+    keep[bad] = False
+    return tris[keep], row[keep]
+
+
+def _by_dimension(ragged: Ragged, row: Ints) -> list[tuple[bool, NDArray[np.bool_] | slice]]:
+    """``(has_z, selection)`` of triangles, per coordinate dimension present."""
+    if not ragged.has_z:
+        return [(False, slice(None))]
+    z = ragged.row_z[row]
+    return [(flag, sel) for flag, sel in ((True, z), (False, ~z)) if sel.any()]
+
+
+def _polygons(shapely: Any, coords: NDArray[np.float64], tris: Ints) -> NDArray[np.object_]:
+    """One Polygon per triangle, ``coords[tris[t]]`` closed (from_ragged_array: one C pass)."""
+    count = len(tris)
+    rings = np.concatenate([tris, tris[:, :1]], axis=1)
+    flat = np.ascontiguousarray(coords[rings.reshape(-1)])
+    offsets = (np.arange(0, 4 * count + 1, 4, dtype=np.int64), np.arange(count + 1, dtype=np.int64))
+    return shapely.from_ragged_array(shapely.GeometryType.POLYGON, flat, offsets)
+
+
+#: WKB geometry types (ISO): Polygon, GeometryCollection; +1000 with Z.
+_WKB_POLYGON, _WKB_COLLECTION, _WKB_Z = 3, 7, 1000
+_WKB_HEADER = np.dtype([("order", "u1"), ("kind", "<u4"), ("count", "<u4")])
+
+
+def _triangle_records(coords: NDArray[np.float64], tris: Ints, z: bool) -> NDArray[np.void]:
+    """The WKB of each triangle as a Polygon: one packed record per triangle."""
+    dim = 3 if z else 2
+    record = np.dtype(
+        [
+            ("order", "u1"),
+            ("kind", "<u4"),
+            ("rings", "<u4"),
+            ("points", "<u4"),
+            ("xy", "<f8", (4, dim)),
+        ]
+    )
+    out = np.empty(len(tris), dtype=record)
+    out["order"] = 1  # little-endian
+    out["kind"] = _WKB_POLYGON + (_WKB_Z if z else 0)
+    out["rings"] = 1
+    out["points"] = 4
+    out["xy"][:, :3] = coords[tris][..., :dim]
+    out["xy"][:, 3] = out["xy"][:, 0]
+    return out
+
+
+def _split(raw: bytes, size: int) -> list[bytes]:
+    """``raw`` cut into pieces of ``size`` bytes."""
+    return [raw[a : a + size] for a in range(0, len(raw), size)]
+
+
+def _collections_wkb(ragged: Ragged, solved: Solved, tris: Ints, row: Ints) -> NDArray[np.object_]:
+    """Per row the WKB of a GeometryCollection of its triangles (None for an error row).
+
+    Rows with the same number of triangles are laid out as one packed array
+    (header, then the triangles' records) and cut apart: one bytes object per row.
+    """
+    out = np.full(len(solved), None, dtype=object)
+    for z in (False, True) if ragged.has_z else (False,):
+        rows = np.flatnonzero(solved.ok & (ragged.row_z == z))
+        if not len(rows):
+            continue
+        sel = np.flatnonzero(ragged.row_z[row] == z)
+        records = _triangle_records(ragged.coords, tris[sel], z)
+        count = np.bincount(row[sel], minlength=len(solved))
+        first = np.zeros(len(solved) + 1, dtype=np.int64)
+        np.cumsum(count, out=first[1:])
+        for k in np.unique(count[rows]).tolist():
+            group = rows[count[rows] == k]
+            layout = np.dtype([("head", _WKB_HEADER), ("tris", records.dtype, (k,))])
+            packed = np.empty(len(group), dtype=layout)
+            packed["head"]["order"] = 1
+            packed["head"]["kind"] = _WKB_COLLECTION + (_WKB_Z if z else 0)
+            packed["head"]["count"] = k
+            packed["tris"] = records[first[group][:, None] + np.arange(k)]
+            out[group] = _split(packed.tobytes(), layout.itemsize)
+    return out
