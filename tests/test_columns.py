@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -63,7 +64,10 @@ def expected_row(geom, weight, objective):
     results = []
     for k, part in enumerate(parts_of(geom)):
         try:
-            results.append(optri.triangulate(part, weight=weight, objective=objective))
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                results.append(optri.triangulate(part, weight=weight, objective=objective))
+            results[-1].stats["noted"] = [str(w.message) for w in caught]
         except optri.OptriError as exc:
             many = geom.geom_type == "MultiPolygon" and len(geom.geoms) > 1
             return f"part {k}: {exc}" if many else str(exc), None
@@ -107,8 +111,8 @@ def check_rows(geoms, weight="perimeter", objective="sum"):
         width = want.shape[2]
         assert np.array_equal(ragged.coords[solved.triangles[lo:hi]][..., :width], want)
         assert solved.n[i] == sum(r.n for r in results)
-        notes = [w for r in results for w in r.stats.get("warnings", [])]
-        assert (solved.reason[i] is None) == (not notes)
+        notes = list(dict.fromkeys(w for r in results for w in r.stats["noted"]))
+        assert solved.reason[i] == (one_line("warning: " + "; ".join(notes)) if notes else None)
         lazy = solved.triangulation(i)
         for got, ref in zip(lazy if isinstance(lazy, list) else [lazy], results):
             assert bits(got.weight) == bits(ref.weight)
@@ -256,6 +260,21 @@ def test_z_is_kept_and_measured():
     assert shapely.has_z(shapely.from_wkb(wkb)).tolist() == [False] * 2 + [True] * (3 + 3 + 1)
 
 
+def test_an_upright_polygon_draws_no_flat_triangle():
+    wall = shapely.Polygon([[0, 0, 0], [4, 0, 0], [4, 0, 3], [0, 0, 3]])  # a wall: flat in x-y
+    roof = shapely.Polygon([[0, 0, 3], [4, 0, 3], [4, 2, 4], [0, 2, 4]])
+    ragged = ragged_from_shapely([wall, roof])
+    solved = solve_ragged(ragged, SolveOptions())
+    assert solved.status.tolist() == [OK, OK] and len(solved.triangles) == 4
+    assert solved.cost[0] == optri.triangulate(np.asarray(wall.exterior.coords)).weight
+    coll, _ = triangle_geometries(ragged, solved)
+    assert shapely.is_valid(coll).all() and coll[0].is_empty and len(coll[1].geoms) == 2
+    tris, row = triangle_geometries(ragged, solved, explode=True)
+    assert row.tolist() == [1, 1] and shapely.is_valid(tris).all()
+    wkb, _ = triangle_wkb(ragged, solved)
+    assert shapely.from_wkb(wkb[0]).is_empty
+
+
 def test_chunks_and_progress(monkeypatch):
     monkeypatch.setattr(config, "MANY_KERNEL_CHUNK", 2)
     geoms = _natural_earth() + [shapely.Polygon(BOWTIE), shapely.box(0, 0, 2, 1)]
@@ -271,13 +290,20 @@ def test_chunks_and_progress(monkeypatch):
     assert (chunked.seconds >= 0).all() and chunked.seconds[chunked.ok].sum() > 0
 
 
+def noisy(vertices, i, k, j):
+    """A user weight that warns (only for triangles at vertex 0): 1 per triangle."""
+    if i == 0:
+        warnings.warn(f"noisy at {len(vertices)}", UserWarning, stacklevel=1)
+    return 1.0
+
+
 def test_warnings_of_ok_rows_are_their_reason():
-    # collinear vertices force a zero-area triangle: the kernel declines, triangulate warns
-    comb = shapely.Polygon([[0, 0], [1, 0], [2, 0], [2, 1], [1, 1e-300], [0, 1]])
-    ragged, solved = check_rows([comb, shapely.MultiPolygon([comb, shapely.box(5, 5, 6, 6)])])
-    if solved.reason[0] is not None:
-        assert solved.reason[0].startswith("warning: ")
-        assert solved.reason[1] == solved.reason[0]
+    tri, square = shapely.Polygon([[0, 0], [1, 0], [0, 1]]), shapely.box(5, 5, 6, 6)
+    geoms = [tri, shapely.MultiPolygon([tri, square, tri]), shapely.box(0, 0, 2, 1)]
+    _, solved = check_rows(geoms, weight=noisy)
+    assert solved.status.tolist() == [OK] * 3 and solved.cost.tolist() == [1.0, 4.0, 2.0]
+    assert solved.reason[0] == "warning: noisy at 3"
+    assert solved.reason[1] == "warning: noisy at 3; noisy at 4"  # each note once, in order
 
 
 def test_from_arrow_wkb_equals_from_shapely():

@@ -45,6 +45,7 @@ DOM_BRUTE = "tests/test_domains_brute.py"
 DOM_INV = "tests/test_domains_invariants.py"
 DOM_CAND = "tests/test_domains_candidates.py"
 BATCH_HOLES = "tests/test_batch_formats.py"
+COLUMNS = "tests/test_columns.py"
 CONTOURS_TILING = "tests/test_contours_tiling.py"
 CONTOURS_MESH = "tests/test_contours_mesh.py"
 CONTOURS_CLI = "tests/test_contours_cli.py"
@@ -579,7 +580,7 @@ MUTATIONS: list[Mutation] = [
     ),
     M(
         "error-reason-multi-line",
-        "src/optri/batch/records.py",
+        "src/optri/batch/each.py",
         'return " ".join(str(message).split()) or "unknown error"',
         'return str(message) or "unknown error"',
         ("tests/test_batch_badinput.py",),
@@ -1730,5 +1731,78 @@ MUTATIONS: list[Mutation] = [
         "parts = [p for p in ((i, k), (k, j)) if p[1] - p[0] >= 2]",
         ("tests/test_enumerate_deep.py",),
         "the recursion-free listing leaves the recursive order",
+    ),
+    # --- batch: the columnar path (batch/columns.py, triangulate_many) ----------------------
+    M(
+        "columns-kernel-triangles-not-shifted",
+        "src/optri/batch/columns.py",
+        "    out[dst] = tris[src] + np.repeat(start[parts], cnt)[:, None]",
+        "    out[dst] = tris[src]",
+        (COLUMNS, "-k", "natural_earth"),
+        "kernel triangles left in polygon-local indices instead of Ragged.coords rows",
+    ),
+    M(
+        "columns-multipolygon-sum-as-max",
+        "src/optri/batch/columns.py",
+        '                fold = np.add if rule == "sum" else np.maximum',
+        "                fold = np.maximum",
+        (COLUMNS, "-k", "combines_its_parts"),
+        "a MultiPolygon's part costs are not added under the sum objective",
+    ),
+    M(
+        "columns-holed-rings-misplaced",
+        "src/optri/batch/columns.py",
+        "        within = np.arange(len(found)) - (np.cumsum(size) - size)[owner]",
+        "        within = np.arange(len(found)) - np.cumsum(size)[owner] + 1",
+        (COLUMNS, "-k", "natural_earth"),
+        "the rings of a holed part land in other parts' slots",
+    ),
+    M(
+        "columns-failing-part-unnamed",
+        "src/optri/batch/columns.py",
+        "                exc = _part_error(exc, p - int(rg.row_offsets[i]))",
+        "                pass",
+        (COLUMNS, "-k", "failing_part"),
+        "a MultiPolygon row's error does not say which part failed",
+    ),
+    M(
+        "columns-flat-triangles-drawn",
+        "src/optri/batch/columns.py",
+        "    keep[bad] = False",
+        "    keep[bad] = True",
+        (COLUMNS, "-k", "upright"),
+        "an upright 3-D polygon's triangles, flat in x-y, make invalid geometry",
+    ),
+    M(
+        "columns-wkb-without-z-flag",
+        "src/optri/batch/columns.py",
+        '    out["kind"] = _WKB_POLYGON + (_WKB_Z if z else 0)',
+        '    out["kind"] = _WKB_POLYGON',
+        (COLUMNS, "-k", "z_is_kept"),
+        "3-D triangles written as 2-D WKB records of 3-D size",
+    ),
+    M(
+        "columns-2d-row-solved-with-nan-z",
+        "src/optri/batch/columns.py",
+        "        width = 3 if self.row_z[self.part_row[part]] else 2",
+        "        width = 3",
+        (COLUMNS, "-k", "z_is_kept"),
+        "a 2-D row of a layer with Z is solved on NaN heights",
+    ),
+    M(
+        "columns-warnings-dropped",
+        "src/optri/batch/columns.py",
+        '            reason[i] = one_line("warning: " + "; ".join(dict.fromkeys(said)))',
+        "            pass",
+        (COLUMNS, "-k", "warnings"),
+        "an ok row's warnings do not reach its reason",
+    ),
+    M(
+        "many-explode-loses-error-rows",
+        "src/optri/batch/many.py",
+        "        geoms, src = _with_error_rows(geoms, src, solved)",
+        "        pass",
+        ("tests/test_batch_many.py", "-k", "explode"),
+        "explode=True silently drops the rows that failed",
     ),
 ]

@@ -648,9 +648,9 @@ def triangle_geometries(
     returns), None for an error row, and ``row`` is ``arange(rows)``. With
     ``explode`` it has one Polygon per triangle and ``row`` gives each one's row.
     Coordinates are the input's, with Z where the row has Z. Every geometry is
-    valid (``shapely.is_valid``): a triangle of zero area in the plane (an ok row
-    whose reason warns of it) is left out of the geometry, not out of
-    :attr:`Solved.triangles`.
+    valid (``shapely.is_valid``): a triangle of zero area in the x-y plane (of an ok
+    row whose reason warns of it, or of an upright 3-D polygon such as a wall) is
+    left out of the geometry, not out of :attr:`Solved.triangles`.
 
     Examples
     --------
@@ -703,10 +703,13 @@ def triangle_wkb(
 
 
 def _drawn(shapely: Any, ragged: Ragged, solved: Solved) -> tuple[Ints, Ints]:
-    """The triangles to draw and their rows: all but those of zero area in the plane."""
+    """The triangles to draw and their rows: all but those of zero area in the plane.
+
+    Only a row that warned, or a 3-D row (upright in the plane: a wall), can hold one.
+    """
     tris, row = solved.triangles, solved.triangle_row
-    flagged = np.flatnonzero((solved.status == OK) & solved.reason.astype(bool))
-    if not len(flagged):  # only rows that warned can hold a degenerate triangle
+    flagged = np.flatnonzero((solved.status == OK) & (solved.reason.astype(bool) | ragged.row_z))
+    if not len(flagged):
         return tris, row
     suspect = np.flatnonzero(np.isin(row, flagged))
     polys = _polygons(shapely, ragged.coords[:, :2], tris[suspect])
