@@ -19,6 +19,7 @@ from optri.batch.columns import (
     ragged_from_arrow,
     ragged_from_shapely,
     solve_ragged,
+    triangle_geojson,
     triangle_geometries,
     triangle_wkb,
 )
@@ -113,6 +114,10 @@ def check_rows(geoms, weight="perimeter", objective="sum"):
         assert solved.n[i] == sum(r.n for r in results)
         notes = list(dict.fromkeys(w for r in results for w in r.stats["noted"]))
         assert solved.reason[i] == (one_line("warning: " + "; ".join(notes)) if notes else None)
+        shift = np.cumsum([0] + [r.n for r in results[:-1]])
+        local = np.concatenate([r.triangles + k for r, k in zip(results, shift)])
+        assert np.array_equal(solved.local_triangles()[lo:hi], local)
+        assert np.array_equal(solved.row_vertices(i), np.concatenate([r.vertices for r in results]))
         lazy = solved.triangulation(i)
         for got, ref in zip(lazy if isinstance(lazy, list) else [lazy], results):
             assert bits(got.weight) == bits(ref.weight)
@@ -143,6 +148,9 @@ def check_geometry(ragged, solved, geoms):
         expect = sum(sum(len(r.coords) - 1 for r in rs) + 2 * len(rs) - 4 for rs in rings)
         assert counts[i] == len(g.geoms) == expect
         assert g.area == pytest.approx(sum(p.area for p in polys), rel=1e-9)
+    text, _ = triangle_geojson(ragged, solved)
+    assert [t is None for t in text] == (solved.status != OK).tolist()
+    assert shapely.equals_exact(shapely.from_geojson(text[solved.ok]), coll[solved.ok], 0).all()
     wkb, row = triangle_wkb(ragged, solved)
     back = shapely.from_wkb(wkb)
     assert np.array_equal(shapely.is_missing(back), solved.status != OK)
@@ -317,6 +325,21 @@ def test_from_arrow_wkb_equals_from_shapely():
     assert got.reason.tolist() == want.reason.tolist()[:-1] + ["unreadable WKB"]
     with pytest.raises(optri.InvalidPolygonError, match="WKB"):
         ragged_from_arrow(pa.array([1, 2]))
+
+
+def test_from_a_layer_read_by_pyogrio(tmp_path):
+    pyogrio = pytest.importorskip("pyogrio")
+    gpd = pytest.importorskip("geopandas")
+    geoms = _natural_earth()
+    gpd.GeoDataFrame({"k": range(len(geoms))}, geometry=geoms, crs="EPSG:4326").to_file(
+        tmp_path / "world.gpkg"
+    )
+    meta, table = pyogrio.read_arrow(tmp_path / "world.gpkg")
+    got = ragged_from_arrow(table.column(meta["geometry_name"] or "wkb_geometry"))
+    want = ragged_from_shapely(geoms)
+    assert np.array_equal(got.coords, want.coords) and got.reason.tolist() == want.reason.tolist()
+    assert np.array_equal(got.part_offsets, want.part_offsets)
+    assert solve_ragged(got, SolveOptions()).status.tolist() == [OK, OK, OK, ERROR, OK]
 
 
 def test_project_equals_the_per_polygon_path():

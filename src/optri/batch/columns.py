@@ -58,6 +58,7 @@ __all__ = [
     "ragged_from_arrow",
     "ragged_from_shapely",
     "solve_ragged",
+    "triangle_geojson",
     "triangle_geometries",
     "triangle_wkb",
 ]
@@ -232,8 +233,10 @@ def _polygon_parts(shapely: Any, kept: NDArray[np.object_]) -> tuple[NDArray[np.
 def ragged_from_arrow(column: Any) -> Ragged:
     """A :class:`Ragged` from a pyarrow geometry column (WKB, e.g. pyogrio's ``read_arrow``).
 
-    ``column`` is a pyarrow Array or ChunkedArray of WKB (binary) values, nulls
-    allowed; unreadable WKB becomes a row with a reason.
+    ``column`` is a pyarrow Array or ChunkedArray of WKB values (binary or large
+    binary, or the ``geoarrow.wkb`` extension type over them), nulls allowed;
+    unreadable WKB becomes a row with a reason. GeoArrow's native (coordinate)
+    encodings are not read: ask pyogrio for WKB, its default.
 
     Examples
     --------
@@ -246,6 +249,8 @@ def ragged_from_arrow(column: Any) -> Ragged:
     pa = import_optional("pyarrow")
     if isinstance(column, pa.ChunkedArray):
         column = column.combine_chunks()
+    if isinstance(column.type, pa.ExtensionType):  # geoarrow.wkb, where registered
+        column = column.storage
     if pa.types.is_large_binary(column.type):
         column = column.cast(pa.binary())
     if not pa.types.is_binary(column.type):
@@ -285,6 +290,9 @@ class Solved:
         Solving time per row (a kernel chunk's time shared in proportion to n^3).
     part_triangle_offsets : ndarray, shape (P + 1,), int64
         The same per part (parts of error rows have none).
+    ring_n : ndarray, shape (R,), int64
+        Vertices of each ring as solved: closing vertices dropped (one, before any
+        check, for a ring of an error row).
 
     Examples
     --------
@@ -303,6 +311,7 @@ class Solved:
     triangle_offsets: Ints
     seconds: NDArray[np.float64]
     part_triangle_offsets: Ints
+    ring_n: Ints
     ragged: Ragged
     options: SolveOptions
     # per part: solved by the kernel, its orientation and its raw kernel cost
@@ -362,6 +371,41 @@ class Solved:
         """:meth:`triangulation`, or the row's error instead of raising it."""
         err = self.error(row)
         return err if err is not None else self.triangulation(row)
+
+    def local_triangles(self) -> Ints:
+        """:attr:`triangles` numbered within each row, as :meth:`row_vertices` lists them.
+
+        A row's vertices are its parts' rings in order, closing vertices dropped:
+        for a one-part row, the numbering of :func:`optri.triangulate` (exterior,
+        then each hole).
+
+        >>> import shapely
+        >>> r = ragged_from_shapely([shapely.box(0, 0, 1, 1), shapely.box(5, 0, 7, 1)])
+        >>> s = solve_ragged(r, SolveOptions())
+        >>> s.triangles.tolist(), s.local_triangles().tolist()
+        ([[0, 1, 3], [1, 2, 3], [5, 6, 8], [6, 7, 8]], [[0, 1, 3], [1, 2, 3], [0, 1, 3], [1, 2, 3]])
+        """
+        rg = self.ragged
+        ring = np.searchsorted(rg.ring_offsets, self.triangles, side="right") - 1
+        part_of_ring = np.repeat(np.arange(len(rg.part_offsets) - 1), np.diff(rg.part_offsets))
+        row_of_ring = rg.part_row[part_of_ring]
+        before = np.zeros(len(self.ring_n) + 1, dtype=np.int64)
+        np.cumsum(self.ring_n, out=before[1:])
+        first_ring = rg.part_offsets[rg.row_offsets[:-1]]
+        start = before[:-1] - before[first_ring[row_of_ring]]  # ring start within its row
+        return start[ring] + (self.triangles - rg.ring_offsets[ring])
+
+    def row_vertices(self, row: int) -> NDArray[np.float64]:
+        """The vertices of row ``row`` that :meth:`local_triangles` numbers (``(n, 2|3)``)."""
+        rg = self.ragged
+        width = 3 if rg.row_z[row] else 2
+        parts = range(rg.row_offsets[row], rg.row_offsets[row + 1])
+        rings = [r for p in parts for r in range(rg.part_offsets[p], rg.part_offsets[p + 1])]
+        pieces = [
+            rg.coords[rg.ring_offsets[r] : rg.ring_offsets[r] + self.ring_n[r], :width]
+            for r in rings
+        ]
+        return np.concatenate(pieces) if pieces else np.zeros((0, width))
 
     def _part(self, part: int) -> Triangulation:
         if not self._kernel[part]:
@@ -424,7 +468,8 @@ class _Parts:
         self.row = ragged.part_row
         self.first_ring = ragged.part_offsets[:-1]
         self.start = ragged.ring_offsets[self.first_ring]  # first vertex of each part
-        self.n = _row_sums(_ring_sizes(ragged), ragged.part_offsets)
+        self.ring_n = _ring_sizes(ragged)
+        self.n = _row_sums(self.ring_n, ragged.part_offsets)
         self.raw = np.full(count, np.nan)  # the kernel's cost
         self.cw = np.zeros(count, dtype=bool)
         self.kernel = np.zeros(count, dtype=bool)
@@ -458,6 +503,7 @@ class _Parts:
             self.cw[mine] = cw[good]
             self.raw[mine] = costs[good]
             self.n[mine] = sizes[good]
+            self.ring_n[self.first_ring[mine]] = sizes[good]
             self.tri_count[mine] = sizes[good] - 2
             work = sizes[good].astype(np.float64) ** 3
             self.seconds[mine] = work * (seconds / max(float(work.sum()), 1.0))
@@ -485,6 +531,9 @@ class _Parts:
                 self.results[p] = res
                 self.tri_count[p] = len(res.triangles)
                 self.n[p] = res.n
+                sizes = res.rings or (res.n,)
+                first = self.ragged.part_offsets[p]
+                self.ring_n[first : first + len(sizes)] = sizes
                 self.seconds[p] = float(res.stats.get("wall_seconds", res.seconds))
             else:
                 self.errors[p] = res
@@ -519,6 +568,7 @@ class _Parts:
             triangle_offsets=offsets[rg.row_offsets],
             seconds=_row_sums(self.seconds, rg.row_offsets),
             part_triangle_offsets=offsets,
+            ring_n=self.ring_n,
             ragged=rg,
             options=options,
             _kernel=self.kernel,
@@ -700,6 +750,26 @@ def triangle_wkb(
         records = _triangle_records(ragged.coords, tris[sel], z)
         out[sel] = _split(records.tobytes(), records.dtype.itemsize)
     return out, row
+
+
+def triangle_geojson(
+    ragged: Ragged, solved: Solved, explode: bool = False
+) -> tuple[NDArray[np.object_], Ints]:
+    """:func:`triangle_geometries` as GeoJSON geometry text (None for an error row), for writers.
+
+    Coordinates round-trip exactly (shortest repr), with Z where the row has it.
+
+    Examples
+    --------
+    >>> import shapely
+    >>> r = ragged_from_shapely([shapely.Polygon([(0, 0, 1), (1, 0, 2), (0, 1, 3)])])
+    >>> text, row = triangle_geojson(r, solve_ragged(r, SolveOptions()))
+    >>> text[0]
+    '{"type":"GeometryCollection","geometries":[{"type":"Polygon","coordinates":[[[0.0,0.0,1.0],[1.0,0.0,2.0],[0.0,1.0,3.0],[0.0,0.0,1.0]]]}]}'
+    """
+    shapely = import_optional("shapely")
+    geoms, row = triangle_geometries(ragged, solved, explode)
+    return shapely.to_geojson(geoms), row
 
 
 def _drawn(shapely: Any, ragged: Ragged, solved: Solved) -> tuple[Ints, Ints]:
