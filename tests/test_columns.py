@@ -256,16 +256,18 @@ def test_z_is_kept_and_measured():
     flat = shapely.Polygon([[0, 0], [4, 0], [4, 3], [0, 3]])
     tilted = shapely.Polygon([[0, 0, 0], [4, 0, 4], [4, 3, 4], [1, 4, 1], [0, 3, 0]])
     multi_z = shapely.MultiPolygon([tilted, shapely.Polygon([[9, 9, 1], [10, 9, 1], [9, 10, 2]])])
-    geoms = [flat, tilted, None, multi_z]
+    court = shapely.Polygon(shapely.box(0, 0, 4, 4).exterior, [shapely.box(1, 1, 2, 2).exterior])
+    geoms = [flat, tilted, None, multi_z, court]  # a 2-D holed row goes part by part
     ragged, solved = check_rows(geoms)
-    assert ragged.has_z and ragged.row_z.tolist() == [False, True, False, True]
+    assert ragged.has_z and ragged.row_z.tolist() == [False, True, False, True, False]
+    assert solved.status.tolist() == [OK, OK, ERROR, OK, OK]
     assert solved.cost[1] == optri.triangulate(np.asarray(tilted.exterior.coords)).weight
     coll, _ = triangle_geometries(ragged, solved)
-    assert shapely.has_z(coll[[0, 1, 3]]).tolist() == [False, True, True]
+    assert shapely.has_z(coll[[0, 1, 3, 4]]).tolist() == [False, True, True, False]
     z = shapely.get_coordinates(coll[1], include_z=True)[:, 2]
     assert set(z.tolist()) <= {0.0, 1.0, 4.0}
     wkb, _ = triangle_wkb(ragged, solved, explode=True)
-    assert shapely.has_z(shapely.from_wkb(wkb)).tolist() == [False] * 2 + [True] * (3 + 3 + 1)
+    assert shapely.has_z(shapely.from_wkb(wkb)).tolist() == [False] * 2 + [True] * 7 + [False] * 8
 
 
 def test_an_upright_polygon_draws_no_flat_triangle():
