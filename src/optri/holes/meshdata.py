@@ -235,7 +235,7 @@ def rebuild(
             norm = np.linalg.norm(new, axis=1, keepdims=True)
             normals[nv:] = np.divide(new, norm, out=new, where=norm > 0)
             kwargs["vertex_normals"] = normals
-    visual = getattr(mesh, "visual", None)
+    visual: Any = getattr(mesh, "visual", None)
     kind = getattr(visual, "kind", None)
     if isinstance(visual, trimesh.visual.TextureVisuals):
         uv = getattr(visual, "uv", None)
@@ -269,7 +269,7 @@ def vertex_columns(mesh: Any) -> NDArray[np.float64]:
     nv = len(mesh.vertices)
     cols: list[NDArray[np.float64]] = [np.zeros((nv, 0))]
     cached = getattr(getattr(mesh, "_cache", None), "cache", {})
-    visual = getattr(mesh, "visual", None)
+    visual: Any = getattr(mesh, "visual", None)
     found = [cached.get("vertex_normals"), getattr(visual, "uv", None)]
     if getattr(visual, "kind", None) == "vertex":
         found.append(visual.vertex_colors)

@@ -12,6 +12,7 @@ a repeated vertex are dropped. ``mesh.metadata["optri"]`` says what was done.
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 from typing import Any
 
@@ -166,7 +167,47 @@ def _merge_groups(
 
 
 def write_mesh(mesh: Any, path: str | os.PathLike[str]) -> None:
-    """Write a ``trimesh.Trimesh`` to ``path`` atomically, in the format of its suffix."""
-    data = mesh.export(file_type=mesh_format(path, "output"))
-    with atomic_write(path, "wb") as fh:
+    """Write a ``trimesh.Trimesh`` to ``path`` atomically, in the format of its suffix.
+
+    Texture coordinates, given vertex normals and vertex colours are written where
+    the format holds them (OBJ ``vt``/``vn``, PLY properties). A textured mesh
+    written as OBJ gets its material file ``<stem>.mtl`` and texture image
+    ``<stem>_texture.<format>`` beside ``path`` (``stem``: the output's name, other
+    characters than letters, digits, ``-`` and ``_`` made ``_``): names taken from
+    the input never choose where anything is written. Each file is written
+    atomically, the mesh last.
+    """
+    target = Path(path)
+    fmt = mesh_format(target, "output")
+    sidecars: dict[str, bytes] = {}
+    if fmt == "obj":
+        data, sidecars = _obj_text(mesh, target)
+    else:
+        data = mesh.export(file_type=fmt)
+    for name, blob in sidecars.items():
+        if Path(name).name != name or name.startswith(".") or name == target.name:
+            raise InvalidPolygonError(f"refusing to write the material file {name!r}")
+        with atomic_write(target.parent / name, "wb") as fh:
+            fh.write(blob)
+    with atomic_write(target, "wb") as fh:
         fh.write(data.encode() if isinstance(data, str) else data)
+
+
+def _obj_text(mesh: Any, target: Path) -> tuple[str, dict[str, bytes]]:
+    """OBJ text of ``mesh`` and its material files ``{name: bytes}``, named after ``target``."""
+    trimesh = import_optional("trimesh")
+    visual = getattr(mesh, "visual", None)
+    material = getattr(visual, "material", None)
+    if not isinstance(visual, trimesh.visual.TextureVisuals) or material is None:
+        return str(trimesh.exchange.obj.export_obj(mesh, include_texture=False)), {}
+    stem = re.sub(r"[^A-Za-z0-9_-]", "_", target.stem) or "mesh"
+    simple = material.to_simple() if hasattr(material, "to_simple") else material.copy()
+    simple.name = f"{stem}_texture"  # the image is written as <material name>.<format>
+    named = mesh.copy(include_cache=True)
+    named.visual = trimesh.visual.TextureVisuals(uv=visual.uv, material=simple)
+    if "vertex_normals" in getattr(getattr(mesh, "_cache", None), "cache", {}):
+        named.vertex_normals = mesh.vertex_normals
+    text, files = trimesh.exchange.obj.export_obj(
+        named, include_texture=True, return_texture=True, mtl_name=f"{stem}.mtl"
+    )
+    return str(text), {str(k): bytes(v) for k, v in files.items()}
