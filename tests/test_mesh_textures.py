@@ -312,3 +312,22 @@ def test_material_names_from_the_input_never_choose_where_files_go(tmp_path):
     assert written == ["a/b/x;y z.obj", "a/b/x_y_z.mtl", "a/b/x_y_z_texture.png"]
     assert ".." not in (out.parent / "x_y_z.mtl").read_text()
     np.testing.assert_array_equal(read_mesh(out).visual.uv, mesh.visual.uv)
+
+
+def test_fill_cli_welds_near_copies_with_merge_tolerance(fuze, tmp_path):
+    """Copies a little apart keep their UVs on reading and are welded to find holes."""
+    cut, _ = _cut(fuze, on_seam=False)
+    v = np.asarray(cut.vertices).copy()
+    seam = _seam_vertices(cut)
+    v[seam] += 3e-8 * (np.arange(seam.sum()) % 3)[:, None]  # the copies drift apart
+    moved = trimesh.Trimesh(v, cut.faces, visual=cut.visual.copy(), process=False)
+    src, out = tmp_path / "moved.obj", tmp_path / "filled.obj"
+    write_mesh(moved, src)
+    args = ["fill", str(src), "-o", str(out), "--json", "--quiet"]
+    loose = json.loads(CliRunner().invoke(main, args).stdout)
+    res = CliRunner().invoke(main, [*args, "--merge-tolerance", "1e-2"])
+    assert res.exit_code == 0, res.output
+    report = json.loads(res.stdout)
+    assert len(loose["holes"]) > 1 and len(report["holes"]) == 1 and report["watertight"]
+    after = read_mesh(out)
+    np.testing.assert_array_equal(after.visual.uv[: len(v)], read_mesh(src).visual.uv)

@@ -241,7 +241,8 @@ def fill_holes(
     if not (isinstance(density, (int, float)) and density > 0 and math.isfinite(density)):
         raise InvalidPolygonError(f"density must be a positive number, got {density!r}")
     vertices, own_faces, is_trimesh = mesh_arrays(mesh)
-    faces = weld(vertices, own_faces, config.MESH_MERGE_RTOL if merge_rtol is None else merge_rtol)
+    rtol = config.MESH_MERGE_RTOL if merge_rtol is None else merge_rtol
+    faces = weld(vertices, own_faces, rtol)  # copies split by seams are one vertex
     loops = trace_loops(faces)
     joined = _Edges(faces, loops, len(vertices))
     records: list[HoleRecord] = []
