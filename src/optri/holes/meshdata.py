@@ -15,6 +15,7 @@ __all__ = [
     "copies_at_border",
     "interpolate",
     "mesh_arrays",
+    "position_keys",
     "rebuild",
     "same_kind",
     "vertex_columns",
@@ -77,17 +78,29 @@ def weld(vertices: NDArray[np.float64], faces: Ints, rtol: float = 0.0) -> Ints:
     >>> weld(v, np.array([[0, 1, 2], [3, 4, 2]])).tolist()
     [[0, 1, 2], [1, 4, 2]]
     """
-    if rtol < 0 or not np.isfinite(rtol):
-        raise InvalidPolygonError(f"merge tolerance must be a finite number >= 0, got {rtol}")
-    keys = vertices
-    if rtol > 0:
-        lo, hi = vertices.min(axis=0), vertices.max(axis=0)
-        cell = rtol * float(np.linalg.norm((hi - lo) / 2.0)) * 2.0  # no overflow at 1e308
-        if cell > 0:
-            keys = np.floor((vertices - lo) / cell)
+    keys = position_keys(vertices, rtol)
     _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
     rep = first[inverse.reshape(-1)].astype(np.int64)
     return rep[faces]  # type: ignore[no-any-return]
+
+
+def position_keys(vertices: NDArray[np.float64], rtol: float) -> NDArray[np.float64]:
+    """Rows equal exactly for vertices merged by position.
+
+    ``rtol == 0``: the positions; else the cell of side ``rtol`` times the
+    bounding-box diagonal each position falls in.
+
+    >>> position_keys(np.array([[0.0, 0, 0], [0.01, 0, 0], [1, 1, 1]]), 0.1).tolist()
+    [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [5.0, 5.0, 5.0]]
+    """
+    if rtol < 0 or not np.isfinite(rtol):
+        raise InvalidPolygonError(f"merge tolerance must be a finite number >= 0, got {rtol}")
+    if rtol > 0 and len(vertices):
+        lo, hi = vertices.min(axis=0), vertices.max(axis=0)
+        cell = rtol * float(np.linalg.norm((hi - lo) / 2.0)) * 2.0  # no overflow at 1e308
+        if cell > 0:
+            return np.floor((vertices - lo) / cell)  # type: ignore[no-any-return]
+    return vertices
 
 
 def copies_at_border(

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from .. import config
 from .._optional import import_optional
 from ..errors import InvalidPolygonError
-from ..holes.meshdata import rebuild, vertex_columns
+from ..holes.meshdata import position_keys, rebuild, vertex_columns
 from .atomic import atomic_write
 
 __all__ = ["MESH_FORMATS", "mesh_format", "merge_vertices", "read_mesh", "write_mesh"]
@@ -150,15 +150,7 @@ def _merge_groups(
     A group is the vertices whose positions (or cells, ``rtol > 0``) and ``extra``
     columns are all equal.
     """
-    if rtol < 0 or not np.isfinite(rtol):
-        raise InvalidPolygonError(f"merge tolerance must be a finite number >= 0, got {rtol}")
-    keys = vertices
-    if rtol > 0:
-        lo, hi = vertices.min(axis=0), vertices.max(axis=0)
-        cell = rtol * float(np.linalg.norm((hi - lo) / 2.0)) * 2.0  # no overflow at 1e308
-        if cell > 0:
-            keys = np.floor((vertices - lo) / cell)
-    keys = np.concatenate([keys, extra], axis=1)
+    keys = np.concatenate([position_keys(vertices, rtol), extra], axis=1)
     _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
     kept = np.sort(first)  # survivors in file order: no duplicates, no renumbering
     rank = np.empty(len(first), dtype=np.int64)
