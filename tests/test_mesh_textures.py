@@ -331,3 +331,40 @@ def test_fill_cli_welds_near_copies_with_merge_tolerance(fuze, tmp_path):
     assert len(loose["holes"]) > 1 and len(report["holes"]) == 1 and report["watertight"]
     after = read_mesh(out)
     np.testing.assert_array_equal(after.visual.uv[: len(v)], read_mesh(src).visual.uv)
+
+
+def test_ply_keeps_texture_coordinates_and_normals(fuze, tmp_path):
+    cut, _ = _cut(fuze, on_seam=True)
+    used = np.unique(cut.faces)  # trimesh's PLY reader drops normals beside unused vertices
+    remap = np.zeros(len(cut.vertices), dtype=np.int64)
+    remap[used] = np.arange(len(used))
+    compact = trimesh.Trimesh(
+        cut.vertices[used],
+        remap[cut.faces],
+        vertex_normals=cut.vertex_normals[used],
+        visual=trimesh.visual.TextureVisuals(uv=cut.visual.uv[used]),
+        process=False,
+    )
+    src, out = tmp_path / "cut.ply", tmp_path / "filled.ply"
+    write_mesh(compact, src)
+    before = read_mesh(src)
+    assert "vertex_normals" in before._cache.cache and before.visual.uv is not None
+    filled, records = optri.fill_holes(before, refine=True)
+    write_mesh(filled, out)
+    after = read_mesh(out)
+    nv = len(before.vertices)
+    assert len(after.vertices) == nv + records[0].vertices_added
+    np.testing.assert_array_equal(after.visual.uv[:nv], before.visual.uv)
+    np.testing.assert_array_equal(after.vertex_normals[:nv], before.vertex_normals)
+
+
+def test_a_planted_link_beside_the_output_is_replaced_not_followed(fuze, tmp_path):
+    victim = tmp_path / "victim.txt"
+    victim.write_text("keep me")
+    out = tmp_path / "out" / "m.obj"
+    out.parent.mkdir()
+    (out.parent / "m.mtl").symlink_to(victim)
+    write_mesh(fuze, out)
+    assert victim.read_text() == "keep me"
+    assert not (out.parent / "m.mtl").is_symlink()
+    assert "map_Kd m_texture.jpeg" in (out.parent / "m.mtl").read_text()
