@@ -49,6 +49,7 @@ COLUMNS = "tests/test_columns.py"
 CONTOURS_TILING = "tests/test_contours_tiling.py"
 CONTOURS_MESH = "tests/test_contours_mesh.py"
 CONTOURS_CLI = "tests/test_contours_cli.py"
+TEXTURES = "tests/test_mesh_textures.py"
 
 MUTATIONS: list[Mutation] = [
     # --- the list: two-phase rule, ties, check(), CLI errors, 3-D limit ---------
@@ -544,10 +545,83 @@ MUTATIONS: list[Mutation] = [
     M(
         "loader-merges-with-trimesh",
         "src/optri/io/meshes.py",
-        'force="mesh", process=False)',
-        'force="mesh", process=True)',
+        "loaded = trimesh.load(path, file_type=fmt, process=False)",
+        "loaded = trimesh.load(path, file_type=fmt, process=True)",
         ("tests/test_mesh_cli.py", "-k", "scale"),
         "trimesh's absolute 1e-8 merge collapses a mesh drawn in nanometres",
+    ),
+    # --- textured meshes: welding, copies, attributes, material files --------------
+    M(
+        "seams-are-holes",
+        "src/optri/holes/mesh.py",
+        "    faces = weld(vertices, own_faces, rtol)",
+        "    faces = own_faces",
+        (TEXTURES, "-k", "seams_are_not_holes"),
+        "every texture seam of an OBJ is filled as a hole",
+    ),
+    M(
+        "patch-ignores-copies-across-the-border",
+        "src/optri/holes/meshdata.py",
+        "        out[rows, corner], out[rows, (corner + 1) % 3] = cu[hit], cw[hit]",
+        "        pass",
+        (TEXTURES, "-k", "copies_of_the_face_across"),
+    ),
+    M(
+        "new-vertex-takes-one-corner",
+        "src/optri/holes/meshdata.py",
+        "        out[n + k] = (out[a] + out[b] + out[c]) / 3.0",
+        "        out[n + k] = out[a]",
+        (TEXTURES, "-k", "interpolated"),
+    ),
+    M(
+        "refine-records-wrong-parents",
+        "src/optri/holes/refine.py",
+        "                    parents.append((a, b, c))",
+        "                    parents.append((a, b, b))",
+        (TEXTURES, "-k", "interpolated"),
+    ),
+    M(
+        "new-normals-not-renormalised",
+        "src/optri/holes/meshdata.py",
+        "            normals[nv:] = np.divide(new, norm, out=new, where=norm > 0)",
+        "            pass",
+        (TEXTURES, "-k", "keeping_every_attribute"),
+    ),
+    M(
+        "new-faces-take-a-far-face",
+        "src/optri/holes/meshdata.py",
+        "    rows = np.concatenate([np.arange(len(mesh.faces), dtype=np.int64), source])",
+        "    rows = np.concatenate([np.arange(len(mesh.faces), dtype=np.int64), source * 0])",
+        (TEXTURES, "-k", "interpolated"),
+    ),
+    M(
+        "reader-merges-seams",
+        "src/optri/io/meshes.py",
+        "    extra = vertex_columns(loaded) if attributes else np.zeros((len(vertices), 0))",
+        "    extra = np.zeros((len(vertices), 0))",
+        (TEXTURES, "-k", "read_with_its_seams"),
+    ),
+    M(
+        "material-named-by-the-input",
+        "src/optri/io/meshes.py",
+        '    simple.name = f"{stem}_texture"',
+        "    pass",
+        (TEXTURES, "-k", "never_choose"),
+        "a material name such as ../../x would put the texture image outside the output folder",
+    ),
+    M(
+        "cli-watertight-on-split-seams",
+        "src/optri/cli/fill_cmd.py",
+        '"watertight": watertight,',
+        '"watertight": bool(filled.is_watertight),',
+        (TEXTURES, "-k", "round_trip_obj"),
+    ),
+    M(
+        "cli-merge-tolerance-not-welded",
+        "src/optri/cli/fill_cmd.py",
+        "                merge_rtol=merge_tolerance,",
+        "",
+        (TEXTURES, "-k", "near_copies"),
     ),
     # --- batch ----------------------------------------------------------------------
     M(
