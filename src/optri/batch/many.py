@@ -33,8 +33,10 @@ def triangulate_many(
 
     Parameters
     ----------
-    geoms : GeoSeries, GeoDataFrame, sequence or array
+    geoms : GeoSeries, GeoDataFrame, dask GeoDataFrame, sequence or array
         A geopandas GeoSeries or GeoDataFrame (its active geometry column), a
+        ``dask_geopandas.GeoDataFrame`` (the result is then a lazy dask
+        GeoDataFrame, see :func:`optri.batch.dasklayer.triangulate_dask`), a
         sequence or numpy array of shapely Polygons, or a list of ``(n, 2)``
         (or ``(n, 3)``) vertex arrays.
     weight, objective, method
@@ -84,6 +86,10 @@ def triangulate_many(
     >>> type(out[1]).__name__, str(out[1])
     ('InvalidPolygonError', 'a polygon needs at least 3 vertices, got 2')
     """
+    if type(geoms).__module__.startswith("dask_geopandas"):  # lazy, partition by partition
+        from .dasklayer import triangulate_dask
+
+        return triangulate_dask(geoms, weight, objective, method, project=project)
     options = SolveOptions(**check_options(weight, objective, method))
     frame, series = _geopandas_parts(geoms)
     if series is not None:
