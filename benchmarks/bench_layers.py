@@ -1,4 +1,4 @@
-"""GIS layers end to end: optri's batch, Dask and triangulate_many against the hand-written CDT pipeline.
+"""GIS layers end to end: optri batch, Dask and triangulate_many against a hand-written pipeline.
 
 The baseline, timed in the same run, is what a GIS user writes by hand:
 ``geopandas.read_parquet`` -> ``shapely.constrained_delaunay_triangles`` ->
@@ -58,8 +58,12 @@ optri.triangulate_many(g).to_parquet(sys.argv[2])
 SOLVE_ONLY = """
 import json, sys, time, geopandas, optri, shapely
 gs = geopandas.read_parquet(sys.argv[1]).geometry
-t = time.perf_counter(); shapely.constrained_delaunay_triangles(gs.values); cdt = time.perf_counter() - t
-t = time.perf_counter(); optri.triangulate_many(gs); many = time.perf_counter() - t
+t = time.perf_counter()
+shapely.constrained_delaunay_triangles(gs.values)
+cdt = time.perf_counter() - t
+t = time.perf_counter()
+optri.triangulate_many(gs)
+many = time.perf_counter() - t
 print(json.dumps({"cdt": cdt, "many": many}))
 """
 
@@ -203,7 +207,9 @@ def section_a(d: Path, count: int, workers: int) -> None:
     report(f"optri batch -j {workers}", run(optri_batch(src, out, "-j", str(workers)), out), base)
     r = run(optri_batch(src, out, "-j", str(workers), "--scheduler", "dask"), out)
     report(f"optri batch --scheduler dask ({workers} workers)", r, base)
-    report("triangulate_many(gdf) + read/write", run([py, "-c", MANY, str(src), str(out)], out), base)
+    report(
+        "triangulate_many(gdf) + read/write", run([py, "-c", MANY, str(src), str(out)], out), base
+    )
     solve = json.loads(run([py, "-c", SOLVE_ONLY, str(src)], out)["stdout"])
     print(
         f"{'solve alone: triangulate_many(gs) / CDT':<40} {solve['many']:8.2f} s  "

@@ -21,11 +21,10 @@ gpd = pytest.importorskip("geopandas")
 shapely = pytest.importorskip("shapely")
 
 import optri  # noqa: E402
-from optri.batch.dasklayer import dask_layer, triangulate_dask, wants_dask_layer  # noqa: E402
-from optri.errors import BatchInputError  # noqa: E402
-
 from batch_polys import mixed_polygons  # noqa: E402
 from dask_helpers import MARKER_ENV, dies_once  # noqa: E402
+from optri.batch.dasklayer import dask_layer, triangulate_dask, wants_dask_layer  # noqa: E402
+from optri.errors import BatchInputError  # noqa: E402
 
 BOWTIE = [[0, 0], [1, 1], [1, 0], [0, 1]]
 
@@ -73,6 +72,7 @@ def test_triangulate_many_on_dask_is_lazy_and_equals_in_memory():
     # the meta promised what every partition delivers
     assert list(lazy._meta.columns) == list(got.columns)
     assert dict(lazy._meta.dtypes) == dict(got.dtypes)
+    assert lazy._meta["cost"].dtype == np.float64
     assert got["status"].tolist().count("error") == 2  # the bow-tie and the null
 
 
@@ -95,7 +95,9 @@ def test_lexicographic_cost_is_an_object_column_of_pairs():
     )
     assert lazy._meta["cost"].dtype == object
     got = lazy.compute(scheduler="sync")
-    t = optri.triangulate(gdf.geometry[0], weight=("max_angle", "perimeter"), objective=("max", "sum"))
+    t = optri.triangulate(
+        gdf.geometry[0], weight=("max_angle", "perimeter"), objective=("max", "sum")
+    )
     assert list(got["cost"][0]) == pytest.approx(list(t.weight))
 
 
@@ -181,13 +183,31 @@ def test_batch_gpkg_to_one_file_through_the_cli(client, tmp_path):
     address = client.scheduler.address
     res = CliRunner().invoke(
         main,
-        ["batch", str(src), "-o", str(tmp_path / "out.parquet"), "--scheduler", address,
-         "--chunk-size", "20", "-q", "--json"],
+        [
+            "batch",
+            str(src),
+            "-o",
+            str(tmp_path / "out.parquet"),
+            "--scheduler",
+            address,
+            "--chunk-size",
+            "20",
+            "-q",
+            "--json",
+        ],
     )
     assert res.exit_code == 0, res.output
     assert '"partitions": 3' in res.output and '"total": 50' in res.output
     got = gpd.read_parquet(tmp_path / "out.parquet")
     _same_rows(got, optri.triangulate_many(gpd.read_file(src)))
+    # the file's GeoParquet metadata speaks for all its parts: bounding box, geometry types
+    import json
+
+    import pyarrow.parquet as pq
+
+    geo = json.loads(pq.read_schema(tmp_path / "out.parquet").metadata[b"geo"])
+    column = geo["columns"][got.geometry.name]
+    assert column["bbox"] == pytest.approx(list(got.total_bounds))
     assert sorted(p.name for p in tmp_path.iterdir()) == ["in.gpkg", "out.parquet"]
 
 

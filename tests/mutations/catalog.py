@@ -48,6 +48,7 @@ BATCH_HOLES = "tests/test_batch_formats.py"
 CONTOURS_TILING = "tests/test_contours_tiling.py"
 CONTOURS_MESH = "tests/test_contours_mesh.py"
 CONTOURS_CLI = "tests/test_contours_cli.py"
+DASK = "tests/test_batch_dask.py"
 
 MUTATIONS: list[Mutation] = [
     # --- the list: two-phase rule, ties, check(), CLI errors, 3-D limit ---------
@@ -1730,5 +1731,61 @@ MUTATIONS: list[Mutation] = [
         "parts = [p for p in ((i, k), (k, j)) if p[1] - p[0] >= 2]",
         ("tests/test_enumerate_deep.py",),
         "the recursion-free listing leaves the recursive order",
+    ),
+    M(
+        "dask-parts-not-named-by-partition",
+        "src/optri/batch/dasklayer.py",
+        'number = 0 if partition_info is None else int(partition_info["number"])',
+        "number = 0",
+        (DASK, "-k", "directory_equals"),
+        "every partition writes part 0: rows lost, the others overwritten",
+    ),
+    M(
+        "dask-partition-dtypes-not-conformed",
+        "src/optri/batch/dasklayer.py",
+        "{c: meta[c].dtype for c in _RESULT_COLUMNS})",
+        "{})",
+        (DASK, "-k", "only_error_rows"),
+        "a partition of error rows has another cost dtype than the meta promised",
+    ),
+    M(
+        "dask-meta-cost-always-object",
+        "src/optri/batch/dasklayer.py",
+        'return "object" if isinstance(cost, (tuple, list)) else "float64"',
+        'return "object"',
+        (DASK, "-k", "lazy_and_equals"),
+        "a scalar objective's cost column is promised as objects",
+    ),
+    M(
+        "dask-geoparquet-bbox-of-first-part",
+        "src/optri/batch/dasklayer.py",
+        "                min(b[0] for b in boxes),",
+        "                boxes[0][0],",
+        (DASK, "-k", "one_file"),
+        "the joined file's bounding box is its first part's",
+    ),
+    M(
+        "dask-layer-takes-any-output-format",
+        "src/optri/batch/dasklayer.py",
+        'return kind in DASK_INPUTS and layout.fmt == "parquet"',
+        "return kind in DASK_INPUTS",
+        (DASK, "-k", "which_runs"),
+        "a directory of NDJSON parts would be written as GeoParquet by the Dask path",
+    ),
+    M(
+        "many-ignores-dask-frames",
+        "src/optri/batch/many.py",
+        'if type(geoms).__module__.startswith("dask_geopandas"):',
+        "if False:",
+        (DASK, "-k", "lazy_and_equals"),
+        "triangulate_many on a dask GeoDataFrame is not lazy",
+    ),
+    M(
+        "dask-partitions-not-unified",
+        "src/optri/batch/dasklayer.py",
+        "        _conform_part(p, schema)",
+        "        pass",
+        (DASK, "-k", "directory_equals"),
+        "parts of one dataset disagree on a column's type (all null in some)",
     ),
 ]

@@ -58,7 +58,10 @@ _RESULT_COLUMNS = ("status", "cost", "reason")
 
 
 def wants_dask_layer(
-    scheduler: Any, inp: str | os.PathLike[str], out: str | os.PathLike[str], fmt: str | None,
+    scheduler: Any,
+    inp: str | os.PathLike[str],
+    out: str | os.PathLike[str],
+    fmt: str | None,
     out_fmt: str | None,
 ) -> bool:
     """Whether ``optri.batch`` hands this run to :func:`dask_layer`.
@@ -149,8 +152,11 @@ def _result_meta(empty: Any, options: dict[str, Any], project: bool) -> Any:
 
 
 def _with_dtypes(frame: Any, dtypes: dict[str, Any]) -> Any:
-    """``frame`` with those columns cast, column by column (``DataFrame.astype`` compares
-    the frames' ``attrs``, which Dask's readers may fill with arrays)."""
+    """``frame`` with those columns cast, one by one.
+
+    (``DataFrame.astype`` compares the frames' ``attrs``, which Dask's readers may
+    fill with arrays, and fails.)
+    """
     for column, dtype in dtypes.items():
         frame[column] = frame[column].astype(dtype)
     return frame
@@ -194,7 +200,7 @@ def dask_layer(
     overwrite: bool = False,
     progress: Any = None,
 ) -> BatchSummary:
-    """Triangulate a layer on a Dask cluster into partitioned GeoParquet, read and written by workers.
+    """Triangulate a layer on a Dask cluster: workers read, solve and write GeoParquet parts.
 
     Parameters
     ----------
@@ -290,21 +296,23 @@ def dask_layer(
     total, ok = int(counts["rows"].sum()), int(counts["ok"].sum())
     if progress is not None:
         progress(total, total)
-    return BatchSummary(
-        total, ok, total - ok, len(counts), 0, time.perf_counter() - start, target
-    )
+    return BatchSummary(total, ok, total - ok, len(counts), 0, time.perf_counter() - start, target)
 
 
 def _counts_meta() -> Any:
     pd = import_optional("pandas", "geo")
     return pd.DataFrame(
-        {"part": pd.Series(dtype="int64"), "rows": pd.Series(dtype="int64"),
-         "ok": pd.Series(dtype="int64")}
+        {
+            "part": pd.Series(dtype="int64"),
+            "rows": pd.Series(dtype="int64"),
+            "ok": pd.Series(dtype="int64"),
+        }
     )
 
 
-def _read(src: Path, kind: str, npartitions: int | None, chunksize: int | None,
-          layer: str | None) -> Any:
+def _read(
+    src: Path, kind: str, npartitions: int | None, chunksize: int | None, layer: str | None
+) -> Any:
     """The input as a dask GeoDataFrame whose partitions the workers read themselves."""
     dg = import_optional("dask_geopandas", "dask")
     if kind == "parquet":
@@ -375,8 +383,11 @@ def _publish(staging: Path, target: Path, counts: Any, single: bool) -> None:
         return
     for p in parts:
         _conform_part(p, schema)
-    summary = {"rows": int(counts["rows"].sum()), "ok": int(counts["ok"].sum()),
-               "partitions": len(parts)}
+    summary = {
+        "rows": int(counts["rows"].sum()),
+        "ok": int(counts["ok"].sum()),
+        "partitions": len(parts),
+    }
     (staging / _SUCCESS).write_text(json.dumps(summary) + "\n")
     if target.exists():
         shutil.rmtree(target)
@@ -393,7 +404,7 @@ def _unified_schema(parts: list[Path]) -> Any:
 
 
 def _geo_metadata(schemas: list[Any]) -> dict:
-    """The first part's metadata, its GeoParquet bounding box and geometry types made the layer's."""
+    """The first part's metadata, with the bounding box and geometry types of all parts."""
     meta = dict(schemas[0].metadata or {})
     geo = [json.loads(s.metadata[b"geo"]) for s in schemas if s.metadata and b"geo" in s.metadata]
     if not geo:
@@ -404,8 +415,12 @@ def _geo_metadata(schemas: list[Any]) -> dict:
         column["geometry_types"] = sorted({t for o in others for t in o.get("geometry_types", [])})
         boxes = [o["bbox"] for o in others if o.get("bbox")]
         if boxes:
-            column["bbox"] = [min(b[0] for b in boxes), min(b[1] for b in boxes),
-                              max(b[2] for b in boxes), max(b[3] for b in boxes)]
+            column["bbox"] = [
+                min(b[0] for b in boxes),
+                min(b[1] for b in boxes),
+                max(b[2] for b in boxes),
+                max(b[3] for b in boxes),
+            ]
         else:
             column.pop("bbox", None)
     meta[b"geo"] = json.dumps(merged).encode()
@@ -435,7 +450,7 @@ def _conform_part(path: Path, schema: Any) -> None:
 
 @contextlib.contextmanager
 def _client(scheduler: Any, workers: int | None) -> Iterator[Any]:
-    """A ``distributed.Client`` for ``scheduler``: a LocalCluster made here, an address, or as given."""
+    """A ``distributed.Client``: on a LocalCluster made here, at an address, or the one given."""
     distributed = import_optional("distributed")
     if scheduler is not None and not isinstance(scheduler, str):
         yield scheduler  # a Client the caller owns

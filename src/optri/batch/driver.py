@@ -168,8 +168,17 @@ def batch(
     with stop_signals_unwind():  # kill and hang-up also remove half-written parts
         if wants_dask_layer(scheduler, inp, out, fmt, out_fmt):  # workers read and write
             summary = dask_layer(
-                inp, out, **options, project=project, scheduler=scheduler, workers=workers,
-                chunksize=chunk_size, layer=layer, fmt=fmt, overwrite=overwrite, progress=progress,
+                inp,
+                out,
+                **options,
+                project=project,
+                scheduler=scheduler,
+                workers=workers,
+                chunksize=chunk_size,
+                layer=layer,
+                fmt=fmt,
+                overwrite=overwrite,
+                progress=progress,
             )
         else:
             summary = _run(Path(inp), out, settings)
