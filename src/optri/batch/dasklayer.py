@@ -128,7 +128,7 @@ def triangulate_dask(
     >>> lazy = optri.triangulate_many(dask_geopandas.from_geopandas(gdf, npartitions=2))
     >>> out = lazy.compute(scheduler="sync")
     >>> out["status"].tolist(), out["cost"].round(6).tolist(), out.crs.to_epsg()
-    (['ok', 'ok'], [6.828427, 8.236068], 32633)
+    (['ok', 'ok'], [6.828427, 10.472136], 32633)
     """
     from .solver import check_options
 
