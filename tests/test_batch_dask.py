@@ -23,7 +23,7 @@ shapely = pytest.importorskip("shapely")
 import optri  # noqa: E402
 from batch_polys import mixed_polygons  # noqa: E402
 from dask_helpers import MARKER_ENV, dies_once  # noqa: E402
-from optri.batch.dasklayer import dask_layer, triangulate_dask, wants_dask_layer  # noqa: E402
+from optri.batch.dasklayer import dask_layer, wants_dask_layer  # noqa: E402
 from optri.errors import BatchInputError  # noqa: E402
 
 BOWTIE = [[0, 0], [1, 1], [1, 0], [0, 1]]
@@ -79,7 +79,7 @@ def test_triangulate_many_on_dask_is_lazy_and_equals_in_memory():
 def test_dask_meta_holds_for_a_partition_of_only_error_rows():
     gdf = _layer(6)
     gdf.loc[:, "geometry"] = [shapely.Polygon(BOWTIE)] * 3 + list(gdf.geometry[3:])
-    lazy = triangulate_dask(dg.from_geopandas(gdf, npartitions=2))
+    lazy = optri.triangulate_many(dg.from_geopandas(gdf, npartitions=2))
     parts = [p.compute(scheduler="sync") for p in lazy.partitions]
     assert set(parts[0]["status"]) == {"error"}
     for part in parts:  # cost stays a float column even where every row failed

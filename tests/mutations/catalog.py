@@ -1742,7 +1742,7 @@ MUTATIONS: list[Mutation] = [
     ),
     M(
         "dask-partition-dtypes-not-conformed",
-        "src/optri/batch/dasklayer.py",
+        "src/optri/batch/daskframe.py",
         "{c: meta[c].dtype for c in _RESULT_COLUMNS})",
         "{})",
         (DASK, "-k", "only_error_rows"),
@@ -1750,7 +1750,7 @@ MUTATIONS: list[Mutation] = [
     ),
     M(
         "dask-meta-cost-always-object",
-        "src/optri/batch/dasklayer.py",
+        "src/optri/batch/daskframe.py",
         'return "object" if isinstance(cost, (tuple, list)) else "float64"',
         'return "object"',
         (DASK, "-k", "lazy_and_equals"),

@@ -1,17 +1,11 @@
 """Layers on a Dask cluster: workers read partitions, solve them and write GeoParquet parts.
 
-Two entry points:
-
-* :func:`triangulate_dask` (what :func:`optri.triangulate_many` does with a
-  ``dask_geopandas.GeoDataFrame``): a lazy dask GeoDataFrame, one
-  :func:`~optri.batch.many.triangulate_many` call per partition, with a ``meta``
-  that has the result's columns and dtypes (``status`` and ``reason`` text,
-  ``cost`` a float, or an object column for lexicographic objectives).
-* :func:`dask_layer` (what ``optri batch --scheduler dask`` runs for GeoParquet,
-  GeoPackage, FlatGeobuf and shapefile inputs written as GeoParquet): each task
-  reads one partition of the input (``dask_geopandas.read_parquet``, or
-  ``read_file`` through pyogrio), solves it and writes it as one GeoParquet
-  file; the parent only plans the graph and, at the end, publishes the output.
+:func:`dask_layer` is what ``optri batch --scheduler dask`` runs for GeoParquet,
+GeoPackage, FlatGeobuf and shapefile inputs written as GeoParquet: each task
+reads one partition of the input (``dask_geopandas.read_parquet``, or
+``read_file`` through pyogrio), solves it (:func:`optri.triangulate_many` on a
+dask GeoDataFrame, :mod:`.daskframe`) and writes it as one GeoParquet file; the
+parent only plans the graph and, at the end, publishes the output.
 
 Every row is written exactly once, even when a worker dies and Dask reruns its
 tasks elsewhere: a part is written under a temporary name and renamed to
@@ -32,17 +26,21 @@ import os
 import shutil
 import time
 import uuid
-import warnings
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 from .._optional import import_optional
-from ..errors import BatchInputError, GeographicCRSWarning
-from .layer import warn_geographic
+from ..errors import BatchInputError
+from .daskframe import triangulate_dask
+from .layout import output_lock, plan_layout
+from .many import triangulate_many
+from .readers import detect_input_format
+from .runner import default_workers
+from .solver import check_options
 from .summary import BatchSummary
 
-__all__ = ["DASK_INPUTS", "dask_layer", "triangulate_dask", "wants_dask_layer"]
+__all__ = ["DASK_INPUTS", "dask_layer", "wants_dask_layer"]
 
 #: Input formats whose partitions Dask workers read themselves (GeoParquet through
 #: pyarrow, the others through pyogrio); JSON inputs keep the streaming reader,
@@ -54,7 +52,6 @@ ALLOWED_FAILURES = 3
 DEFAULT_CHUNKSIZE = 50_000
 _PART = "part.{:05d}.parquet"
 _SUCCESS = "_SUCCESS"
-_RESULT_COLUMNS = ("status", "cost", "reason")
 
 
 def wants_dask_layer(
@@ -79,108 +76,12 @@ def wants_dask_layer(
     """
     if scheduler is None or scheduler in ("local", "processes"):
         return False
-    from .layout import plan_layout
-    from .readers import detect_input_format
-
     try:
         kind = detect_input_format(inp, fmt)
         layout = plan_layout(out, out_fmt)
     except BatchInputError:
         return False  # the ordinary path reports it
     return kind in DASK_INPUTS and layout.fmt == "parquet"
-
-
-def triangulate_dask(
-    ddf: Any,
-    weight: Any = "perimeter",
-    objective: Any = "sum",
-    method: str = "auto",
-    *,
-    project: bool = False,
-) -> Any:
-    """:func:`optri.triangulate_many` of every partition of a dask GeoDataFrame, lazily.
-
-    Parameters
-    ----------
-    ddf : dask_geopandas.GeoDataFrame
-        The polygons (its active geometry column), with attributes and CRS.
-    weight, objective, method, project
-        As for :func:`optri.triangulate_many`; checked now, before any task runs.
-
-    Returns
-    -------
-    dask_geopandas.GeoDataFrame
-        Lazy: the input's columns and CRS plus ``status``, ``cost`` and ``reason``,
-        one row per input row, partition for partition.
-
-    Warns
-    -----
-    GeographicCRSWarning
-        The CRS is longitude/latitude and ``project`` is false (once, here, not
-        once per partition).
-
-    Examples
-    --------
-    >>> import dask_geopandas, geopandas, optri, shapely
-    >>> gdf = geopandas.GeoDataFrame(
-    ...     {"name": ["a", "b"]},
-    ...     geometry=[shapely.box(0, 0, 1, 1), shapely.box(0, 0, 2, 1)], crs=32633)
-    >>> lazy = optri.triangulate_many(dask_geopandas.from_geopandas(gdf, npartitions=2))
-    >>> out = lazy.compute(scheduler="sync")
-    >>> out["status"].tolist(), out["cost"].round(6).tolist(), out.crs.to_epsg()
-    (['ok', 'ok'], [6.828427, 10.472136], 32633)
-    """
-    from .solver import check_options
-
-    options = check_options(weight, objective, method)
-    meta = _result_meta(ddf._meta, options, project)
-    warn_geographic(_crs_wkt(ddf.crs), project)
-    return ddf.map_partitions(_solve_partition, options, project, meta, meta=meta)
-
-
-def _result_meta(empty: Any, options: dict[str, Any], project: bool) -> Any:
-    """The empty frame a partition's result looks like, with the dtypes every partition gets."""
-    from .many import triangulate_many
-
-    pd = import_optional("pandas", "geo")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", GeographicCRSWarning)
-        meta = triangulate_many(empty, **options, project=project)
-    text = pd.Series(["ok"]).dtype  # object, or pandas' own string dtype
-    dtypes = {"status": text, "reason": text, "cost": _cost_dtype(options)}
-    return _with_dtypes(meta, dtypes)
-
-
-def _with_dtypes(frame: Any, dtypes: dict[str, Any]) -> Any:
-    """``frame`` with those columns cast, one by one.
-
-    (``DataFrame.astype`` compares the frames' ``attrs``, which Dask's readers may
-    fill with arrays, and fails.)
-    """
-    for column, dtype in dtypes.items():
-        frame[column] = frame[column].astype(dtype)
-    return frame
-
-
-def _cost_dtype(options: dict[str, Any]) -> str:
-    """float64 for one objective, object for a lexicographic one (a list per row)."""
-    from .. import triangulate
-
-    try:
-        cost = triangulate([[0, 0], [1, 0], [0, 1]], **options).weight
-    except Exception:  # a weight that fails on every polygon gives error rows: no cost
-        return "float64"
-    return "object" if isinstance(cost, (tuple, list)) else "float64"
-
-
-def _solve_partition(part: Any, options: dict[str, Any], project: bool, meta: Any) -> Any:
-    """One partition through ``triangulate_many``, its columns and dtypes made those of ``meta``."""
-    from .many import triangulate_many
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", GeographicCRSWarning)  # said once, by the parent
-        out = triangulate_many(part, **options, project=project)
-    return _with_dtypes(out[list(meta.columns)], {c: meta[c].dtype for c in _RESULT_COLUMNS})
 
 
 def dask_layer(
@@ -258,10 +159,6 @@ def dask_layer(
     >>> geopandas.read_parquet(d / "out.parquet")["status"].tolist()  # doctest: +SKIP
     ['ok', 'ok']
     """
-    from .layout import output_lock, plan_layout
-    from .readers import detect_input_format
-    from .solver import check_options
-
     start = time.perf_counter()
     src = Path(inp)
     kind = detect_input_format(src, fmt)
@@ -284,7 +181,7 @@ def dask_layer(
         staging.mkdir(parents=True)
         try:
             ddf = _read(src, kind, npartitions, chunksize, layer)
-            solved = triangulate_dask(ddf, **options, project=project)
+            solved = triangulate_dask(ddf, triangulate_many, options, project)
             written = solved.map_partitions(
                 write_partition, str(staging), partition_info=True, meta=_counts_meta()
             )
@@ -457,8 +354,6 @@ def _client(scheduler: Any, workers: int | None) -> Iterator[Any]:
         return
     if scheduler in (None, "dask"):
         dask = import_optional("dask")
-        from .runner import default_workers
-
         with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}):
             cluster = distributed.LocalCluster(
                 n_workers=workers or default_workers(),
@@ -477,7 +372,3 @@ def _client(scheduler: Any, workers: int | None) -> Iterator[Any]:
     raise BatchInputError(
         f"unknown scheduler {scheduler!r}; use 'local', 'dask' or 'tcp://host:port'"
     )
-
-
-def _crs_wkt(crs: Any) -> str | None:
-    return None if crs is None else str(crs.to_wkt())

@@ -10,6 +10,7 @@ import numpy as np
 from .._optional import import_optional
 from ..errors import BatchInputError
 from ..result import Triangulation
+from .daskframe import triangulate_dask
 from .layer import renamed_columns, warn_geographic, warn_renamed
 from .records import one_line
 from .solver import Result, SolveOptions, check_options, solve_polygons
@@ -36,7 +37,7 @@ def triangulate_many(
     geoms : GeoSeries, GeoDataFrame, dask GeoDataFrame, sequence or array
         A geopandas GeoSeries or GeoDataFrame (its active geometry column), a
         ``dask_geopandas.GeoDataFrame`` (the result is then a lazy dask
-        GeoDataFrame, see :func:`optri.batch.dasklayer.triangulate_dask`), a
+        GeoDataFrame, see :func:`optri.batch.daskframe.triangulate_dask`), a
         sequence or numpy array of shapely Polygons, or a list of ``(n, 2)``
         (or ``(n, 3)``) vertex arrays.
     weight, objective, method
@@ -87,9 +88,8 @@ def triangulate_many(
     ('InvalidPolygonError', 'a polygon needs at least 3 vertices, got 2')
     """
     if type(geoms).__module__.startswith("dask_geopandas"):  # lazy, partition by partition
-        from .dasklayer import triangulate_dask
-
-        return triangulate_dask(geoms, weight, objective, method, project=project)
+        chosen = dict(weight=weight, objective=objective, method=method)
+        return triangulate_dask(geoms, triangulate_many, chosen, project)
     options = SolveOptions(**check_options(weight, objective, method))
     frame, series = _geopandas_parts(geoms)
     if series is not None:
