@@ -150,7 +150,7 @@ def dask_layer(
     Examples
     --------
     >>> import geopandas, shapely, tempfile, pathlib
-    >>> from optri.batch.dasklayer import dask_layer
+    >>> from optri.batch import dask_layer
     >>> d = pathlib.Path(tempfile.mkdtemp())
     >>> geopandas.GeoDataFrame(
     ...     {"name": ["a", "b"]}, geometry=[shapely.box(0, 0, 1, 1), shapely.box(0, 0, 2, 1)],
