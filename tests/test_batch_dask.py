@@ -160,6 +160,7 @@ def _parts(folder: Path) -> list[str]:
 @pytest.mark.slow
 def test_geoparquet_directory_equals_in_memory(client, tmp_path):
     gdf = _layer(60)
+    gdf["blob"] = [b"\x00\x01" if i < 15 else None for i in range(60)]  # null after part 0
     src = tmp_path / "in.parquet"
     gdf.to_parquet(src, row_group_size=15)  # four row groups: four partitions
     s = dask_layer(src, tmp_path / "out", scheduler=client)
@@ -167,6 +168,10 @@ def test_geoparquet_directory_equals_in_memory(client, tmp_path):
     out = tmp_path / "out"
     assert _parts(out) == ["_SUCCESS"] + [f"part.{k:05d}.parquet" for k in range(4)]
     assert not list(tmp_path.glob(".*"))  # no staging folder, no lock left
+    import pyarrow.parquet as pq
+
+    schemas = {pq.read_schema(p).remove_metadata() for p in out.glob("part.*")}
+    assert len(schemas) == 1  # one dataset, one schema: "blob" is binary in every part
     _same_rows(gpd.read_parquet(out), optri.triangulate_many(gdf))
     assert len(dg.read_parquet(out).compute()) == 60  # Dask opens the dataset too
 
