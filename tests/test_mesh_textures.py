@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 import optri
 from optri.cli import main
 from optri.holes.boundary import edge_summary
-from optri.holes.meshdata import weld
+from optri.meshdata import weld
 from optri.io.meshes import read_mesh, write_mesh
 
 trimesh = pytest.importorskip("trimesh")

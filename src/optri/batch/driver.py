@@ -18,6 +18,7 @@ from .._version import __version__
 from ..engines.interrupts import stop_signals_unwind
 from ..errors import BatchFailedError, BatchInputError
 from ..io.atomic import write_json
+from .dasklayer import dask_layer, wants_dask_layer
 from .layer import Layer, warn_geographic
 from .layout import Layout, file_sha256, job_key, output_lock, plan_layout
 from .project import local_projector
@@ -165,7 +166,22 @@ def batch(
         layer,
     )
     with stop_signals_unwind():  # kill and hang-up also remove half-written parts
-        summary = _run(Path(inp), out, settings)
+        if wants_dask_layer(scheduler, inp, out, fmt, out_fmt):  # workers read and write
+            summary = dask_layer(
+                inp,
+                out,
+                **options,
+                project=project,
+                scheduler=scheduler,
+                workers=workers,
+                chunksize=chunk_size,
+                layer=layer,
+                fmt=fmt,
+                overwrite=overwrite,
+                progress=progress,
+            )
+        else:
+            summary = _run(Path(inp), out, settings)
     if strict and summary.errors:
         raise BatchFailedError(f"{summary.errors} of {summary.total} polygons failed", summary)
     return summary

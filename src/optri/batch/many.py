@@ -9,6 +9,7 @@ arrays and then as shapely geometry built in a few vectorised calls. Other input
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from typing import Any
 
@@ -17,6 +18,7 @@ import numpy as np
 from .._optional import import_optional
 from ..errors import BatchInputError
 from .columns import Ragged, Solved, ragged_from_shapely, solve_ragged, triangle_geometries
+from .daskframe import triangulate_dask
 from .layer import renamed_columns, warn_geographic, warn_renamed
 from .solver import SolveOptions, check_options, solve_polygons
 
@@ -40,11 +42,13 @@ def triangulate_many(
 
     Parameters
     ----------
-    geoms : GeoSeries, GeoDataFrame, sequence or array
+    geoms : GeoSeries, GeoDataFrame, dask GeoDataFrame, sequence or array
         A geopandas GeoSeries or GeoDataFrame (its active geometry column: Polygons
-        and MultiPolygons, with or without Z, holes allowed), a sequence or numpy
-        array of shapely Polygons, or a list of ``(n, 2)`` (or ``(n, 3)``) vertex
-        arrays or ``(exterior, [holes])`` pairs.
+        and MultiPolygons, with or without Z, holes allowed), a
+        ``dask_geopandas.GeoDataFrame`` (the result is then a lazy dask
+        GeoDataFrame, see :func:`optri.batch.daskframe.triangulate_dask`), a
+        sequence or numpy array of shapely Polygons, or a list of ``(n, 2)`` (or
+        ``(n, 3)``) vertex arrays or ``(exterior, [holes])`` pairs.
     weight, objective, method
         As for :func:`optri.triangulate`; checked before any polygon is solved.
     project : bool
@@ -101,6 +105,10 @@ def triangulate_many(
     >>> type(out[1]).__name__, str(out[1])
     ('InvalidPolygonError', 'a polygon needs at least 3 vertices, got 2')
     """
+    if type(geoms).__module__.startswith("dask_geopandas"):  # lazy, partition by partition
+        chosen = dict(weight=weight, objective=objective, method=method)
+        solve = functools.partial(triangulate_many, explode=True) if explode else triangulate_many
+        return triangulate_dask(geoms, solve, chosen, project)
     options = SolveOptions(**check_options(weight, objective, method))
     frame, series = _geopandas_parts(geoms)
     if series is not None:

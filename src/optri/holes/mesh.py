@@ -37,7 +37,7 @@ from ..weights import get_weight
 from .boundary import Loop, edge_keys, trace_loops
 from .fair import CONTINUITY, fair_vertices
 from .intersect import intersecting_pairs
-from .meshdata import copies_at_border, mesh_arrays, same_kind, weld, with_attributes
+from ..meshdata import copies_at_border, mesh_arrays, same_kind, weld, with_attributes
 from .polyline import METHODS, fill_polyline
 from .refine import boundary_scales, refine_patch
 
@@ -186,7 +186,7 @@ def fill_holes(
         vertices appended after them, new faces appended) and one
         :class:`HoleRecord` per hole. A ``trimesh.Trimesh`` keeps its texture
         coordinates, material, vertex normals, colours and vertex and face
-        attributes (:func:`optri.holes.meshdata.with_attributes`); a
+        attributes (:func:`optri.meshdata.with_attributes`); a
         ``(vertices, faces)`` pair has none to keep.
 
     Raises

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from .. import config
 from .._optional import import_optional
 from ..errors import InvalidPolygonError
-from ..holes.meshdata import position_keys, rebuild, vertex_columns
+from ..meshdata import position_keys, rebuild, vertex_columns
 from .atomic import atomic_write
 
 __all__ = ["MESH_FORMATS", "mesh_format", "merge_vertices", "read_mesh", "write_mesh"]

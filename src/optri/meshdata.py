@@ -8,8 +8,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .._optional import import_optional
-from ..errors import InvalidPolygonError
+from ._optional import import_optional
+from .errors import InvalidPolygonError
 
 __all__ = [
     "copies_at_border",
