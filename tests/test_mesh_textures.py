@@ -19,8 +19,8 @@ from hypothesis import strategies as st
 import optri
 from optri.cli import main
 from optri.holes.boundary import edge_summary
-from optri.meshdata import weld
 from optri.io.meshes import read_mesh, write_mesh
+from optri.meshdata import weld
 
 trimesh = pytest.importorskip("trimesh")
 DATA = Path(__file__).resolve().parent / "data" / "meshes"

@@ -50,6 +50,7 @@ CONTOURS_TILING = "tests/test_contours_tiling.py"
 CONTOURS_MESH = "tests/test_contours_mesh.py"
 CONTOURS_CLI = "tests/test_contours_cli.py"
 TEXTURES = "tests/test_mesh_textures.py"
+DASK = "tests/test_batch_dask.py"
 
 MUTATIONS: list[Mutation] = [
     # --- the list: two-phase rule, ties, check(), CLI errors, 3-D limit ---------

@@ -14,8 +14,8 @@ from .. import config
 from ..errors import HoleSkippedWarning, InvalidPolygonError
 from ..holes import METHODS, HoleRecord, fill_holes
 from ..holes.boundary import edge_summary
-from ..meshdata import weld
 from ..io.meshes import mesh_format, read_mesh, write_mesh
+from ..meshdata import weld
 from .app import main
 from .options import input_path, output_option
 from .progress import compile_notice, progress_bar

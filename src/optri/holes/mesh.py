@@ -32,12 +32,12 @@ from ..errors import (
     NoTriangulationError,
     TableTooLargeError,
 )
+from ..meshdata import copies_at_border, mesh_arrays, same_kind, weld, with_attributes
 from ..objective import Cost
 from ..weights import get_weight
 from .boundary import Loop, edge_keys, trace_loops
 from .fair import CONTINUITY, fair_vertices
 from .intersect import intersecting_pairs
-from ..meshdata import copies_at_border, mesh_arrays, same_kind, weld, with_attributes
 from .polyline import METHODS, fill_polyline
 from .refine import boundary_scales, refine_patch
 
