@@ -84,15 +84,21 @@ def icosphere(level: int) -> Surface:
 
 def torus(level: int, major: float = 1.0, minor: float = 0.4) -> Surface:
     nu, nv = 40 * 2**level, 16 * 2**level
-    u, v = np.meshgrid(np.arange(nu) * 2 * np.pi / nu, np.arange(nv) * 2 * np.pi / nv, indexing="ij")
+    u, v = np.meshgrid(
+        np.arange(nu) * 2 * np.pi / nu, np.arange(nv) * 2 * np.pi / nv, indexing="ij"
+    )
     ring = major + minor * np.cos(v)
-    pts = np.column_stack([(ring * np.cos(u)).ravel(), (ring * np.sin(u)).ravel(), (minor * np.sin(v)).ravel()])
+    pts = np.column_stack(
+        [(ring * np.cos(u)).ravel(), (ring * np.sin(u)).ravel(), (minor * np.sin(v)).ravel()]
+    )
     i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
     a = i * nv + j
     b = ((i + 1) % nu) * nv + j
     c = ((i + 1) % nu) * nv + (j + 1) % nv
     d = i * nv + (j + 1) % nv
-    faces = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+    faces = np.concatenate(
+        [np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)]
+    )
 
     def dist(p: np.ndarray) -> np.ndarray:
         return np.abs(np.hypot(np.hypot(p[:, 0], p[:, 1]) - major, p[:, 2]) - minor)
@@ -119,7 +125,9 @@ def height_field(kind: str, level: int) -> Surface:
     pts = np.column_stack([x.ravel(), y.ravel(), h(x, y)[0].ravel()])
     i, j = np.meshgrid(np.arange(n - 1), np.arange(n - 1), indexing="ij")
     a, b, c, d = i * n + j, (i + 1) * n + j, (i + 1) * n + j + 1, i * n + j + 1
-    faces = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+    faces = np.concatenate(
+        [np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)]
+    )
 
     def dist(p: np.ndarray) -> np.ndarray:
         # closest point (u, v, h(u, v)) by Gauss-Newton on the residual (u - x, v - y, h - z)
@@ -139,7 +147,7 @@ def height_field(kind: str, level: int) -> Surface:
 
 
 def real_mesh(path: Path, level: int) -> Surface:
-    """A mesh of ``tests/data/meshes``, its holes capped flat, split ``level`` times at edge midpoints."""
+    """A mesh of ``tests/data/meshes``, holes capped flat, split ``level`` times at midpoints."""
     from optri.io.meshes import read_mesh
 
     m = read_mesh(path)
@@ -161,7 +169,9 @@ def midpoint_split(v: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray
     v2 = np.concatenate([v, 0.5 * (v[uniq[:, 0]] + v[uniq[:, 1]])])
     a, b, c = f.T
     ab, bc, ca = mid.T
-    f2 = np.concatenate([np.stack(t, 1) for t in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))])
+    f2 = np.concatenate(
+        [np.stack(t, 1) for t in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))]
+    )
     return v2, f2
 
 
@@ -292,17 +302,6 @@ def _write_off(path: str, v: np.ndarray, f: np.ndarray) -> None:
         np.savetxt(fh, np.column_stack([np.full(len(f), 3), f]), fmt="%d")
 
 
-def _read_off(path: str) -> tuple[np.ndarray, np.ndarray]:
-    with open(path) as fh:
-        words = fh.read().split()
-    nv, nf = int(words[1]), int(words[2])
-    at = 4
-    v = np.array(words[at : at + 3 * nv], dtype=np.float64).reshape(nv, 3)
-    at += 3 * nv
-    f = np.array(words[at : at + 4 * nf], dtype=np.int64).reshape(nf, 4)
-    return v, f[:, 1:]
-
-
 def _order_like(hole: Hole, v: np.ndarray, f: np.ndarray, method: str, seconds: float) -> Refill:
     """A peer's output renumbered: the holed mesh's vertices and faces first, as given."""
     n = len(hole.vertices)
@@ -310,7 +309,9 @@ def _order_like(hole: Hole, v: np.ndarray, f: np.ndarray, method: str, seconds: 
 
     dist, near = cKDTree(v).query(hole.vertices)
     if np.any(dist > 1e-5 * max(1.0, float(np.abs(hole.vertices).max()))):
-        return Refill(method, hole.vertices, hole.faces, len(hole.faces), seconds, "an old vertex moved")
+        return Refill(
+            method, hole.vertices, hole.faces, len(hole.faces), seconds, "an old vertex moved"
+        )
     renum = np.full(len(v), -1)
     renum[near] = np.arange(n)
     new = np.flatnonzero(renum < 0)
@@ -321,7 +322,11 @@ def _order_like(hole: Hole, v: np.ndarray, f: np.ndarray, method: str, seconds: 
     is_old = np.array([tuple(sorted(t)) in old for t in faces.tolist()], dtype=bool)
     # an old face the peer split (MeshLib splits long hole sides) counts as new
     faces = np.concatenate([faces[is_old], faces[~is_old]])
-    notes = {"old_faces_changed": len(hole.faces) - int(is_old.sum())} if is_old.sum() < len(hole.faces) else {}
+    notes = (
+        {"old_faces_changed": len(hole.faces) - int(is_old.sum())}
+        if is_old.sum() < len(hole.faces)
+        else {}
+    )
     return Refill(method, verts, faces, int(is_old.sum()), seconds, notes=notes)
 
 
@@ -330,7 +335,7 @@ def refill_cgal(hole: Hole) -> Refill:
     from CGAL.CGAL_Polyhedron_3 import Polyhedron_3
 
     with tempfile.TemporaryDirectory() as tmp:
-        src, out = os.path.join(tmp, "in.off"), os.path.join(tmp, "out.off")
+        src = os.path.join(tmp, "in.off")
         _write_off(src, hole.vertices, hole.faces)
         poly = Polyhedron_3(src)
         ends = {tuple(map(float, hole.vertices[hole.loop[i]])) for i in (0, 1)}
@@ -342,14 +347,25 @@ def refill_cgal(hole: Hole) -> Refill:
                     border = h
                     break
         if border is None:
-            return Refill("cgal", hole.vertices, hole.faces, len(hole.faces), 0.0, "no border halfedge")
+            return Refill(
+                "cgal", hole.vertices, hole.faces, len(hole.faces), 0.0, "no border halfedge"
+            )
         facets: list = []
         verts: list = []
         start = time.perf_counter()
         pmp.triangulate_refine_and_fair_hole(poly, border, facets, verts)
         seconds = time.perf_counter() - start
-        poly.write_to_file(out)
-        v, f = _read_off(out)
+    # read back through the handles (the OFF writer rounds to 6 digits)
+    coords = []
+    for i, vh in enumerate(poly.vertices()):
+        vh.set_id(i)
+        p = vh.point()
+        coords.append((p.x(), p.y(), p.z()))
+    tris = []
+    for fh in poly.facets():
+        h = fh.halfedge()
+        tris.append((h.vertex().id(), h.next().vertex().id(), h.next().next().vertex().id()))
+    v, f = np.array(coords), np.array(tris, dtype=np.int64)
     return _order_like(hole, v, f, "cgal", seconds)
 
 
@@ -388,7 +404,9 @@ def refill_meshlib(hole: Hole) -> Refill:
 # ---------------------------------------------------------------- measures
 
 
-def point_triangle_distance(points: np.ndarray, tris: np.ndarray, chunk: int = 200_000) -> np.ndarray:
+def point_triangle_distance(
+    points: np.ndarray, tris: np.ndarray, chunk: int = 200_000
+) -> np.ndarray:
     """Distance of each point to the nearest of ``tris`` ((k, 3, 3)), brute force in chunks."""
     out = np.full(len(points), np.inf)
     step = max(1, chunk // max(1, len(tris)))
@@ -510,6 +528,7 @@ def run(families, sizes, per_size: int, seed: int, max_level: int, log=print) ->
     rng = np.random.default_rng(seed)
     methods = peers()
     rows: list[dict] = []
+    hole_id = 0
     for family in families:
         for size in sizes:
             done = 0
@@ -519,16 +538,27 @@ def run(families, sizes, per_size: int, seed: int, max_level: int, log=print) ->
                         hole = cut_hole(s, size, rng)
                         if hole is None:
                             break
-                        for name, fn in methods.items():
+                        for fn in methods.values():
                             row = measure(hole, fn(hole))
-                            row["size"] = size
+                            row["size"], row["hole"] = size, hole_id
                             rows.append(row)
-                            log(json.dumps({k: (round(x, 6) if isinstance(x, float) else x) for k, x in row.items()}))
+                            log(
+                                json.dumps(
+                                    {
+                                        k: (round(x, 6) if isinstance(x, float) else x)
+                                        for k, x in row.items()
+                                    }
+                                )
+                            )
                         done += 1
+                        hole_id += 1
                 if done >= per_size:
                     break
             if done < per_size:
-                log(f"# {family}: {per_size - done} holes of {size} edges not cut up to level {max_level}")
+                log(
+                    f"# {family}: {per_size - done} holes of {size} edges not cut "
+                    f"up to level {max_level}"
+                )
     return rows
 
 
@@ -536,55 +566,70 @@ def _median(xs: list[float]) -> float:
     return statistics.median(xs) if xs else float("nan")
 
 
+COLUMNS = (
+    "family",
+    "method",
+    "holes",
+    "edges",
+    "RMS",
+    "max dist",
+    "min angle",
+    "dihedral",
+    "crossings",
+    "ms",
+    "RMS <= CGAL",
+    "RMS <= MeshLib",
+)
+
+
 def summarize(rows: list[dict]) -> str:
-    """Per family and method: medians; optri's win rates; crossings."""
-    by: dict[tuple[str, str], list[dict]] = {}
-    for r in rows:
-        by.setdefault((r["family"], r["method"]), []).append(r)
-    key = {(r["family"], r["mesh"], r["edges"], r.get("size"), i // len(METHODS)): None for i, r in enumerate(rows)}
-    del key
-    lines = [
-        "| family | method | holes | edges (median) | RMS | max dist | min angle | dihedral | crossings | ms | RMS <= CGAL | RMS <= MeshLib |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|",
-    ]
+    """A Markdown table: per family and method, medians over holes, crossings, win rates."""
     holes = _group_holes(rows)
+    lines = ["| " + " | ".join(COLUMNS) + " |", "|---" * len(COLUMNS) + "|"]
     for family in dict.fromkeys(r["family"] for r in rows):
         for method in dict.fromkeys(r["method"] for r in rows):
-            rs = [r for r in by.get((family, method), []) if "error" not in r]
+            rs = [r for r in rows if r["family"] == family and r["method"] == method]
+            rs = [r for r in rs if "error" not in r]
             if not rs:
                 continue
-            wins = {}
+            wins = []
             for peer in ("cgal", "meshlib"):
                 pairs = [
                     (h[method]["rms"], h[peer]["rms"])
                     for h in holes
-                    if h.get(method, {}).get("family") == family and "rms" in h.get(method, {}) and "rms" in h.get(peer, {})
+                    if "rms" in h.get(method, {})
+                    and "rms" in h.get(peer, {})
+                    and h[method]["family"] == family
                 ]
-                wins[peer] = (
-                    f"{sum(a <= b for a, b in pairs)}/{len(pairs)}" if pairs and method != peer else ""
-                )
-            lines.append(
-                f"| {family} | {method} | {len(rs)} | {_median([r['edges'] for r in rs]):.0f} "
-                f"| {_median([r['rms'] for r in rs]):.2e} | {_median([r['max'] for r in rs]):.2e} "
-                f"| {_median([r['min_angle'] for r in rs]):.1f} | {_median([r['dihedral'] for r in rs]):.1f} "
-                f"| {sum(r['crossings'] for r in rs)} | {1000 * _median([r['seconds'] for r in rs]):.1f} "
-                f"| {wins['cgal']} | {wins['meshlib']} |"
-            )
+                won = sum(a <= b for a, b in pairs)
+                wins.append(f"{won}/{len(pairs)}" if pairs and method != peer else "")
+
+            def med(key: str, rs: list[dict] = rs) -> float:
+                return _median([r[key] for r in rs])
+
+            cells = [
+                family,
+                method,
+                str(len(rs)),
+                f"{med('edges'):.0f}",
+                f"{med('rms'):.2e}",
+                f"{med('max'):.2e}",
+                f"{med('min_angle'):.1f}",
+                f"{med('dihedral'):.1f}",
+                str(sum(r["crossings"] for r in rs)),
+                f"{1000 * med('seconds'):.1f}",
+                *wins,
+            ]
+            lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 
 def _group_holes(rows: list[dict]) -> list[dict[str, dict]]:
-    """Rows of the same hole together (the methods run one after another on each hole)."""
-    holes: list[dict[str, dict]] = []
-    current: dict[str, dict] = {}
+    """The rows of each hole, by method."""
+    holes: dict[int, dict[str, dict]] = {}
     for r in rows:
-        if r["method"] in current:
-            holes.append(current)
-            current = {}
-        current[r["method"]] = r
-    if current:
-        holes.append(current)
-    return holes
+        holes.setdefault(r["hole"], {})[r["method"]] = r
+    return list(holes.values())
 
 
 def totals(rows: list[dict]) -> str:
@@ -596,22 +641,31 @@ def totals(rows: list[dict]) -> str:
         if both:
             win = sum(h[method]["rms"] <= h["cgal"]["rms"] for h in both)
             faster = sum(h[method]["seconds"] <= h["cgal"]["seconds"] for h in both)
-            t_ratio = _median([h[method]["seconds"] / max(h["cgal"]["seconds"], 1e-9) for h in both])
+            t_ratio = _median(
+                [h[method]["seconds"] / max(h["cgal"]["seconds"], 1e-9) for h in both]
+            )
             out.append(
-                f"{method}: RMS <= CGAL's on {win}/{len(both)} holes ({100 * win / len(both):.0f} %), "
+                f"{method}: RMS <= CGAL's on {win}/{len(both)} holes "
+                f"({100 * win / len(both):.0f} %), "
                 f"time <= CGAL's on {faster}/{len(both)}, median time ratio {t_ratio:.2f}"
             )
     for method in METHODS:
         rs = [h[method] for h in holes if "crossings" in h.get(method, {})]
         if rs:
-            out.append(f"{method}: {sum(r['crossings'] for r in rs)} crossings over {len(rs)} holes")
+            out.append(
+                f"{method}: {sum(r['crossings'] for r in rs)} crossings over {len(rs)} holes"
+            )
     return "\n".join(out)
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ap.add_argument("--families", default=",".join(FAMILIES))
-    ap.add_argument("--sizes", default=",".join(map(str, DEFAULT_SIZES)), help="target boundary edges")
+    ap.add_argument(
+        "--sizes", default=",".join(map(str, DEFAULT_SIZES)), help="target boundary edges"
+    )
     ap.add_argument("--per-size", type=int, default=2, help="holes per family and size")
     ap.add_argument("--max-level", type=int, default=3, help="finest mesh level tried for a size")
     ap.add_argument("--seed", type=int, default=53)
@@ -624,14 +678,23 @@ def main(argv: list[str] | None = None) -> int:
         ap.error(f"unknown families {sorted(bad)}; choose from {', '.join(FAMILIES)}")
     sizes = [int(x) for x in args.sizes.split(",")]
     start = time.perf_counter()
-    rows = run(families, sizes, args.per_size, args.seed, args.max_level, log=(lambda *_: None) if args.quiet else print)
+    rows = run(
+        families,
+        sizes,
+        args.per_size,
+        args.seed,
+        args.max_level,
+        log=(lambda *_: None) if args.quiet else print,
+    )
     print()
     print(summarize(rows))
     print()
     print(totals(rows))
     load = os.getloadavg()
-    print(f"\nload average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f} on {os.cpu_count()} cpus; "
-          f"{time.perf_counter() - start:.0f} s; python {sys.version.split()[0]}")
+    print(
+        f"\nload average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f} on {os.cpu_count()} cpus; "
+        f"{time.perf_counter() - start:.0f} s; python {sys.version.split()[0]}"
+    )
     if args.json:
         Path(args.json).write_text(json.dumps(rows, indent=1))
     return 0

@@ -216,6 +216,52 @@ def test_crossing_triangles_are_found_and_neighbours_are_not():
     assert len(intersecting_pairs(w, faces, np.array([[0, 9, 10]]))) == 1
 
 
+def test_crossing_pairs_match_a_brute_force_scan():
+    # faces of very different widths: a long face starting far left of a patch face's box
+    # still reaches it, so the sorted window must look back by the widest face
+    rng = np.random.default_rng(7)
+    corners = rng.random((90, 3)) * 0.4
+    corners[:, 0] *= 10.0
+    corners[:4, 0] = [0.0, 0.2, 3.9, 4.0]  # two of the mesh faces span the whole x range
+    v = corners.reshape(-1, 3)
+    faces = np.arange(60).reshape(-1, 3)
+    patch = np.arange(60, 90).reshape(-1, 3)
+    found = {tuple(x) for x in intersecting_pairs(v, faces, patch).tolist()}
+    def crosses(q, f):  # one pair, tested both ways round (no window can miss it twice)
+        return bool(len(intersecting_pairs(v, faces[f : f + 1], patch[q : q + 1]))
+                    or len(intersecting_pairs(v, patch[q : q + 1], faces[f : f + 1])))
+
+    brute = {(q, f) for q in range(len(patch)) for f in range(len(faces)) if crosses(q, f)}
+    assert found == brute and len(brute) >= 3
+
+
+def _not_locally_delaunay(pts, faces):
+    from optri.holes.refine import _inside_sphere
+
+    where = {}
+    for a, b, c in faces:
+        where[(a, b)], where[(b, c)], where[(c, a)] = c, a, b
+    return [
+        (u, w) for (u, w), x in where.items()
+        if (w, u) in where and _inside_sphere(*(tuple(pts[i]) for i in (u, w, x, where[(w, u)])))
+    ]
+
+
+def test_relaxation_and_refinement_leave_a_flat_patch_locally_delaunay():
+    from optri.holes.refine import _relax
+
+    # a fan over a convex polygon: each swap makes its neighbours' edges swappable in turn
+    t = np.linspace(0, 2 * np.pi, 25)[:-1]
+    pts = np.column_stack([5 * np.cos(t), np.sin(t), np.zeros(24)])
+    fan = [(0, i, i + 1) for i in range(1, 23)]
+    loop = {frozenset((i, (i + 1) % 24)) for i in range(24)}
+    relaxed = _relax(fan, lambda i: pts[i], loop, set())
+    assert _not_locally_delaunay(pts, fan) != [] and _not_locally_delaunay(pts, relaxed) == []
+    v = np.array([[0.0, 0, 0], [10, 0, 0], [10, 3, 0], [0, 3, 0]])
+    new, faces = refine_patch(v, np.array([[0, 1, 2], [0, 2, 3]]), np.arange(4), np.full(4, 0.6))
+    assert len(new) > 20 and _not_locally_delaunay(np.vstack([v, new]), faces.tolist()) == []
+
+
 def test_the_fill_cli_refines_and_fairs(tmp_path):
     from click.testing import CliRunner
 

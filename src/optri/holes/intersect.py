@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 __all__ = ["intersecting_pairs"]
 
 _EPS = 1e-9  # relative: a crossing closer than this to an end or a side is a touch
+_BLOCK = 1 << 20  # candidate pairs per block
 
 
 def intersecting_pairs(
@@ -48,18 +49,26 @@ def intersecting_pairs(
         np.all((flo <= phi.max(axis=0) + pad) & (fhi >= plo.min(axis=0) - pad), axis=1)
     )
     f, flo, fhi = f[near], flo[near], fhi[near]
-    # candidate pairs: overlapping boxes, by a sort along x and a scan
-    pairs = []
-    order = np.argsort(flo[:, 0])
+    if len(f) == 0:
+        return np.empty((0, 2), dtype=np.int64)
+    # candidate pairs: nearby faces sorted by their box's low x; a patch face's candidates
+    # are the run whose low x lies in [its low x - the widest face, its high x]
+    order = np.argsort(flo[:, 0], kind="stable")
     lo_sorted = flo[order, 0]
-    for q in range(len(p)):
-        stop = np.searchsorted(lo_sorted, phi[q, 0] + pad, side="right")
-        cand = order[:stop]
-        cand = cand[fhi[cand, 0] >= plo[q, 0] - pad]
-        ok = np.all((flo[cand] <= phi[q] + pad) & (fhi[cand] >= plo[q] - pad), axis=1)
-        cand = cand[ok]
-        if len(cand):
-            pairs.append(np.column_stack([np.full(len(cand), q), cand]))
+    width = float((fhi[:, 0] - flo[:, 0]).max())
+    start = np.searchsorted(lo_sorted, plo[:, 0] - width - pad, side="left")
+    stop = np.searchsorted(lo_sorted, phi[:, 0] + pad, side="right")
+    count = np.maximum(stop - start, 0)
+    pairs = []
+    bounds = np.searchsorted(np.cumsum(count), np.arange(0, int(count.sum()), _BLOCK), "right")
+    for s0, s1 in zip(bounds.tolist(), (bounds[1:].tolist() + [len(p)])):
+        n = count[s0:s1]
+        q = np.repeat(np.arange(s0, s1), n)
+        offset = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n)
+        c = order[np.repeat(start[s0:s1], n) + offset]
+        ok = np.all((flo[c] <= phi[q] + pad) & (fhi[c] >= plo[q] - pad), axis=1)
+        if ok.any():
+            pairs.append(np.column_stack([q[ok], c[ok]]))
     if not pairs:
         return np.empty((0, 2), dtype=np.int64)
     pq = np.concatenate(pairs)

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -31,9 +32,11 @@ from ..errors import InvalidPolygonError
 
 __all__ = ["boundary_scales", "refine_patch"]
 
+Point = tuple[float, float, float]
+
 #: Rounds of splitting and relaxation at most (each round at most triples the faces).
 MAX_ROUNDS = 40
-#: Relaxation sweeps after a round at most.
+#: Edge swaps per face at most in one relaxation (a guard against cycling).
 MAX_SWEEPS = 50
 
 
@@ -121,24 +124,32 @@ def refine_patch(
     ]
     loop_edges = {frozenset((int(a), int(b))) for a, b in zip(loop, np.roll(loop, -1))}
     blocked = set(forbidden or ())
-    added: list[tuple[float, float, float]] = []
+    # plain floats: the per-triangle work below is scalar, where numpy's overhead dominates
+    coords: dict[int, Point] = {
+        int(i): (float(x), float(y), float(z)) for i, (x, y, z) in _rows(pts, faces)
+    }
+    added: list[Point] = []
 
-    def point(i: int) -> NDArray[np.float64]:
-        return pts[i] if i < base else np.asarray(added[i - base])
+    def point(i: int) -> Point:
+        return coords[i] if i < base else added[i - base]
 
     for _ in range(max_rounds):
         split = False
         next_faces: list[tuple[int, int, int]] = []
         for a, b, c in faces:
             pa, pb, pc = point(a), point(b), point(c)
-            m = (pa + pb + pc) / 3.0
+            m = (
+                (pa[0] + pb[0] + pc[0]) / 3.0,
+                (pa[1] + pb[1] + pc[1]) / 3.0,
+                (pa[2] + pb[2] + pc[2]) / 3.0,
+            )
             sm = (sigma.get(a, 0.0) + sigma.get(b, 0.0) + sigma.get(c, 0.0)) / 3.0
             if sm > 0 and all(
-                density * float(np.linalg.norm(m - p)) > max(sm, sigma.get(x, 0.0))
+                density * math.dist(m, p) > max(sm, sigma.get(x, 0.0))
                 for x, p in ((a, pa), (b, pb), (c, pc))
             ):
                 k = base + len(added)
-                added.append((float(m[0]), float(m[1]), float(m[2])))
+                added.append(m)
                 sigma[k] = sm
                 next_faces += [(a, b, k), (b, c, k), (c, a, k)]
                 split = True
@@ -152,42 +163,57 @@ def refine_patch(
     return new, np.asarray(faces, dtype=np.int64).reshape(-1, 3)
 
 
+def _rows(pts: NDArray[np.float64], faces: list[tuple[int, int, int]]) -> Any:
+    """``(index, row)`` of each vertex the faces use."""
+    used = np.unique(np.asarray(faces, dtype=np.int64).reshape(-1))
+    return zip(used.tolist(), pts[used].tolist())
+
+
 def _relax(
     faces: list[tuple[int, int, int]],
-    point: Callable[[int], NDArray[np.float64]],
+    point: Callable[[int], Any],
     fixed_edges: set[frozenset[int]],
     blocked: set[frozenset[int]],
 ) -> list[tuple[int, int, int]]:
     """Swap interior edges whose opposite vertex is inside the diametral sphere.
 
     ``fixed_edges`` are never swapped away; no swap creates an edge of ``blocked``.
+    Every interior edge is tested once, and the four edges around a swap again
+    (a work list); swaps stop after ``MAX_SWEEPS`` per face at most.
     """
     faces = list(faces)
-    for _ in range(MAX_SWEEPS):
-        where: dict[tuple[int, int], int] = {}  # directed edge -> face index
-        for t, (a, b, c) in enumerate(faces):
-            where[(a, b)], where[(b, c)], where[(c, a)] = t, t, t
-        edges = {frozenset(e) for e in where}
-        swapped = False
-        done: set[int] = set()
-        for (u, v), t1 in list(where.items()):
-            t2 = where.get((v, u))
-            if t2 is None or t1 in done or t2 in done or frozenset((u, v)) in fixed_edges:
-                continue
-            x = _third(faces[t1], u, v)
-            y = _third(faces[t2], v, u)
-            if x == y or frozenset((x, y)) in edges or frozenset((x, y)) in blocked:
-                continue
-            if not _inside_sphere(point(u), point(v), point(x), point(y)):
-                continue
-            # (u, v, x) and (v, u, y) become (u, y, x) and (v, x, y): same winding
-            faces[t1], faces[t2] = (u, y, x), (v, x, y)
-            edges.discard(frozenset((u, v)))
-            edges.add(frozenset((x, y)))
-            done |= {t1, t2}
-            swapped = True
-        if not swapped:
-            break
+    coords: dict[int, Point] = {}
+
+    def xyz(i: int) -> Point:
+        p = coords.get(i)
+        if p is None:
+            q = point(i)
+            p = coords[i] = (float(q[0]), float(q[1]), float(q[2]))
+        return p
+
+    where: dict[tuple[int, int], int] = {}  # directed edge -> face index
+    for t, (a, b, c) in enumerate(faces):
+        where[(a, b)], where[(b, c)], where[(c, a)] = t, t, t
+    todo = [e for e in where if e[0] < e[1]]
+    budget = MAX_SWEEPS * max(len(faces), 1)
+    while todo and budget > 0:
+        u, v = todo.pop()
+        t1, t2 = where.get((u, v)), where.get((v, u))
+        if t1 is None or t2 is None or frozenset((u, v)) in fixed_edges:
+            continue
+        x = _third(faces[t1], u, v)
+        y = _third(faces[t2], v, u)
+        if x == y or (x, y) in where or (y, x) in where or frozenset((x, y)) in blocked:
+            continue
+        if not _inside_sphere(xyz(u), xyz(v), xyz(x), xyz(y)):
+            continue
+        # (u, v, x) and (v, u, y) become (u, y, x) and (v, x, y): same winding
+        faces[t1], faces[t2] = (u, y, x), (v, x, y)
+        del where[(u, v)], where[(v, u)]
+        where[(u, y)], where[(y, x)], where[(x, u)] = t1, t1, t1
+        where[(v, x)], where[(x, y)], where[(y, v)] = t2, t2, t2
+        todo += [(v, x), (x, u), (u, y), (y, v)]
+        budget -= 1
     return faces
 
 
@@ -197,15 +223,21 @@ def _third(face: tuple[int, int, int], u: int, v: int) -> int:
     return {(a, b): c, (b, c): a, (c, a): b}[(u, v)]
 
 
-def _inside_sphere(
-    a: NDArray[np.float64], b: NDArray[np.float64], c: NDArray[np.float64], d: NDArray[np.float64]
-) -> bool:
+def _inside_sphere(a: Point, b: Point, c: Point, d: Point) -> bool:
     """Whether ``d`` lies strictly inside the sphere through ``a, b, c`` centred in their plane."""
-    ab, ac = b - a, c - a
-    n = np.cross(ab, ac)
-    nn = float(n @ n)
+    ax, ay, az = a
+    bx, by, bz = b[0] - ax, b[1] - ay, b[2] - az  # ab
+    cx, cy, cz = c[0] - ax, c[1] - ay, c[2] - az  # ac
+    nx, ny, nz = by * cz - bz * cy, bz * cx - bx * cz, bx * cy - by * cx  # n = ab x ac
+    nn = nx * nx + ny * ny + nz * nz
     if nn == 0.0:
         return True  # a degenerate triangle: swapping its edge can only help
-    center = a + (np.cross(n, ab) * float(ac @ ac) + np.cross(ac, n) * float(ab @ ab)) / (2 * nn)
-    r2 = float((a - center) @ (a - center))
-    return float((d - center) @ (d - center)) < r2 * (1 - 1e-12)
+    s = (cx * cx + cy * cy + cz * cz) / (2 * nn)
+    t = (bx * bx + by * by + bz * bz) / (2 * nn)
+    # centre - a = (n x ab) s + (ac x n) t
+    ox = (ny * bz - nz * by) * s + (cy * nz - cz * ny) * t
+    oy = (nz * bx - nx * bz) * s + (cz * nx - cx * nz) * t
+    oz = (nx * by - ny * bx) * s + (cx * ny - cy * nx) * t
+    r2 = ox * ox + oy * oy + oz * oz
+    dx, dy, dz = d[0] - ax - ox, d[1] - ay - oy, d[2] - az - oz
+    return dx * dx + dy * dy + dz * dz < r2 * (1 - 1e-12)
