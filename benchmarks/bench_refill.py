@@ -666,7 +666,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--sizes", default=",".join(map(str, DEFAULT_SIZES)), help="target boundary edges"
     )
-    ap.add_argument("--per-size", type=int, default=2, help="holes per family and size")
+    ap.add_argument("--per-size", type=int, default=1, help="holes per family and size")
     ap.add_argument("--max-level", type=int, default=3, help="finest mesh level tried for a size")
     ap.add_argument("--seed", type=int, default=53)
     ap.add_argument("--json", help="write every row here")

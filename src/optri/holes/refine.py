@@ -50,7 +50,11 @@ def boundary_scales(
     >>> boundary_scales(v, np.array([[0, 1, 2]]), np.array([0, 1, 2])).round(3).tolist()
     [1.5, 2.118, 1.618]
     """
-    f = np.asarray(faces, dtype=np.int64)
+    loop = np.asarray(loop, dtype=np.int64)
+    f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    on_loop = np.zeros(len(vertices), dtype=bool)
+    on_loop[loop] = True
+    f = f[on_loop[f].any(axis=1)]  # only the faces at the loop hold its edges
     e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
     e = np.unique(np.sort(e, axis=1), axis=0)
     length = np.linalg.norm(vertices[e[:, 0]] - vertices[e[:, 1]], axis=1)
@@ -59,7 +63,6 @@ def boundary_scales(
     for c in range(2):
         np.add.at(total, e[:, c], length)
         np.add.at(count, e[:, c], 1)
-    loop = np.asarray(loop, dtype=np.int64)
     out = np.where(count[loop] > 0, total[loop] / np.maximum(count[loop], 1), 0.0)
     if not np.any(out > 0):
         return out
@@ -183,13 +186,11 @@ def _relax(
     """
     faces = list(faces)
     coords: dict[int, Point] = {}
-
-    def xyz(i: int) -> Point:
-        p = coords.get(i)
-        if p is None:
-            q = point(i)
-            p = coords[i] = (float(q[0]), float(q[1]), float(q[2]))
-        return p
+    for face in faces:
+        for i in face:
+            if i not in coords:
+                q = point(i)
+                coords[i] = (float(q[0]), float(q[1]), float(q[2]))
 
     where: dict[tuple[int, int], int] = {}  # directed edge -> face index
     for t, (a, b, c) in enumerate(faces):
@@ -205,7 +206,7 @@ def _relax(
         y = _third(faces[t2], v, u)
         if x == y or (x, y) in where or (y, x) in where or frozenset((x, y)) in blocked:
             continue
-        if not _inside_sphere(xyz(u), xyz(v), xyz(x), xyz(y)):
+        if not _inside_sphere(coords[u], coords[v], coords[x], coords[y]):
             continue
         # (u, v, x) and (v, u, y) become (u, y, x) and (v, x, y): same winding
         faces[t1], faces[t2] = (u, y, x), (v, x, y)
@@ -220,7 +221,9 @@ def _relax(
 def _third(face: tuple[int, int, int], u: int, v: int) -> int:
     """The vertex of ``face`` that follows the directed edge ``(u, v)``."""
     a, b, c = face
-    return {(a, b): c, (b, c): a, (c, a): b}[(u, v)]
+    if a == u:
+        return c
+    return a if b == u else b
 
 
 def _inside_sphere(a: Point, b: Point, c: Point, d: Point) -> bool:
