@@ -114,3 +114,27 @@ def test_meshlib_refills_the_same_hole(hole):
     assert r.error == ""
     row = bench.measure(hole, r)
     assert row["new_vertices"] > 0 and row["rms"] < 0.1
+
+
+def test_refilled_torus_holes_never_cross_themselves():
+    # a hole across the tube: edge swaps over its creases used to lay faces over the
+    # patch (18 crossings), and a fairing that folded the patch onto itself was kept
+    from optri.holes.intersect import intersecting_pairs
+
+    hole = bench.cut_hole(bench.torus(2), 160, np.random.default_rng(1))
+    assert hole is not None and hole.edges == 162
+    for fair in (None, 1):
+        r = bench.refill_optri(hole, fair) if fair else _refined(hole)
+        new = r.faces[r.old_faces :]
+        assert len(new) > 1000 and len(intersecting_pairs(r.vertices, r.faces, new)) == 0
+
+
+def _refined(hole):
+    import warnings
+
+    from optri import fill_holes
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        (v, f), _ = fill_holes((hole.vertices, hole.faces), max_hole_edges=hole.edges, refine=True)
+    return bench.Refill("refined", v, f, len(hole.faces), 0.0)

@@ -149,6 +149,19 @@ def test_relaxation_swaps_a_thin_pair_but_never_onto_an_edge_the_mesh_has():
     assert fixed == faces  # a boundary edge is never swapped away
 
 
+def test_relaxation_never_sharpens_a_crease():
+    from optri.holes.refine import _relax
+
+    # y lies in the diametral sphere of (u, v, x), but the swapped pair would meet at a
+    # sharper angle than the pair it replaces: the swap is refused; flattened, it is made
+    pts = np.array([[0.0, 0, 0], [4, 0, 0], [3, 1.8, 0], [2.9, -1.6, -0.55]])
+    faces = [(0, 1, 2), (1, 0, 3)]
+    assert _relax(faces, lambda i: pts[i], set(), set()) == faces
+    flat = pts.copy()
+    flat[3, 2] = 0.0
+    assert _relax(faces, lambda i: flat[i], set(), set()) != faces
+
+
 def test_a_corner_with_a_coarse_neighbourhood_keeps_its_triangle_whole():
     # each corner's own scale counts, not only the centroid's (their mean)
     v = np.array([[0.0, 0, 0], [10, 0, 0], [5, 8.66, 0]])

@@ -1325,6 +1325,24 @@ MUTATIONS: list[Mutation] = [
         "with edges that fail the diametral-sphere test",
     ),
     M(
+        "refine-relax-sharpens-creases",
+        "src/optri/holes/refine.py",
+        " or _folds(pu, pv, px, py):",
+        ":",
+        ("tests/test_mesh_refine.py", "-k", "crease"),
+        "an edge swap may fold the patch more sharply: on a curved hole faces lie over "
+        "their neighbours",
+    ),
+    M(
+        "fill-fair-check-ignores-patch-self-crossings",
+        "src/optri/holes/mesh.py",
+        "    after = len(intersecting_pairs(res.vertices, around, patch))",
+        "    after = len(intersecting_pairs(res.vertices, others, patch))",
+        ("tests/test_bench_refill.py", "-k", "torus_holes"),
+        "a fairing that folds the patch onto itself is kept (only crossings with the old "
+        "mesh are counted)",
+    ),
+    M(
         "intersect-window-ignores-face-width",
         "src/optri/holes/intersect.py",
         "    start = np.searchsorted(lo_sorted, plo[:, 0] - width - pad, side=\"left\")",

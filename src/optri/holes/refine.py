@@ -34,6 +34,10 @@ __all__ = ["boundary_scales", "refine_patch"]
 
 Point = tuple[float, float, float]
 
+#: Dihedral angle (degrees) under which an edge swap may sharpen the fold between its faces.
+FOLD_FREE = 10.0
+_FOLD_FREE_COS = math.cos(math.radians(FOLD_FREE))
+
 #: Rounds of splitting and relaxation at most (each round at most triples the faces).
 MAX_ROUNDS = 40
 #: Edge swaps per face at most in one relaxation (a guard against cycling).
@@ -206,7 +210,8 @@ def _relax(
         y = _third(faces[t2], v, u)
         if x == y or (x, y) in where or (y, x) in where or frozenset((x, y)) in blocked:
             continue
-        if not _inside_sphere(coords[u], coords[v], coords[x], coords[y]):
+        pu, pv, px, py = coords[u], coords[v], coords[x], coords[y]
+        if not _inside_sphere(pu, pv, px, py) or _folds(pu, pv, px, py):
             continue
         # (u, v, x) and (v, u, y) become (u, y, x) and (v, x, y): same winding
         faces[t1], faces[t2] = (u, y, x), (v, x, y)
@@ -244,3 +249,34 @@ def _inside_sphere(a: Point, b: Point, c: Point, d: Point) -> bool:
     r2 = ox * ox + oy * oy + oz * oz
     dx, dy, dz = d[0] - ax - ox, d[1] - ay - oy, d[2] - az - oz
     return dx * dx + dy * dy + dz * dz < r2 * (1 - 1e-12)
+
+
+def _folds(u: Point, v: Point, x: Point, y: Point) -> bool:
+    """Whether swapping ``u-v`` for ``x-y`` in ``(u, v, x), (v, u, y)`` folds the patch more.
+
+    The new pair ``(u, y, x), (v, x, y)`` must meet at a dihedral angle no sharper than
+    the old pair's, or below ``FOLD_FREE`` degrees: on a curved patch a swap across a
+    crease would otherwise lay faces over their neighbours (a self-intersecting patch).
+    """
+    old = _cosine(_normal(u, v, x), _normal(v, u, y))
+    new = _cosine(_normal(u, y, x), _normal(v, x, y))
+    return new < min(old, _FOLD_FREE_COS)
+
+
+def _cosine(a: Point, b: Point) -> float:
+    na, nb = _dot(a, a), _dot(b, b)
+    if na == 0.0 or nb == 0.0:
+        return 1.0  # a degenerate face has no fold to speak of
+    return _dot(a, b) / math.sqrt(na * nb)
+
+
+def _normal(a: Point, b: Point, c: Point) -> Point:
+    return _cross((b[0] - a[0], b[1] - a[1], b[2] - a[2]), (c[0] - a[0], c[1] - a[1], c[2] - a[2]))
+
+
+def _dot(u: Point, v: Point) -> float:
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+def _cross(u: Point, v: Point) -> Point:
+    return (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
