@@ -158,7 +158,7 @@ def refill_pictures() -> None:
     (fv, ff), _ = fill_holes((hole.vertices, hole.faces))
     flat = bench.Refill("flat", fv, ff, len(hole.faces), 0.0)
     panels = [
-        ("the hole (%d edges)" % hole.edges, None),
+        (f"the hole ({hole.edges} edges)", None),
         ("optri, optimal patch", flat),
         ("optri, refine + fair=1", bench.refill_optri(hole, 1)),
         ("optri, refine + fair=2", bench.refill_optri(hole, 2)),

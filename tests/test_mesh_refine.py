@@ -233,10 +233,10 @@ def test_crossing_pairs_match_a_brute_force_scan():
     # faces of very different widths: a long face starting far left of a patch face's box
     # still reaches it, so the sorted window must look back by the widest face
     rng = np.random.default_rng(7)
-    corners = rng.random((90, 3)) * 0.4
-    corners[:, 0] *= 10.0
-    corners[:4, 0] = [0.0, 0.2, 3.9, 4.0]  # two of the mesh faces span the whole x range
-    v = corners.reshape(-1, 3)
+    centres = np.repeat(rng.random((30, 3)) * [4.0, 0.4, 0.4], 3, axis=0)
+    v = centres + (rng.random((90, 3)) - 0.5) * 0.5
+    v[:6] = [[0.0, 0.1, 0.2], [4, 0.2, 0.1], [2, 0.3, 0.3],   # two faces across the range
+             [0.1, 0.3, 0.0], [3.9, 0.0, 0.4], [2, 0.1, 0.2]]
     faces = np.arange(60).reshape(-1, 3)
     patch = np.arange(60, 90).reshape(-1, 3)
     found = {tuple(x) for x in intersecting_pairs(v, faces, patch).tolist()}
@@ -246,6 +246,7 @@ def test_crossing_pairs_match_a_brute_force_scan():
 
     brute = {(q, f) for q in range(len(patch)) for f in range(len(faces)) if crosses(q, f)}
     assert found == brute and len(brute) >= 3
+    assert {f for _, f in brute} & {0, 1}  # the long faces cross some patch faces
 
 
 def _not_locally_delaunay(pts, faces):

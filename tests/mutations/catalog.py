@@ -1343,6 +1343,14 @@ MUTATIONS: list[Mutation] = [
         "mesh are counted)",
     ),
     M(
+        "intersect-forgets-wide-faces",
+        "src/optri/holes/intersect.py",
+        "    for w in np.flatnonzero(wide).tolist():",
+        "    for w in []:",
+        ("tests/test_mesh_refine.py", "-k", "brute_force"),
+        "faces much wider than the rest are never tested against the patch",
+    ),
+    M(
         "intersect-window-ignores-face-width",
         "src/optri/holes/intersect.py",
         "    start = np.searchsorted(lo_sorted, plo[:, 0] - width - pad, side=\"left\")",

@@ -17,6 +17,7 @@ __all__ = ["intersecting_pairs"]
 
 _EPS = 1e-9  # relative: a crossing closer than this to an end or a side is a touch
 _BLOCK = 1 << 20  # candidate pairs per block
+_WIDE = 8.0  # a face wider in x than this many median widths is paired directly
 
 
 def intersecting_pairs(
@@ -52,14 +53,23 @@ def intersecting_pairs(
     if len(f) == 0:
         return np.empty((0, 2), dtype=np.int64)
     # candidate pairs: nearby faces sorted by their box's low x; a patch face's candidates
-    # are the run whose low x lies in [its low x - the widest face, its high x]
-    order = np.argsort(flo[:, 0], kind="stable")
+    # are the run whose low x lies in [its low x - the widest face, its high x]. Faces much
+    # wider than the rest (slivers, long faces) would widen every run: they are paired
+    # with the patch faces directly
+    extent = fhi[:, 0] - flo[:, 0]
+    wide = extent > _WIDE * max(float(np.median(extent)), pad)
+    pairs = []
+    for w in np.flatnonzero(wide).tolist():
+        q = np.flatnonzero(np.all((flo[w] <= phi + pad) & (fhi[w] >= plo - pad), axis=1))
+        if len(q):
+            pairs.append(np.column_stack([q, np.full(len(q), w)]))
+    narrow = np.flatnonzero(~wide)
+    order = narrow[np.argsort(flo[narrow, 0], kind="stable")]
     lo_sorted = flo[order, 0]
-    width = float((fhi[:, 0] - flo[:, 0]).max())
+    width = float(extent[narrow].max()) if len(narrow) else 0.0
     start = np.searchsorted(lo_sorted, plo[:, 0] - width - pad, side="left")
     stop = np.searchsorted(lo_sorted, phi[:, 0] + pad, side="right")
     count = np.maximum(stop - start, 0)
-    pairs = []
     bounds = np.searchsorted(np.cumsum(count), np.arange(0, int(count.sum()), _BLOCK), "right")
     for s0, s1 in zip(bounds.tolist(), (bounds[1:].tolist() + [len(p)])):
         n = count[s0:s1]
@@ -95,7 +105,7 @@ def intersecting_pairs(
                 hit[sel] |= opposite & crosses
     out = pq[hit]
     out[:, 1] = near[out[:, 1]]  # back to the caller's face numbers
-    return out
+    return out[np.lexsort((out[:, 1], out[:, 0]))]
 
 
 def _segment_hits_triangle(
