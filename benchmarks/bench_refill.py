@@ -18,7 +18,7 @@ with the rest of the mesh (:func:`optri.holes.intersect.intersecting_pairs`, the
 test for every method) and the time of the filling call alone (the peers' meshes are
 built before their clock starts; optri's clock covers ``fill_holes`` on the whole mesh).
 
-    PYTHONPATH=src python benchmarks/bench_refill.py                     # a few minutes
+    PYTHONPATH=src python benchmarks/bench_refill.py                     # 25 holes, ~7 CPU-minutes
     PYTHONPATH=src python benchmarks/bench_refill.py --sizes 20,100,400 --per-size 3
     PYTHONPATH=src python benchmarks/bench_refill.py --families sphere,torus --json out.json
 
