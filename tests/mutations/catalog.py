@@ -1378,8 +1378,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "refine-ignores-the-corner-scales",
         "src/optri/holes/refine.py",
-        "density * float(np.linalg.norm(m - p)) > max(sm, sigma.get(x, 0.0))",
-        "density * float(np.linalg.norm(m - p)) > sm",
+        "density * math.dist(m, p) > max(sm, sigma.get(x, 0.0))",
+        "density * math.dist(m, p) > sm",
         ("tests/test_mesh_refine.py", "-k", "coarse"),
         "the split test reads only the centroid's scale, not each corner's as well",
     ),
@@ -1390,6 +1390,49 @@ MUTATIONS: list[Mutation] = [
         ":",
         ("tests/test_mesh_refine.py", "-k", "relaxation"),
         "an edge swap joins two loop vertices the mesh already joins (a third face on it)",
+    ),
+    M(
+        "refine-relax-forgets-the-edges-around-a-swap",
+        "src/optri/holes/refine.py",
+        "        todo += [(v, x), (x, u), (u, y), (y, v)]\n",
+        "",
+        ("tests/test_mesh_refine.py", "-k", "locally_delaunay"),
+        "after a swap the four edges around it are not tested again: the patch is left "
+        "with edges that fail the diametral-sphere test",
+    ),
+    M(
+        "refine-relax-sharpens-creases",
+        "src/optri/holes/refine.py",
+        " or _folds(pu, pv, px, py):",
+        ":",
+        ("tests/test_mesh_refine.py", "-k", "crease"),
+        "an edge swap may fold the patch more sharply: on a curved hole faces lie over "
+        "their neighbours",
+    ),
+    M(
+        "fill-fair-check-ignores-patch-self-crossings",
+        "src/optri/holes/mesh.py",
+        "    after = len(intersecting_pairs(res.vertices, around, patch))",
+        "    after = len(intersecting_pairs(res.vertices, others, patch))",
+        ("tests/test_bench_refill.py", "-k", "torus_holes"),
+        "a fairing that folds the patch onto itself is kept (only crossings with the old "
+        "mesh are counted)",
+    ),
+    M(
+        "intersect-forgets-wide-faces",
+        "src/optri/holes/intersect.py",
+        "    for w in np.flatnonzero(wide).tolist():",
+        "    for w in []:",
+        ("tests/test_mesh_refine.py", "-k", "brute_force"),
+        "faces much wider than the rest are never tested against the patch",
+    ),
+    M(
+        "intersect-window-ignores-face-width",
+        "src/optri/holes/intersect.py",
+        "    start = np.searchsorted(lo_sorted, plo[:, 0] - width - pad, side=\"left\")",
+        "    start = np.searchsorted(lo_sorted, plo[:, 0] - pad, side=\"left\")",
+        ("tests/test_mesh_refine.py", "-k", "brute_force"),
+        "a face that starts left of a patch face's box but reaches into it is never tested",
     ),
     M(
         "intersect-ignores-shared-vertex-pairs",

@@ -86,7 +86,8 @@ class HoleRecord:
     fair_reason : str
         Why a fairing asked for was not kept ("" when it was, or was not asked for).
     self_intersections : int
-        Pairs of a patch face and a mesh face that cross, in the final patch.
+        Pairs of a patch face and a face of the mesh or of the patch itself that cross,
+        in the final patch.
     """
 
     index: int
@@ -276,7 +277,9 @@ def fill_holes(
                     points.append(allv[free])
             joined.add(patch)
             new_faces.append(patch)
-            rec.self_intersections = len(intersecting_pairs(allv, others, patch))
+            rec.self_intersections = len(
+                intersecting_pairs(allv, np.concatenate([others, patch]), patch)
+            )
         records.append(rec)
         if progress is not None:
             progress(h + 1, len(loops))
@@ -299,12 +302,14 @@ def _fair_patch(
     continuity: int,
 ) -> NDArray[np.float64]:
     """``allv`` with ``free`` faired; as given when it fails or adds crossings (said in rec)."""
-    res = fair_vertices(allv, np.concatenate([others, patch]), free, continuity)
+    around = np.concatenate([others, patch])
+    res = fair_vertices(allv, around, free, continuity)
     if not res.ok:
         rec.fair_reason = res.reason
         return allv
-    before = len(intersecting_pairs(allv, others, patch))
-    after = len(intersecting_pairs(res.vertices, others, patch))
+    # the patch against the mesh and against itself (a fold within the patch counts too)
+    before = len(intersecting_pairs(allv, around, patch))
+    after = len(intersecting_pairs(res.vertices, around, patch))
     if after > before:
         rec.fair_reason = (
             f"the faired patch would cross the mesh ({after} crossings, {before} before); "
