@@ -1667,6 +1667,31 @@ MUTATIONS: list[Mutation] = [
         ("tests/test_batch_hostile.py", "-k", "killed_worker_gives"),
         "a chunk that kills its worker fails every polygon in it, not only the culprit",
     ),
+    # --- batch: the CRS parsed once, each file synced once (issue 52) ----------------
+    M(
+        "crs-parsed-per-part",
+        "src/optri/batch/layer.py",
+        "@functools.lru_cache(maxsize=16)\ndef parsed_crs(",
+        "def parsed_crs(",
+        ("tests/test_batch_durable.py", "-k", "crs_parsed_once"),
+        "every part written re-parses the layer's CRS (a PROJJSON parse is tens of ms)",
+    ),
+    M(
+        "parts-synced-one-by-one",
+        "src/optri/batch/writers.py",
+        'with atomic_write(path, "w", durable=False) as fh:',
+        'with atomic_write(path, "w") as fh:',
+        ("tests/test_batch_durable.py", "-k", "single_file_syncs"),
+        "an fsync per part: the job's syncs grow with its number of parts",
+    ),
+    M(
+        "directory-parts-never-synced",
+        "src/optri/batch/driver.py",
+        "            layout.sync()\n",
+        "            pass\n",
+        ("tests/test_batch_durable.py", "-k", "directory_syncs"),
+        "_SUCCESS is written while the parts it vouches for may still be in memory only",
+    ),
     M(
         "data-copy-replaces-user-file",
         "src/optri/data/__init__.py",

@@ -215,6 +215,8 @@ def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
         counter = Counter(s.progress, total)
         work = _Work(layout, layer, size, job_key(manifest), recorded)
         _solve_all(work, items, s, crs, counter)
+        if not layout.single:  # the parts are the product: on disk before _SUCCESS says so
+            layout.sync()
         write_json(layout.success, {"ok": counter.ok, "errors": counter.errors, "total": counter.n})
         if layout.single:
             assemble(layout.parts(), layout.fmt, layout.target, layer, layout.parts_dir)

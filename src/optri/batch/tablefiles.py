@@ -24,8 +24,8 @@ from typing import Any
 from .. import config
 from .._optional import import_optional
 from ..errors import BatchInputError
-from ..io.atomic import atomic_write, kept_mode
-from .layer import Layer
+from ..io.atomic import atomic_write, fsync_path, kept_mode
+from .layer import Layer, crs_wkt
 from .tables import GEOMETRY, conform, geo_metadata, has_z, records_table, unify
 
 __all__ = ["OGR_DRIVERS", "assemble_tables", "read_table_records", "write_table"]
@@ -41,15 +41,20 @@ def flavor_of(fmt: str) -> str:
     return "ogr" if fmt in OGR_DRIVERS else "parquet"
 
 
-def write_table(path: Path, table: Any, fmt: str, layer: Layer, temp_dir: Path) -> None:
-    """Write one table as a ``fmt`` file (parquet, gpkg, fgb) at ``path``, atomically."""
+def write_table(
+    path: Path, table: Any, fmt: str, layer: Layer, temp_dir: Path, *, durable: bool = True
+) -> None:
+    """Write one table as a ``fmt`` file (parquet, gpkg, fgb) at ``path``, atomically.
+
+    ``durable=False`` skips the ``fsync`` (a part file, vouched for by its hash).
+    """
     if fmt == "parquet":
         pq = import_optional("pyarrow.parquet")
         table = table.replace_schema_metadata(_parquet_metadata(table.schema, layer))
-        with atomic_write(path, "wb") as fh:
+        with atomic_write(path, "wb", durable=durable) as fh:
             pq.write_table(table, fh)
         return
-    _write_ogr(path, fmt, layer, table.schema, table.to_batches(), temp_dir)
+    _write_ogr(path, fmt, layer, table.schema, table.to_batches(), temp_dir, durable=durable)
 
 
 def assemble_tables(
@@ -82,7 +87,14 @@ def _parquet_metadata(schema: Any, layer: Layer) -> dict:
 
 
 def _write_ogr(
-    path: Path, fmt: str, layer: Layer, schema: Any, batches: Iterable[Any], temp_dir: Path
+    path: Path,
+    fmt: str,
+    layer: Layer,
+    schema: Any,
+    batches: Iterable[Any],
+    temp_dir: Path,
+    *,
+    durable: bool = True,
 ) -> None:
     pa = import_optional("pyarrow")
     pyogrio = import_optional("pyogrio")
@@ -112,6 +124,8 @@ def _write_ogr(
         bits = kept_mode(path)
         if bits is not None:
             os.chmod(tmp, bits)
+        if durable:
+            fsync_path(tmp)
         os.replace(tmp, path)
     except pyogrio.errors.DataLayerError as exc:  # GDAL says "failed", seldom why
         raise BatchInputError(f"{path}: cannot write ({_why(exc, temp_dir)})") from None
@@ -136,8 +150,8 @@ def _why(exc: Exception, folder: Path) -> str:
 def _wkt(crs: str | None) -> str | None:
     if crs is None:
         return None
-    pyproj = import_optional("pyproj")
-    return str(pyproj.CRS.from_user_input(crs).to_wkt())
+    import_optional("pyproj")  # a clear error when the geo extra is missing
+    return crs_wkt(crs)
 
 
 def read_table_records(path: Path, fmt: str) -> Iterator[dict]:

@@ -4,7 +4,8 @@ JSON parts (NDJSON, GeoJSON) are written here, compactly and with a fixed key
 order, one record (feature) per line, so identical input gives identical bytes
 apart from ``seconds``; table parts (GeoParquet, GeoPackage, FlatGeobuf) through
 :mod:`.tablefiles`. Every part is written under a temporary name and renamed
-once complete, so a part file that exists is whole.
+once complete, so a part file that exists is whole; parts are not synced to
+the disk one by one (see :mod:`.layout` for what vouches for them instead).
 
 NDJSON records keep the feature's attributes under ``"properties"``; GeoJSON
 features hold the attributes and the batch's fields side by side in their
@@ -113,9 +114,9 @@ def write_part(
     """
     if fmt in ("parquet", "gpkg", "fgb"):
         table = records_table(records, items, layer, flavor_of(target_fmt or fmt))
-        write_table(path, table, fmt, layer, path.parent)
+        write_table(path, table, fmt, layer, path.parent, durable=False)
         return
-    with atomic_write(path, "w") as fh:
+    with atomic_write(path, "w", durable=False) as fh:
         if fmt == "ndjson":
             for rec, it in zip(records, items):
                 if it.props is not None:
