@@ -135,15 +135,20 @@ def is_geographic(crs: str | None) -> bool | None:
     return None if obj is None else bool(obj.is_geographic)
 
 
-def warn_geographic(crs: str | None, project: bool) -> None:
+#: What a batch suggests against costs in degrees.
+PROJECT_HINT = "pass --project (project=True) to measure each polygon in metres"
+
+
+def warn_geographic(
+    crs: str | None, project: bool, what: str = "the layer's", hint: str = PROJECT_HINT
+) -> None:
     """Warn once that costs will be in degrees, unless ``project`` measures in metres."""
     if project or not is_geographic(crs):
         return
     assert crs is not None
     warnings.warn(
-        f"the layer's CRS is geographic ({crs_name(crs)}): lengths and areas are in "
-        "degrees, not metres; pass --project (project=True) to measure each polygon in "
-        "metres",
+        f"{what} CRS is geographic ({crs_name(crs)}): lengths and areas are in "
+        f"degrees, not metres; {hint}",
         GeographicCRSWarning,
         stacklevel=3,
     )

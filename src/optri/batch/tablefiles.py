@@ -6,7 +6,9 @@ its Parquet parts as one Arrow stream (``pyarrow.RecordBatchReader`` into
 ``ParquetWriter`` or ``pyogrio.write_arrow``), so memory stays flat however
 many features there are. FlatGeobuf is written without a spatial index: the
 index cannot hold the null geometry of an error row, and it would keep every
-feature's box in memory.
+feature's box in memory. A FlatGeobuf file has one dimension: when some rows
+are 3-D, the 2-D rows are written with z = NaN (GeoPackage and GeoParquet keep
+each row's own dimension).
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from .. import config
 from .._optional import import_optional
 from ..errors import BatchInputError
 from ..io.atomic import atomic_write, fsync_path, kept_mode
+from .geo import ogr_timestamps, parse_timestamps
 from .layer import Layer, crs_wkt
 from .tables import GEOMETRY, conform, geo_metadata, has_z, records_table, unify
 
@@ -106,6 +109,9 @@ def _write_ogr(
         [f.with_type(pa.string()) if pa.types.is_null(f.type) else f for f in schema],
         metadata=schema.metadata,
     )
+    z = has_z(schema)
+    if z and fmt == "fgb":  # one dimension per FlatGeobuf file: 2-D rows get z = NaN
+        batches = (_force_3d(b) for b in batches)
     reader = pa.RecordBatchReader.from_batches(typed, (b.cast(typed) for b in batches))
     try:
         with warnings.catch_warnings():
@@ -117,7 +123,7 @@ def _write_ogr(
                 driver=OGR_DRIVERS[fmt],
                 layer=path.stem or "triangles",
                 geometry_name=GEOMETRY,
-                geometry_type="MultiPolygon Z" if has_z(schema) else "MultiPolygon",
+                geometry_type="GeometryCollection Z" if z else "GeometryCollection",
                 crs=_wkt(layer.crs),
                 layer_options=_LAYER_OPTIONS.get(fmt),
             )
@@ -133,6 +139,25 @@ def _write_ogr(
         for name in (str(tmp), *(str(tmp) + s for s in _SIDECARS)):
             with contextlib.suppress(FileNotFoundError):
                 os.unlink(name)
+
+
+def _force_3d(batch: Any) -> Any:
+    """``batch`` with its 2-D geometries made 3-D, z NaN ("no height"), 3-D ones untouched."""
+    pa = import_optional("pyarrow")
+    shapely = import_optional("shapely")
+    k = batch.schema.get_field_index(GEOMETRY)
+    geoms = shapely.from_wkb(batch.column(k).to_numpy(zero_copy_only=False))
+    flat = ~shapely.has_z(geoms) & ~shapely.is_missing(geoms)
+    if not flat.any():
+        return batch
+    # our collections of triangles, rebuilt with a third coordinate (shapely's
+    # force_3d refuses NaN; the constructors take it)
+    parts, index = shapely.get_parts(geoms[flat], return_index=True)
+    rings = shapely.get_coordinates(shapely.get_exterior_ring(parts), include_z=True)
+    polys = shapely.polygons(rings.reshape(-1, 4, 3)[:, :3])  # closed by shapely (NaN != NaN)
+    geoms[flat] = shapely.geometrycollections(polys, indices=index)
+    wkb = pa.array(shapely.to_wkb(geoms, output_dimension=3).tolist(), batch.schema.field(k).type)
+    return batch.set_column(k, batch.schema.field(k), wkb)
 
 
 def _why(exc: Exception, folder: Path) -> str:
@@ -168,11 +193,17 @@ def read_table_records(path: Path, fmt: str) -> Iterator[dict]:
             yield from batch.to_pylist()
         return
     pyogrio = import_optional("pyogrio")
+    with pyogrio.open_arrow(path, use_pyarrow=True, read_geometry=False, batch_size=1) as (_, r):
+        stamps = ogr_timestamps(path, r.schema, {})
     with pyogrio.open_arrow(
-        path, use_pyarrow=True, read_geometry=False, batch_size=config.BATCH_ROWS_PER_READ
+        path,
+        use_pyarrow=True,
+        read_geometry=False,
+        batch_size=config.BATCH_ROWS_PER_READ,
+        datetime_as_string=bool(stamps),
     ) as (_, reader):
         for batch in reader:
-            for row in batch.to_pylist():
+            for row in parse_timestamps(batch, stamps).to_pylist():
                 for key in ("triangles", "cost"):
                     if isinstance(row.get(key), str):
                         row[key] = json.loads(row[key])
