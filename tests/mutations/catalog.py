@@ -552,8 +552,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "resume-redoes-every-part",
         "src/optri/batch/driver.py",
-        "        if layout.adopted(index, work.recorded):",
-        "        if False:",
+        "        if layout.adopted(index, work.recorded):\n            counter.add(",
+        "        if False:\n            counter.add(",
         (RESUME,),
     ),
     M(
@@ -579,7 +579,7 @@ MUTATIONS: list[Mutation] = [
     ),
     M(
         "error-reason-multi-line",
-        "src/optri/batch/records.py",
+        "src/optri/batch/each.py",
         'return " ".join(str(message).split()) or "unknown error"',
         'return str(message) or "unknown error"',
         ("tests/test_batch_badinput.py",),
@@ -1730,7 +1730,7 @@ MUTATIONS: list[Mutation] = [
         "src/optri/batch/tablefiles.py",
         'if z and fmt == "fgb":',
         "if False:",
-        ("tests/test_batch_roundtrip.py", "-k", "parquet-.fgb"),
+        ("tests/test_batch_roundtrip.py", "-k", "round_trip and fgb"),
         "a FlatGeobuf output with some 3-D rows fails the whole run",
     ),
     M(
@@ -1738,7 +1738,7 @@ MUTATIONS: list[Mutation] = [
         "src/optri/batch/geo.py",
         "    stamps = ogr_timestamps(path, schema, query)\n",
         "    stamps = {}\n",
-        ("tests/test_batch_roundtrip.py", "-k", "gpkg-.parquet"),
+        ("tests/test_batch_roundtrip.py", "-k", "round_trip and parquet-"),
         "naive date-times of a GeoPackage layer come out UTC-aware",
     ),
     M(
@@ -1746,7 +1746,7 @@ MUTATIONS: list[Mutation] = [
         "src/optri/batch/tablefiles.py",
         "        stamps = ogr_timestamps(path, r.schema, {})\n",
         "        stamps = {}\n",
-        ("tests/test_batch_roundtrip.py", "-k", "parquet-.gpkg"),
+        ("tests/test_batch_roundtrip.py", "-k", "round_trip and gpkg-"),
         "iter_records gives a GeoPackage output's naive date-times back UTC-aware",
     ),
     M(
@@ -1764,6 +1764,39 @@ MUTATIONS: list[Mutation] = [
         "pass",
         ("tests/test_solve_geographic.py",),
         "optri solve gives costs in degrees without a word",
+    ),
+    # --- batch: Arrow layers solved as columns, a chunk at a time ----------------------
+    M(
+        "columnar-triangles-count-closing-vertices",
+        "src/optri/batch/chunks.py",
+        "return (tris - first_coord[row][:, None] - (ring - first_ring[row][:, None])).astype(",
+        "return (tris - first_coord[row][:, None]).astype(",
+        ("tests/test_batch_columnar.py", "-k", "feature_paths"),
+        "a holed or multi-part row's triangles index its coordinates, closing vertices counted",
+    ),
+    M(
+        "columnar-diagonals-include-sides",
+        "src/optri/batch/chunks.py",
+        "inner = keys[1:][keys[1:] == keys[:-1]]",
+        "inner = np.unique(keys)",
+        ("tests/test_batch_columnar.py", "-k", "feature_paths"),
+        "every triangle edge, polygon sides included, is listed as a diagonal",
+    ),
+    M(
+        "columnar-path-never-taken",
+        "src/optri/config.py",
+        "BATCH_COLUMNAR = True",
+        "BATCH_COLUMNAR = False",
+        ("tests/test_batch_columnar.py", "-k", "feature_paths"),
+        "Arrow layers go feature by feature again (a Python object per row)",
+    ),
+    M(
+        "columnar-null-ids-overwrite-the-attribute",
+        "src/optri/batch/driver.py",
+        "table = table.set_column(k, kept, col).append_column(",
+        "table = table.remove_column(k).append_column(",
+        ("tests/test_batch_columnar.py", "-k", "feature_paths"),
+        "an id attribute with nulls is lost instead of kept as id_input",
     ),
     M(
         "data-copy-replaces-user-file",

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -22,9 +23,26 @@ from ..errors import BatchInputError, OptriError
 from .layer import Layer, renamed_columns, warn_renamed
 from .records import RESULT_FIELDS, Item, feature_vertices, json_id
 
-__all__ = ["count_rows", "first_line", "ogr_timestamps", "open_arrow_layer", "parse_timestamps"]
+__all__ = [
+    "ArrowSource",
+    "count_rows",
+    "first_line",
+    "ogr_timestamps",
+    "open_arrow_batches",
+    "open_arrow_layer",
+    "parse_timestamps",
+]
 
 _OGR_DRIVERS = {"gpkg": "GeoPackage", "fgb": "FlatGeobuf", "shp": "shapefile"}
+
+
+@dataclass(frozen=True)
+class ArrowSource:
+    """An Arrow layer's record batches (date-times typed again), its geometry and FID columns."""
+
+    geometry: str
+    fid: str | None
+    batches: Iterator[Any]
 
 
 def open_arrow_layer(
@@ -35,12 +53,25 @@ def open_arrow_layer(
     ``name`` picks the layer of a file holding several (a GeoPackage); without
     it such a file is refused, its layers listed.
     """
+    layer, source = open_arrow_batches(path, kind, name)
+
+    def items() -> Iterator[Item]:
+        index = 0
+        for batch in source.batches:
+            yield from _batch_items(batch, source.geometry, source.fid, index, layer, path)
+            index += batch.num_rows
+
+    return layer, items()
+
+
+def open_arrow_batches(path: Path, kind: str, name: str | None = None) -> tuple[Layer, ArrowSource]:
+    """The header and the record batches of a GeoParquet file or an OGR layer."""
     if kind == "parquet":
         return _open_parquet(path)
     return _open_ogr(path, kind, name)
 
 
-def _open_parquet(path: Path) -> tuple[Layer, Iterator[Item]]:
+def _open_parquet(path: Path) -> tuple[Layer, ArrowSource]:
     pq = import_optional("pyarrow.parquet")
     try:
         pf = pq.ParquetFile(path)
@@ -50,17 +81,11 @@ def _open_parquet(path: Path) -> tuple[Layer, Iterator[Item]]:
     geom_col, crs = _geoparquet_column(schema.metadata or {}, schema.names, path)
     attrs = schema.remove(schema.get_field_index(geom_col))
     layer = _layer("parquet", crs, attrs)
-
-    def items() -> Iterator[Item]:
-        index = 0
-        for batch in pf.iter_batches(batch_size=config.BATCH_ROWS_PER_READ):
-            yield from _batch_items(batch, geom_col, None, index, layer, path)
-            index += batch.num_rows
-
-    return layer, items()
+    batches = pf.iter_batches(batch_size=config.BATCH_ROWS_PER_READ)
+    return layer, ArrowSource(geom_col, None, batches)
 
 
-def _open_ogr(path: Path, kind: str, name: str | None) -> tuple[Layer, Iterator[Item]]:
+def _open_ogr(path: Path, kind: str, name: str | None) -> tuple[Layer, ArrowSource]:
     pyogrio = import_optional("pyogrio")
     info = _ogr_info(path, kind, name)
     query = _query(pyogrio, path, kind) or {"layer": info["layer"]}
@@ -76,8 +101,7 @@ def _open_ogr(path: Path, kind: str, name: str | None) -> tuple[Layer, Iterator[
     attrs = schema.remove(schema.get_field_index(geom_col)).remove(0)
     layer = _layer(kind, info.get("crs"), attrs)
 
-    def items() -> Iterator[Item]:
-        index = 0
+    def batches() -> Iterator[Any]:
         with pyogrio.open_arrow(
             path,
             use_pyarrow=True,
@@ -87,11 +111,9 @@ def _open_ogr(path: Path, kind: str, name: str | None) -> tuple[Layer, Iterator[
             **query,
         ) as (_, reader):
             for batch in reader:
-                batch = parse_timestamps(batch, stamps)
-                yield from _batch_items(batch, geom_col, fid_col, index, layer, path)
-                index += batch.num_rows
+                yield parse_timestamps(batch, stamps)
 
-    return layer, items()
+    return layer, ArrowSource(geom_col, fid_col, batches())
 
 
 def ogr_timestamps(path: Path, schema: Any, query: dict) -> dict[str, Any]:

@@ -185,7 +185,7 @@ def _rings(gtype: Any, coords: Any) -> tuple[Any, str | None]:
             return coords, None  # solved part by part
         gtype, coords = "Polygon", coords[0]
     if gtype != "Polygon":
-        return None, f"geometry type {gtype!r} is not a Polygon"
+        return None, f"geometry type {gtype!r} is not a Polygon or MultiPolygon"
     if not coords:
         return None, "Polygon without rings"
     return coords, None

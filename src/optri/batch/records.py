@@ -122,7 +122,10 @@ def feature_vertices(geom: Any) -> Polygonal | PolygonParts:
 
     Raises InvalidPolygonError (naming the part) when a part is unusable.
     """
-    if geom is None or getattr(geom, "geom_type", None) != "MultiPolygon" or len(geom.geoms) < 2:
+    kind = getattr(geom, "geom_type", None)
+    if kind is not None and kind not in ("Polygon", "MultiPolygon") and not geom.is_empty:
+        raise InvalidPolygonError(f"geometry type {kind!r} is not a Polygon or MultiPolygon")
+    if kind != "MultiPolygon" or len(geom.geoms) < 2:
         return polygon_vertices(geom)
     return multi_parts(list(geom.geoms))
 
