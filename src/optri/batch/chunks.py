@@ -28,14 +28,14 @@ from numpy.typing import NDArray
 
 from .._optional import import_optional
 from .columns import OK, Ragged, Solved, ragged_from_arrow, solve_ragged, triangle_wkb
-from .each import SolveOptions
+from .records import TaskOptions
 from .tables import GEOMETRY, OPTRI_META, _ogr_column
 
 __all__ = ["TableTask", "local_indices", "row_diagonals", "solve_table"]
 
 
 @dataclass(frozen=True)
-class TableTask:
+class TableTask(TaskOptions):
     """One chunk of an Arrow layer: its index, rows (an Arrow table) and how to solve them.
 
     ``ids`` names the id column already in ``table`` (``"id"``), or None: the ids
@@ -49,17 +49,6 @@ class TableTask:
     fid: str | None
     renames: dict[str, str]
     flavor: str
-    weight: Any = "perimeter"
-    objective: Any = "sum"
-    method: str = "auto"
-    project: str | None = None
-    #: Set on a one-row task cut from a chunk whose worker died: the row's position.
-    offset: int | None = None
-
-    @property
-    def options(self) -> SolveOptions:
-        """The options every polygon of this chunk is solved with (one thread, as batch's)."""
-        return SolveOptions(self.weight, self.objective, self.method, self.project, threads=1)
 
     @property
     def items(self) -> list[Any]:

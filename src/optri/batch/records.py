@@ -149,12 +149,10 @@ def multi_parts(
     return PolygonParts(tuple(out))
 
 
-@dataclass(frozen=True)
-class ChunkTask:
-    """A partition of the input: its index, items and the solve options (picklable)."""
+@dataclass(frozen=True, kw_only=True)
+class TaskOptions:
+    """What every task of a batch carries besides its rows: the solve options (picklable)."""
 
-    index: int
-    items: Sequence[Item]
     weight: Any = "perimeter"
     objective: Any = "sum"
     method: str = "auto"
@@ -169,6 +167,14 @@ class ChunkTask:
         One thread: a batch's parallelism is its workers (processes), not the kernel's.
         """
         return SolveOptions(self.weight, self.objective, self.method, self.project, threads=1)
+
+
+@dataclass(frozen=True)
+class ChunkTask(TaskOptions):
+    """A partition of the input: its index, items and the solve options (picklable)."""
+
+    index: int
+    items: Sequence[Item]
 
 
 def error_record(item_id: Any, reason: str, n: int | None = None, seconds: float = 0.0) -> dict:
