@@ -67,6 +67,9 @@ def test_geojson_in_geojson_out_is_valid_geojson(tmp_path):
     parts = feat["geometry"]["geometries"]
     assert {p["type"] for p in parts} == {"Polygon"}
     assert len(parts) == feat["properties"]["n"] - 2
+    shapely = pytest.importorskip("shapely")
+    for f in fc["features"]:  # valid as shapely reads it
+        assert f["geometry"] is None or shapely.from_geojson(json.dumps(f["geometry"])).is_valid
 
 
 def test_geojson_directory_parts_are_each_valid(tmp_path):

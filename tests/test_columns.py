@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +19,7 @@ from optri.batch.columns import (
     ragged_from_arrow,
     ragged_from_shapely,
     solve_ragged,
+    triangle_geojson,
     triangle_geometries,
     triangle_wkb,
 )
@@ -63,7 +65,10 @@ def expected_row(geom, weight, objective):
     results = []
     for k, part in enumerate(parts_of(geom)):
         try:
-            results.append(optri.triangulate(part, weight=weight, objective=objective))
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                results.append(optri.triangulate(part, weight=weight, objective=objective))
+            results[-1].stats["noted"] = [str(w.message) for w in caught]
         except optri.OptriError as exc:
             many = geom.geom_type == "MultiPolygon" and len(geom.geoms) > 1
             return f"part {k}: {exc}" if many else str(exc), None
@@ -107,8 +112,12 @@ def check_rows(geoms, weight="perimeter", objective="sum"):
         width = want.shape[2]
         assert np.array_equal(ragged.coords[solved.triangles[lo:hi]][..., :width], want)
         assert solved.n[i] == sum(r.n for r in results)
-        notes = [w for r in results for w in r.stats.get("warnings", [])]
-        assert (solved.reason[i] is None) == (not notes)
+        notes = list(dict.fromkeys(w for r in results for w in r.stats["noted"]))
+        assert solved.reason[i] == (one_line("warning: " + "; ".join(notes)) if notes else None)
+        shift = np.cumsum([0] + [r.n for r in results[:-1]])
+        local = np.concatenate([r.triangles + k for r, k in zip(results, shift)])
+        assert np.array_equal(solved.local_triangles()[lo:hi], local)
+        assert np.array_equal(solved.row_vertices(i), np.concatenate([r.vertices for r in results]))
         lazy = solved.triangulation(i)
         for got, ref in zip(lazy if isinstance(lazy, list) else [lazy], results):
             assert bits(got.weight) == bits(ref.weight)
@@ -139,6 +148,9 @@ def check_geometry(ragged, solved, geoms):
         expect = sum(sum(len(r.coords) - 1 for r in rs) + 2 * len(rs) - 4 for rs in rings)
         assert counts[i] == len(g.geoms) == expect
         assert g.area == pytest.approx(sum(p.area for p in polys), rel=1e-9)
+    text, _ = triangle_geojson(ragged, solved)
+    assert [t is None for t in text] == (solved.status != OK).tolist()
+    assert shapely.equals_exact(shapely.from_geojson(text[solved.ok]), coll[solved.ok], 0).all()
     wkb, row = triangle_wkb(ragged, solved)
     back = shapely.from_wkb(wkb)
     assert np.array_equal(shapely.is_missing(back), solved.status != OK)
@@ -244,16 +256,33 @@ def test_z_is_kept_and_measured():
     flat = shapely.Polygon([[0, 0], [4, 0], [4, 3], [0, 3]])
     tilted = shapely.Polygon([[0, 0, 0], [4, 0, 4], [4, 3, 4], [1, 4, 1], [0, 3, 0]])
     multi_z = shapely.MultiPolygon([tilted, shapely.Polygon([[9, 9, 1], [10, 9, 1], [9, 10, 2]])])
-    geoms = [flat, tilted, None, multi_z]
+    court = shapely.Polygon(shapely.box(0, 0, 4, 4).exterior, [shapely.box(1, 1, 2, 2).exterior])
+    geoms = [flat, tilted, None, multi_z, court]  # a 2-D holed row goes part by part
     ragged, solved = check_rows(geoms)
-    assert ragged.has_z and ragged.row_z.tolist() == [False, True, False, True]
+    assert ragged.has_z and ragged.row_z.tolist() == [False, True, False, True, False]
+    assert solved.status.tolist() == [OK, OK, ERROR, OK, OK]
     assert solved.cost[1] == optri.triangulate(np.asarray(tilted.exterior.coords)).weight
     coll, _ = triangle_geometries(ragged, solved)
-    assert shapely.has_z(coll[[0, 1, 3]]).tolist() == [False, True, True]
+    assert shapely.has_z(coll[[0, 1, 3, 4]]).tolist() == [False, True, True, False]
     z = shapely.get_coordinates(coll[1], include_z=True)[:, 2]
     assert set(z.tolist()) <= {0.0, 1.0, 4.0}
     wkb, _ = triangle_wkb(ragged, solved, explode=True)
-    assert shapely.has_z(shapely.from_wkb(wkb)).tolist() == [False] * 2 + [True] * (3 + 3 + 1)
+    assert shapely.has_z(shapely.from_wkb(wkb)).tolist() == [False] * 2 + [True] * 7 + [False] * 8
+
+
+def test_an_upright_polygon_draws_no_flat_triangle():
+    wall = shapely.Polygon([[0, 0, 0], [4, 0, 0], [4, 0, 3], [0, 0, 3]])  # a wall: flat in x-y
+    roof = shapely.Polygon([[0, 0, 3], [4, 0, 3], [4, 2, 4], [0, 2, 4]])
+    ragged = ragged_from_shapely([wall, roof])
+    solved = solve_ragged(ragged, SolveOptions())
+    assert solved.status.tolist() == [OK, OK] and len(solved.triangles) == 4
+    assert solved.cost[0] == optri.triangulate(np.asarray(wall.exterior.coords)).weight
+    coll, _ = triangle_geometries(ragged, solved)
+    assert shapely.is_valid(coll).all() and coll[0].is_empty and len(coll[1].geoms) == 2
+    tris, row = triangle_geometries(ragged, solved, explode=True)
+    assert row.tolist() == [1, 1] and shapely.is_valid(tris).all()
+    wkb, _ = triangle_wkb(ragged, solved)
+    assert shapely.from_wkb(wkb[0]).is_empty
 
 
 def test_chunks_and_progress(monkeypatch):
@@ -271,13 +300,20 @@ def test_chunks_and_progress(monkeypatch):
     assert (chunked.seconds >= 0).all() and chunked.seconds[chunked.ok].sum() > 0
 
 
+def noisy(vertices, i, k, j):
+    """A user weight that warns (only for triangles at vertex 0): 1 per triangle."""
+    if i == 0:
+        warnings.warn(f"noisy at {len(vertices)}", UserWarning, stacklevel=1)
+    return 1.0
+
+
 def test_warnings_of_ok_rows_are_their_reason():
-    # collinear vertices force a zero-area triangle: the kernel declines, triangulate warns
-    comb = shapely.Polygon([[0, 0], [1, 0], [2, 0], [2, 1], [1, 1e-300], [0, 1]])
-    ragged, solved = check_rows([comb, shapely.MultiPolygon([comb, shapely.box(5, 5, 6, 6)])])
-    if solved.reason[0] is not None:
-        assert solved.reason[0].startswith("warning: ")
-        assert solved.reason[1] == solved.reason[0]
+    tri, square = shapely.Polygon([[0, 0], [1, 0], [0, 1]]), shapely.box(5, 5, 6, 6)
+    geoms = [tri, shapely.MultiPolygon([tri, square, tri]), shapely.box(0, 0, 2, 1)]
+    _, solved = check_rows(geoms, weight=noisy)
+    assert solved.status.tolist() == [OK] * 3 and solved.cost.tolist() == [1.0, 4.0, 2.0]
+    assert solved.reason[0] == "warning: noisy at 3"
+    assert solved.reason[1] == "warning: noisy at 3; noisy at 4"  # each note once, in order
 
 
 def test_from_arrow_wkb_equals_from_shapely():
@@ -293,6 +329,21 @@ def test_from_arrow_wkb_equals_from_shapely():
         ragged_from_arrow(pa.array([1, 2]))
 
 
+def test_from_a_layer_read_by_pyogrio(tmp_path):
+    pyogrio = pytest.importorskip("pyogrio")
+    gpd = pytest.importorskip("geopandas")
+    geoms = _natural_earth()
+    gpd.GeoDataFrame({"k": range(len(geoms))}, geometry=geoms, crs="EPSG:4326").to_file(
+        tmp_path / "world.gpkg"
+    )
+    meta, table = pyogrio.read_arrow(tmp_path / "world.gpkg")
+    got = ragged_from_arrow(table.column(meta["geometry_name"] or "wkb_geometry"))
+    want = ragged_from_shapely(geoms)
+    assert np.array_equal(got.coords, want.coords) and got.reason.tolist() == want.reason.tolist()
+    assert np.array_equal(got.part_offsets, want.part_offsets)
+    assert solve_ragged(got, SolveOptions()).status.tolist() == [OK, OK, OK, ERROR, OK]
+
+
 def test_project_equals_the_per_polygon_path():
     pytest.importorskip("pyproj")
     ring = [[13.40, 52.50], [13.401, 52.50], [13.4012, 52.5007], [13.4004, 52.5011]]
@@ -304,3 +355,34 @@ def test_project_equals_the_per_polygon_path():
     assert [bits(c) for c in solved.cost] == [bits(w.weight) for w in want]
     assert solved.triangulation(1).vertices.tolist() == want[1].vertices.tolist()
     assert 100 < solved.cost[0]  # metres, not degrees
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(layer=st.lists(rows(), min_size=1, max_size=8), z=st.booleans())
+def test_ragged_arrays_are_shapelys(layer, z):
+    """ragged_from_shapely lays rows out as shapely.to_ragged_array does (bad rows left out)."""
+    if z:  # some rows get a Z coordinate
+        layer = [
+            shapely.force_3d(g, 7.0) if g is not None and k % 2 else g for k, g in enumerate(layer)
+        ]
+    ragged = ragged_from_shapely(layer)
+    good = [g for g in layer if g is not None and g.geom_type in ("Polygon", "MultiPolygon")]
+    good = [g for g in good if not g.is_empty]
+    assert len(ragged) == len(layer)
+    assert [r is None for r in ragged.reason] == [any(g is x for x in good) for g in layer]
+    if not good:
+        assert ragged.coords.shape[0] == 0 and ragged.row_offsets[-1] == 0
+        return
+    multi = [shapely.MultiPolygon([g]) if g.geom_type == "Polygon" else g for g in good]
+    _, coords, (rings, parts, rows_) = shapely.to_ragged_array(multi)
+    assert np.array_equal(ragged.coords, coords, equal_nan=True)
+    assert ragged.ring_offsets.tolist() == rings.tolist()
+    assert ragged.part_offsets.tolist() == parts.tolist()
+    kept = ragged.row_offsets[
+        np.r_[[i for i, r in enumerate(ragged.reason) if r is None], len(layer)]
+    ]
+    assert np.diff(kept).tolist() == np.diff(rows_).tolist()
+    assert ragged.has_z == any(shapely.has_z(g) for g in good)
+    assert ragged.row_z.tolist() == [
+        r is None and bool(shapely.has_z(g)) for g, r in zip(layer, ragged.reason)
+    ]

@@ -58,6 +58,7 @@ __all__ = [
     "ragged_from_arrow",
     "ragged_from_shapely",
     "solve_ragged",
+    "triangle_geojson",
     "triangle_geometries",
     "triangle_wkb",
 ]
@@ -188,35 +189,54 @@ def ragged_from_shapely(geoms: Any) -> Ragged:
         empty = np.zeros((0, 2), dtype=np.float64)
         return Ragged(empty, zero, zero, np.zeros(rows + 1, np.int64), False, reason, row_z)
     kept = arr[good]
-    kind_name, coords, offsets = shapely.to_ragged_array(kept)
-    if int(kind_name) == 3:  # only Polygons: one part per row
-        ring_offsets, part_offsets = (np.asarray(o, dtype=np.int64) for o in offsets)
-        per_row = np.ones(len(kept), dtype=np.int64)
-    else:
-        ring_offsets, part_offsets, row_offs = (np.asarray(o, dtype=np.int64) for o in offsets)
-        per_row = np.diff(row_offs)
-    # drop parts without rings (an empty part of a MultiPolygon): they add nothing
-    nrings = np.diff(part_offsets)
-    if (nrings == 0).any():
-        keep = nrings > 0
-        owner = np.repeat(np.arange(len(kept)), per_row)
-        per_row = np.bincount(owner[keep], minlength=len(kept)).astype(np.int64)
-        part_offsets = np.concatenate([part_offsets[:1], part_offsets[1:][keep]])
+    parts, per_row = _polygon_parts(shapely, kept)
+    holes = shapely.get_num_interior_rings(parts).astype(np.int64)
+    part_offsets = np.zeros(len(parts) + 1, dtype=np.int64)
+    np.cumsum(holes + 1, out=part_offsets[1:])
+    rings = parts
+    if holes.any():  # every part's rings in order; a hole-free part stands for its exterior
+        rings = np.empty(int(part_offsets[-1]), dtype=object)
+        rings[part_offsets[:-1][holes == 0]] = parts[holes == 0]
+        holed = np.flatnonzero(holes)
+        found, owner = shapely.get_rings(parts[holed], return_index=True)
+        size = holes[holed] + 1
+        within = np.arange(len(found)) - (np.cumsum(size) - size)[owner]
+        rings[part_offsets[holed][owner] + within] = found
+    has_z = bool(shapely.has_z(kept).any())
+    coords, owner = shapely.get_coordinates(rings, include_z=has_z, return_index=True)
+    ring_offsets = np.zeros(len(rings) + 1, dtype=np.int64)
+    np.cumsum(np.bincount(owner, minlength=len(rings)), out=ring_offsets[1:])
     parts_per_row[good] = per_row
     row_offsets = np.zeros(rows + 1, dtype=np.int64)
     np.cumsum(parts_per_row, out=row_offsets[1:])
-    coords = np.ascontiguousarray(coords, dtype=np.float64)
-    has_z = coords.shape[1] == 3
     if has_z:
         row_z[good] = shapely.has_z(kept)
+    coords = np.ascontiguousarray(coords, dtype=np.float64)
     return Ragged(coords, ring_offsets, part_offsets, row_offsets, has_z, reason, row_z)
+
+
+def _polygon_parts(shapely: Any, kept: NDArray[np.object_]) -> tuple[NDArray[np.object_], Ints]:
+    """The non-empty Polygons of non-empty (Multi)Polygons in row order, and how many per row."""
+    multi = shapely.get_type_id(kept) == 6
+    if not multi.any():
+        return kept, np.ones(len(kept), dtype=np.int64)
+    found, owner = shapely.get_parts(kept[multi], return_index=True)
+    full = ~shapely.is_empty(found)
+    found, owner = found[full], np.flatnonzero(multi)[owner[full]]
+    single = np.flatnonzero(~multi)
+    row = np.concatenate([single, owner])
+    order = np.argsort(row, kind="stable")  # get_parts keeps each row's parts in order
+    parts = np.concatenate([kept[single], found])[order]
+    return parts, np.bincount(row, minlength=len(kept)).astype(np.int64)
 
 
 def ragged_from_arrow(column: Any) -> Ragged:
     """A :class:`Ragged` from a pyarrow geometry column (WKB, e.g. pyogrio's ``read_arrow``).
 
-    ``column`` is a pyarrow Array or ChunkedArray of WKB (binary) values, nulls
-    allowed; unreadable WKB becomes a row with a reason.
+    ``column`` is a pyarrow Array or ChunkedArray of WKB values (binary or large
+    binary, or the ``geoarrow.wkb`` extension type over them), nulls allowed;
+    unreadable WKB becomes a row with a reason. GeoArrow's native (coordinate)
+    encodings are not read: ask pyogrio for WKB, its default.
 
     Examples
     --------
@@ -229,6 +249,8 @@ def ragged_from_arrow(column: Any) -> Ragged:
     pa = import_optional("pyarrow")
     if isinstance(column, pa.ChunkedArray):
         column = column.combine_chunks()
+    if isinstance(column.type, pa.ExtensionType):  # geoarrow.wkb, where registered
+        column = column.storage
     if pa.types.is_large_binary(column.type):
         column = column.cast(pa.binary())
     if not pa.types.is_binary(column.type):
@@ -268,6 +290,9 @@ class Solved:
         Solving time per row (a kernel chunk's time shared in proportion to n^3).
     part_triangle_offsets : ndarray, shape (P + 1,), int64
         The same per part (parts of error rows have none).
+    ring_n : ndarray, shape (R,), int64
+        Vertices of each ring as solved: closing vertices dropped (one, before any
+        check, for a ring of an error row).
 
     Examples
     --------
@@ -286,6 +311,7 @@ class Solved:
     triangle_offsets: Ints
     seconds: NDArray[np.float64]
     part_triangle_offsets: Ints
+    ring_n: Ints
     ragged: Ragged
     options: SolveOptions
     # per part: solved by the kernel, its orientation and its raw kernel cost
@@ -345,6 +371,41 @@ class Solved:
         """:meth:`triangulation`, or the row's error instead of raising it."""
         err = self.error(row)
         return err if err is not None else self.triangulation(row)
+
+    def local_triangles(self) -> Ints:
+        """:attr:`triangles` numbered within each row, as :meth:`row_vertices` lists them.
+
+        A row's vertices are its parts' rings in order, closing vertices dropped:
+        for a one-part row, the numbering of :func:`optri.triangulate` (exterior,
+        then each hole).
+
+        >>> import shapely
+        >>> r = ragged_from_shapely([shapely.box(0, 0, 1, 1), shapely.box(5, 0, 7, 1)])
+        >>> s = solve_ragged(r, SolveOptions())
+        >>> s.triangles.tolist(), s.local_triangles().tolist()
+        ([[0, 1, 3], [1, 2, 3], [5, 6, 8], [6, 7, 8]], [[0, 1, 3], [1, 2, 3], [0, 1, 3], [1, 2, 3]])
+        """
+        rg = self.ragged
+        ring = np.searchsorted(rg.ring_offsets, self.triangles, side="right") - 1
+        part_of_ring = np.repeat(np.arange(len(rg.part_offsets) - 1), np.diff(rg.part_offsets))
+        row_of_ring = rg.part_row[part_of_ring]
+        before = np.zeros(len(self.ring_n) + 1, dtype=np.int64)
+        np.cumsum(self.ring_n, out=before[1:])
+        first_ring = rg.part_offsets[rg.row_offsets[:-1]]
+        start = before[:-1] - before[first_ring[row_of_ring]]  # ring start within its row
+        return start[ring] + (self.triangles - rg.ring_offsets[ring])
+
+    def row_vertices(self, row: int) -> NDArray[np.float64]:
+        """The vertices of row ``row`` that :meth:`local_triangles` numbers (``(n, 2|3)``)."""
+        rg = self.ragged
+        width = 3 if rg.row_z[row] else 2
+        parts = range(rg.row_offsets[row], rg.row_offsets[row + 1])
+        rings = [r for p in parts for r in range(rg.part_offsets[p], rg.part_offsets[p + 1])]
+        pieces = [
+            rg.coords[rg.ring_offsets[r] : rg.ring_offsets[r] + self.ring_n[r], :width]
+            for r in rings
+        ]
+        return np.concatenate(pieces) if pieces else np.zeros((0, width))
 
     def _part(self, part: int) -> Triangulation:
         if not self._kernel[part]:
@@ -407,7 +468,8 @@ class _Parts:
         self.row = ragged.part_row
         self.first_ring = ragged.part_offsets[:-1]
         self.start = ragged.ring_offsets[self.first_ring]  # first vertex of each part
-        self.n = _row_sums(_ring_sizes(ragged), ragged.part_offsets)
+        self.ring_n = _ring_sizes(ragged)
+        self.n = _row_sums(self.ring_n, ragged.part_offsets)
         self.raw = np.full(count, np.nan)  # the kernel's cost
         self.cw = np.zeros(count, dtype=bool)
         self.kernel = np.zeros(count, dtype=bool)
@@ -441,6 +503,7 @@ class _Parts:
             self.cw[mine] = cw[good]
             self.raw[mine] = costs[good]
             self.n[mine] = sizes[good]
+            self.ring_n[self.first_ring[mine]] = sizes[good]
             self.tri_count[mine] = sizes[good] - 2
             work = sizes[good].astype(np.float64) ** 3
             self.seconds[mine] = work * (seconds / max(float(work.sum()), 1.0))
@@ -468,6 +531,9 @@ class _Parts:
                 self.results[p] = res
                 self.tri_count[p] = len(res.triangles)
                 self.n[p] = res.n
+                sizes = res.rings or (res.n,)
+                first = self.ragged.part_offsets[p]
+                self.ring_n[first : first + len(sizes)] = sizes
                 self.seconds[p] = float(res.stats.get("wall_seconds", res.seconds))
             else:
                 self.errors[p] = res
@@ -502,6 +568,7 @@ class _Parts:
             triangle_offsets=offsets[rg.row_offsets],
             seconds=_row_sums(self.seconds, rg.row_offsets),
             part_triangle_offsets=offsets,
+            ring_n=self.ring_n,
             ragged=rg,
             options=options,
             _kernel=self.kernel,
@@ -631,9 +698,9 @@ def triangle_geometries(
     returns), None for an error row, and ``row`` is ``arange(rows)``. With
     ``explode`` it has one Polygon per triangle and ``row`` gives each one's row.
     Coordinates are the input's, with Z where the row has Z. Every geometry is
-    valid (``shapely.is_valid``): a triangle of zero area in the plane (an ok row
-    whose reason warns of it) is left out of the geometry, not out of
-    :attr:`Solved.triangles`.
+    valid (``shapely.is_valid``): a triangle of zero area in the x-y plane (of an ok
+    row whose reason warns of it, or of an upright 3-D polygon such as a wall) is
+    left out of the geometry, not out of :attr:`Solved.triangles`.
 
     Examples
     --------
@@ -647,45 +714,24 @@ def triangle_geometries(
     (['Polygon', 'Polygon'], [0, 0])
     """
     shapely = import_optional("shapely")
-    polys = _triangle_polygons(shapely, ragged, solved)
-    row = solved.triangle_row
-    flagged = np.flatnonzero((solved.status == OK) & solved.reason.astype(bool))
-    if len(flagged):  # only rows that warned can hold a degenerate triangle
-        suspect = np.flatnonzero(np.isin(row, flagged))
-        bad = suspect[~shapely.is_valid(polys[suspect])]
-        if len(bad):
-            keep = np.ones(len(polys), dtype=bool)
-            keep[bad] = False
-            polys, row = polys[keep], row[keep]
+    tris, row = _drawn(shapely, ragged, solved)
     if explode:
-        return polys, row
-    out = np.full(len(solved), None, dtype=object)
-    if len(polys):
-        shapely.geometrycollections(polys, indices=row, out=out)
-    return out, np.arange(len(solved), dtype=np.int64)
-
-
-def _triangle_polygons(shapely: Any, ragged: Ragged, solved: Solved) -> NDArray[np.object_]:
-    """One shapely Polygon per triangle of ``solved``, built in one call per dimension."""
-    tris = solved.triangles
-    closed = np.concatenate([tris, tris[:, :1]], axis=1)  # (T, 4): rings closed
-    if not ragged.has_z:
-        return shapely.polygons(ragged.coords[closed])
-    z = ragged.row_z[solved.triangle_row]
-    out = np.empty(len(tris), dtype=object)
-    if z.any():
-        out[z] = shapely.polygons(ragged.coords[closed[z]])
-    if not z.all():
-        out[~z] = shapely.polygons(ragged.coords[closed[~z]][..., :2])
-    return out
+        out = np.empty(len(tris), dtype=object)
+        for z, sel in _by_dimension(ragged, row):
+            out[sel] = _polygons(shapely, ragged.coords[:, : 3 if z else 2], tris[sel])
+        return out, row
+    # whole rows as WKB, read by GEOS in one call: no Python object per triangle
+    wkb = _collections_wkb(ragged, solved, tris, row)
+    return shapely.from_wkb(wkb), np.arange(len(solved), dtype=np.int64)
 
 
 def triangle_wkb(
     ragged: Ragged, solved: Solved, explode: bool = False
 ) -> tuple[NDArray[np.object_], Ints]:
-    """:func:`triangle_geometries` as WKB (bytes, None for an error row), for writers.
+    """:func:`triangle_geometries` as ISO WKB (bytes; None for an error row), built by numpy.
 
-    3-D rows are written with Z (ISO WKB), the others in 2-D.
+    Little-endian WKB, 3-D rows with Z (types 1003, 1007), the others in 2-D;
+    the same geometries as :func:`triangle_geometries`, without building them.
 
     Examples
     --------
@@ -696,6 +742,125 @@ def triangle_wkb(
     ('GeometryCollection', [0])
     """
     shapely = import_optional("shapely")
+    tris, row = _drawn(shapely, ragged, solved)
+    if not explode:
+        return _collections_wkb(ragged, solved, tris, row), np.arange(len(solved), dtype=np.int64)
+    out = np.empty(len(tris), dtype=object)
+    for z, sel in _by_dimension(ragged, row):
+        records = _triangle_records(ragged.coords, tris[sel], z)
+        out[sel] = _split(records.tobytes(), records.dtype.itemsize)
+    return out, row
+
+
+def triangle_geojson(
+    ragged: Ragged, solved: Solved, explode: bool = False
+) -> tuple[NDArray[np.object_], Ints]:
+    """:func:`triangle_geometries` as GeoJSON geometry text (None for an error row), for writers.
+
+    Coordinates round-trip exactly (shortest repr), with Z where the row has it.
+
+    Examples
+    --------
+    >>> import shapely
+    >>> r = ragged_from_shapely([shapely.Polygon([(0, 0, 1), (1, 0, 2), (0, 1, 3)])])
+    >>> text, row = triangle_geojson(r, solve_ragged(r, SolveOptions()))
+    >>> text[0]
+    '{"type":"GeometryCollection","geometries":[{"type":"Polygon","coordinates":[[[0.0,0.0,1.0],[1.0,0.0,2.0],[0.0,1.0,3.0],[0.0,0.0,1.0]]]}]}'
+    """
+    shapely = import_optional("shapely")
     geoms, row = triangle_geometries(ragged, solved, explode)
-    dim = 3 if ragged.has_z else 2
-    return shapely.to_wkb(geoms, output_dimension=dim, flavor="iso"), row
+    return shapely.to_geojson(geoms), row
+
+
+def _drawn(shapely: Any, ragged: Ragged, solved: Solved) -> tuple[Ints, Ints]:
+    """The triangles to draw and their rows: all but those of zero area in the plane.
+
+    Only a row that warned, or a 3-D row (upright in the plane: a wall), can hold one.
+    """
+    tris, row = solved.triangles, solved.triangle_row
+    flagged = np.flatnonzero((solved.status == OK) & (solved.reason.astype(bool) | ragged.row_z))
+    if not len(flagged):
+        return tris, row
+    suspect = np.flatnonzero(np.isin(row, flagged))
+    polys = _polygons(shapely, ragged.coords[:, :2], tris[suspect])
+    bad = suspect[~shapely.is_valid(polys)]
+    keep = np.ones(len(tris), dtype=bool)
+    keep[bad] = False
+    return tris[keep], row[keep]
+
+
+def _by_dimension(ragged: Ragged, row: Ints) -> list[tuple[bool, NDArray[np.bool_] | slice]]:
+    """``(has_z, selection)`` of triangles, per coordinate dimension present."""
+    if not ragged.has_z:
+        return [(False, slice(None))]
+    z = ragged.row_z[row]
+    return [(flag, sel) for flag, sel in ((True, z), (False, ~z)) if sel.any()]
+
+
+def _polygons(shapely: Any, coords: NDArray[np.float64], tris: Ints) -> NDArray[np.object_]:
+    """One Polygon per triangle, ``coords[tris[t]]`` closed (from_ragged_array: one C pass)."""
+    count = len(tris)
+    rings = np.concatenate([tris, tris[:, :1]], axis=1)
+    flat = np.ascontiguousarray(coords[rings.reshape(-1)])
+    offsets = (np.arange(0, 4 * count + 1, 4, dtype=np.int64), np.arange(count + 1, dtype=np.int64))
+    return shapely.from_ragged_array(shapely.GeometryType.POLYGON, flat, offsets)
+
+
+#: WKB geometry types (ISO): Polygon, GeometryCollection; +1000 with Z.
+_WKB_POLYGON, _WKB_COLLECTION, _WKB_Z = 3, 7, 1000
+_WKB_HEADER = np.dtype([("order", "u1"), ("kind", "<u4"), ("count", "<u4")])
+
+
+def _triangle_records(coords: NDArray[np.float64], tris: Ints, z: bool) -> NDArray[np.void]:
+    """The WKB of each triangle as a Polygon: one packed record per triangle."""
+    dim = 3 if z else 2
+    record = np.dtype(
+        [
+            ("order", "u1"),
+            ("kind", "<u4"),
+            ("rings", "<u4"),
+            ("points", "<u4"),
+            ("xy", "<f8", (4, dim)),
+        ]
+    )
+    out = np.empty(len(tris), dtype=record)
+    out["order"] = 1  # little-endian
+    out["kind"] = _WKB_POLYGON + (_WKB_Z if z else 0)
+    out["rings"] = 1
+    out["points"] = 4
+    out["xy"][:, :3] = coords[tris][..., :dim]
+    out["xy"][:, 3] = out["xy"][:, 0]
+    return out
+
+
+def _split(raw: bytes, size: int) -> list[bytes]:
+    """``raw`` cut into pieces of ``size`` bytes."""
+    return [raw[a : a + size] for a in range(0, len(raw), size)]
+
+
+def _collections_wkb(ragged: Ragged, solved: Solved, tris: Ints, row: Ints) -> NDArray[np.object_]:
+    """Per row the WKB of a GeometryCollection of its triangles (None for an error row).
+
+    Rows with the same number of triangles are laid out as one packed array
+    (header, then the triangles' records) and cut apart: one bytes object per row.
+    """
+    out = np.full(len(solved), None, dtype=object)
+    for z in (False, True) if ragged.has_z else (False,):
+        rows = np.flatnonzero(solved.ok & (ragged.row_z == z))
+        if not len(rows):
+            continue
+        sel = np.flatnonzero(ragged.row_z[row] == z)
+        records = _triangle_records(ragged.coords, tris[sel], z)
+        count = np.bincount(row[sel], minlength=len(solved))
+        first = np.zeros(len(solved) + 1, dtype=np.int64)
+        np.cumsum(count, out=first[1:])
+        for k in np.unique(count[rows]).tolist():
+            group = rows[count[rows] == k]
+            layout = np.dtype([("head", _WKB_HEADER), ("tris", records.dtype, (k,))])
+            packed = np.empty(len(group), dtype=layout)
+            packed["head"]["order"] = 1
+            packed["head"]["kind"] = _WKB_COLLECTION + (_WKB_Z if z else 0)
+            packed["head"]["count"] = k
+            packed["tris"] = records[first[group][:, None] + np.arange(k)]
+            out[group] = _split(packed.tobytes(), layout.itemsize)
+    return out
