@@ -44,9 +44,11 @@ def local_projector(crs: str) -> Projector:
     >>> round(float(np.hypot(*(xy[1] - xy[0]))), 1)   # 0.001 degree of longitude
     111.3
     """
+    from .layer import parsed_crs  # layer imports the solver, which imports this module
+
     pyproj = import_optional("pyproj")
     try:
-        source = pyproj.CRS.from_user_input(crs)
+        source = parsed_crs(crs)
         geodetic = source.geodetic_crs
         geod = source.get_geod()
     except pyproj.exceptions.CRSError as exc:

@@ -7,8 +7,7 @@ lexicographic ``cost`` are JSON text and ``diagonals`` are left out). Columns:
 ``id`` (unless an attribute ``id`` already holds the ids), the attributes in
 input order, ``status``, ``n``, ``cost``, ``reason``, ``triangles``
 (``diagonals``), ``seconds``, and ``geometry``: the triangles as a WKB
-GeometryCollection of Polygons in the input coordinates (valid, as shapely's
-``constrained_delaunay_triangles`` returns; null for errors).
+GeometryCollection of Polygons in the input coordinates (null for errors).
 
 Attribute columns read from an Arrow layer keep their exact types; those of
 JSON features are inferred per chunk (a column mixing types becomes text) and
@@ -129,19 +128,36 @@ def _costs(pa: Any, costs: list[Any], flavor: str) -> Any:
 
 
 def _wkb(records: Sequence[dict], items: Sequence[Item]) -> tuple[list[bytes | None], bool]:
+    """WKB GeometryCollections of the ok rows' triangles (None for errors), and whether 3-D.
+
+    Built for the whole chunk at once: every triangle's ring, then one Polygon
+    per triangle and one collection per row, by shapely's vectorised calls.
+    """
     shapely = import_optional("shapely")
-    out: list[bytes | None] = []
-    has_z = False
-    for rec, item in zip(records, items):
+    out: list[bytes | None] = [None] * len(records)
+    rings_2d: list[np.ndarray] = []
+    rings_3d: list[np.ndarray] = []
+    rows_2d: list[np.ndarray] = []
+    rows_3d: list[np.ndarray] = []
+    for k, (rec, item) in enumerate(zip(records, items)):
         if rec["status"] != "ok":
-            out.append(None)
             continue
         pts = np.asarray(item.coords, dtype=np.float64)
-        has_z = has_z or pts.shape[1] == 3
-        rings = pts[np.asarray(rec["triangles"], dtype=np.int64)]
-        closed = np.concatenate([rings, rings[:, :1]], axis=1)
-        out.append(shapely.to_wkb(shapely.geometrycollections(shapely.polygons(closed))))
-    return out, has_z
+        tri = np.asarray(rec["triangles"], dtype=np.int64).reshape(-1, 3)
+        rings, rows = (rings_3d, rows_3d) if pts.shape[1] == 3 else (rings_2d, rows_2d)
+        rings.append(pts[tri[:, [0, 1, 2, 0]]])
+        rows.append(np.full(len(tri), k, dtype=np.int64))
+    for rings, rows in ((rings_2d, rows_2d), (rings_3d, rows_3d)):
+        if not rings:
+            continue
+        row = np.concatenate(rows)
+        polys = shapely.polygons(np.concatenate(rings))
+        # one collection per row that has triangles (geometrycollections numbers rows 0..max)
+        keys, dense = np.unique(row, return_inverse=True)
+        collections = shapely.geometrycollections(polys, indices=dense)
+        for k, wkb in zip(keys.tolist(), shapely.to_wkb(collections).tolist()):
+            out[k] = wkb
+    return out, bool(rings_3d)
 
 
 def geo_metadata(layer: Layer, has_z: bool) -> dict:
