@@ -12,7 +12,8 @@ shapely = pytest.importorskip("shapely")
 
 from optri.batch import iter_records  # noqa: E402
 from optri.batch.driver import batch  # noqa: E402
-from optri.batch.layer import crs_wkt, parsed_crs  # noqa: E402
+from optri.batch.layer import crs_wkt  # noqa: E402
+from optri.batch.project import parsed_crs  # noqa: E402
 
 ROWS = 12
 

@@ -1789,7 +1789,7 @@ MUTATIONS: list[Mutation] = [
     # --- batch: the CRS parsed once, each file synced once (issue 52) ----------------
     M(
         "crs-parsed-per-part",
-        "src/optri/batch/layer.py",
+        "src/optri/batch/project.py",
         "@functools.lru_cache(maxsize=16)\ndef parsed_crs(",
         "def parsed_crs(",
         ("tests/test_batch_durable.py", "-k", "crs_parsed_once"),

@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 from .._optional import import_optional
 from .columns import OK, Ragged, Solved, ragged_from_arrow, solve_ragged, triangle_wkb
 from .records import TaskOptions
-from .tables import GEOMETRY, OPTRI_META, _ogr_column
+from .tables import GEOMETRY, OPTRI_META, ogr_column
 
 __all__ = ["TableTask", "local_indices", "row_diagonals", "solve_table"]
 
@@ -79,7 +79,7 @@ def solve_table(task: TableTask) -> tuple[int, Any]:
         if name in (task.geometry, task.fid):
             continue
         col = table.column(name).combine_chunks()
-        cols[task.renames.get(name, name)] = _ogr_column(pa, col) if task.flavor == "ogr" else col
+        cols[task.renames.get(name, name)] = ogr_column(pa, col) if task.flavor == "ogr" else col
     if "id" in cols:  # id first, as records_table orders it
         cols = {"id": cols.pop("id"), **cols}
     ok = solved.status == OK

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..errors import BatchWarning, GeographicCRSWarning
+from .project import parsed_crs
 from .records import RESULT_FIELDS
 
 __all__ = [
@@ -75,19 +76,6 @@ class Layer:
         if self.schema is None:
             return []
         return [self.renames.get(n, n) for n in self.schema.names]
-
-
-@functools.lru_cache(maxsize=16)
-def parsed_crs(crs: str) -> Any:
-    """``pyproj.CRS`` of the text ``crs``, parsed once per process; None without pyproj.
-
-    Raises ``pyproj.exceptions.CRSError`` for text pyproj does not accept (not
-    cached: each call raises again).
-    """
-    pyproj = _pyproj()
-    if pyproj is None:
-        return None
-    return pyproj.CRS.from_user_input(crs)
 
 
 def _parsed_or_none(crs: str) -> Any:

@@ -84,7 +84,7 @@ def _attributes(pa: Any, props: list[dict | None], layer: Layer, flavor: str) ->
         renames = renamed_columns(list(names))
         cols = {renames.get(k, k): _infer(pa, [(p or {}).get(k) for p in props]) for k in names}
     if flavor == "ogr":
-        cols = {k: _ogr_column(pa, v) for k, v in cols.items()}
+        cols = {k: ogr_column(pa, v) for k, v in cols.items()}
     return cols
 
 
@@ -104,7 +104,7 @@ def _text(value: Any) -> str | None:
     return json.dumps(value, separators=(",", ":"), allow_nan=True)
 
 
-def _ogr_column(pa: Any, arr: Any) -> Any:
+def ogr_column(pa: Any, arr: Any) -> Any:
     """A column GDAL can store: nested and decimal columns become text.
 
     (A column of nulls only stays typeless here, so parts still unify; it
