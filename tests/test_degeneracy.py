@@ -50,7 +50,7 @@ def exact_count(P, tris, flat=None):
     return count
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def triangulations(i, j):
     """Every triangulation of polygon i..j (index triples, i < k < j)."""
     if j - i < 2:
@@ -121,9 +121,7 @@ def runs(draw):
     P[lifts, 2] = draw(st.sampled_from([1.0, 2.0, 0.5]))
     P = np.roll(P, draw(st.integers(0, n - 1)), axis=0)
     ears = [((i - 1) % n, (i + 1) % n) for i in range(n)]
-    forbidden = [
-        e for e in draw(st.lists(st.sampled_from(ears), max_size=3, unique=True)) if n > 4
-    ]
+    forbidden = [e for e in draw(st.lists(st.sampled_from(ears), max_size=3, unique=True)) if n > 4]
     return np.ascontiguousarray(P), forbidden
 
 

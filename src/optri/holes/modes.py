@@ -202,9 +202,7 @@ def _degenerate_weight(hole: Hole) -> Weight:
     return custom_weight(degenerate, "degenerate")
 
 
-def _engine_fill(
-    hole: Hole, allowed: NDArray[np.bool_], stats: dict[str, Any]
-) -> Tris | None:
+def _engine_fill(hole: Hole, allowed: NDArray[np.bool_], stats: dict[str, Any]) -> Tris | None:
     """The engines' least (degenerate count, objective) patch over the allowed chords.
 
     The plain optimum when it has no degenerate triangle. Otherwise: with a patch
