@@ -100,6 +100,9 @@ def test_exact_collinearity_near_misses():
     assert degenerate_count(P, np.array([[0, 1, 2]])) == 0 == int(collinear(P, (0, 1, 2)))
     P[2, 2] = 3.0
     assert degenerate_count(P, np.array([[0, 1, 2]])) == 1 == int(collinear(P, (0, 1, 2)))
+    for axis in range(3):  # a right triangle in each coordinate plane: one projection is flat
+        flat = np.roll(np.array([[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]), axis, axis=1)
+        assert degenerate_count(np.ascontiguousarray(flat), np.array([[0, 1, 2]])) == 0
     tiny = np.array([[0.0, 0.0, 0.0], [1e-300, 0.0, 0.0], [0.0, 1e-300, 0.0]])
     assert degenerate_count(tiny, np.array([[0, 1, 2]])) == 0  # tiny but not flat
 
