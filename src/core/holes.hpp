@@ -149,6 +149,9 @@ void collinear_rows(const double* P, const int64_t* tris, int64_t m, bool* out);
 // its count (-1: no patch) and its apexes K (n, n) of chords (i, j), i < j (-1: none).
 int64_t fewest_degenerate(const double* P, const double* Q, int64_t n, const bool* allowed,
                           int32_t* K);
+// The same for (count, sum or max of built-in triangle weight `code` on P (n, 3)).
+int64_t fewest_then_weight(const double* P, int64_t n, int code, bool is_max,
+                           const bool* allowed, int32_t* K);
 
 // Pass-2 mark of a state whose area is still to be computed (areas are >= 0).
 constexpr double kPending = -1.0;

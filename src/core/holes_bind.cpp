@@ -15,6 +15,7 @@
 
 #include "bind.hpp"
 #include "holes.hpp"
+#include "weights.hpp"
 
 namespace nb = nanobind;
 
@@ -135,6 +136,20 @@ void bind_holes(nb::module_& m) {
     }, nb::arg("P"), nb::arg("Q"), nb::arg("n"), nb::arg("allowed"), nb::arg("K").noconvert(),
        "Least (exactly degenerate triangles, area) patch over allowed chords: its count "
        "(-1: none), apexes into K (n, n).");
+
+    h.def("fewest_then_weight", [](In<double> P, int64_t n, int code, bool is_max,
+                                   In<bool> allowed, Out<int32_t> K) {
+        check_points(P, n, false);
+        need(code >= 0 && code <= static_cast<int>(WeightCode::aspect_ratio),
+             "code: a built-in weight");
+        need(shaped(allowed, {n, n}), "allowed must be (n, n)");
+        need(shaped(K, {n, n}), "K must be (n, n)");
+        nb::gil_scoped_release unlocked;
+        return fewest_then_weight(P.data(), n, code, is_max, allowed.data(), K.data());
+    }, nb::arg("P"), nb::arg("n"), nb::arg("code"), nb::arg("is_max"), nb::arg("allowed"),
+       nb::arg("K").noconvert(),
+       "Least (exactly degenerate triangles, sum or max of built-in weight code) patch over "
+       "allowed chords: its count (-1: none), apexes into K (n, n).");
 
     h.def("pair_keys", [](In<double> U, In<double> V) {
         const int64_t rows = U.ndim() == 2 ? static_cast<int64_t>(U.shape(0)) : -1;

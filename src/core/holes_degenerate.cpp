@@ -10,7 +10,8 @@
 // fewest_degenerate minimizes (degenerate count, area) lexicographically over every
 // triangulation whose chords are allowed: both parts are sums over triangles, so the
 // recurrence over chords is exact for the pair (the count is an integer; ties in area
-// keep the smallest apex). The searches call it when their patch has a degenerate
+// keep the smallest apex). fewest_then_weight does the same for (count, sum or max of a
+// built-in triangle weight), the triangle-weight modes' objective. The searches call it when their patch has a degenerate
 // triangle: then every patch has a key-3 triangle (kDegenerateKey), every patch's
 // Liepa objective is (pi, area), and this is the lexicographic optimum of
 // (count, objective).
@@ -20,6 +21,7 @@
 
 #include "holes.hpp"
 #include "predicates.hpp"
+#include "weights.hpp"
 
 namespace optri::holes {
 
@@ -39,9 +41,15 @@ void collinear_rows(const double* P, const int64_t* tris, int64_t m, bool* out) 
     }
 }
 
-int64_t fewest_degenerate(const double* P, const double* Q, int64_t n, const bool* allowed,
-                          int32_t* K) {
-    constexpr int64_t kNone = std::numeric_limits<int64_t>::max();
+namespace {
+
+constexpr int64_t kNone = std::numeric_limits<int64_t>::max();
+
+// The least (count, value) patch over allowed chords, chord by chord in length order:
+// value(i, k, j, left, right) combines the halves' values with triangle (i, k, j)'s.
+template <class Value>
+int64_t fewest_then(const double* P, int64_t n, const bool* allowed, int32_t* K,
+                    const Value& value) {
     constexpr double kInf = std::numeric_limits<double>::infinity();
     std::vector<int64_t> C(static_cast<size_t>(n * n), 0);  // sides: no triangle, count 0
     std::vector<double> A(static_cast<size_t>(n * n), 0.0);
@@ -56,7 +64,7 @@ int64_t fewest_degenerate(const double* P, const double* Q, int64_t n, const boo
                     if (left == kNone || right == kNone) continue;
                     const int64_t c = left + right + (collinear(P, i, k, j) ? 1 : 0);
                     if (c > best_c) continue;
-                    const double a = (A[i * n + k] + A[k * n + j]) + unit_normal(Q, i, k, j).area;
+                    const double a = value(i, k, j, A[i * n + k], A[k * n + j]);
                     if (c < best_c || a < best_a) {
                         best_c = c;
                         best_a = a;
@@ -71,6 +79,26 @@ int64_t fewest_degenerate(const double* P, const double* Q, int64_t n, const boo
     }
     const int64_t root = C[n - 1];
     return root == kNone ? -1 : root;
+}
+
+}  // namespace
+
+int64_t fewest_degenerate(const double* P, const double* Q, int64_t n, const bool* allowed,
+                          int32_t* K) {
+    return fewest_then(P, n, allowed, K,
+                       [Q](int64_t i, int64_t k, int64_t j, double left, double right) {
+                           return (left + right) + unit_normal(Q, i, k, j).area;
+                       });
+}
+
+int64_t fewest_then_weight(const double* P, int64_t n, int code, bool is_max,
+                           const bool* allowed, int32_t* K) {
+    const Points pts{P, n, 3};
+    return fewest_then(P, n, allowed, K,
+                       [&](int64_t i, int64_t k, int64_t j, double left, double right) {
+                           const double w = triangle_weight(code, pts, i, k, j);
+                           return is_max ? py_max(py_max(left, right), w) : left + right + w;
+                       });
 }
 
 }  // namespace optri::holes

@@ -517,8 +517,8 @@ MUTATIONS: list[Mutation] = [
         "src/core/holes.hpp",
         "constexpr double kDegenerateKey = 3.0;",
         "constexpr double kDegenerateKey = 2.0;",
-        ("tests/test_mesh_manifold.py", "-k", "flat_sheet"),
-        "a flat sheet's border gets zero-area faces although patches without them tie",
+        ("tests/test_mesh_manifold.py", DEGENERACY, "-k", "flat_sheet or liepa_weight"),
+        "a zero-area face ties a fold: among patches without one, not the best objective",
     ),
     M(
         "collinear-tests-one-plane",
@@ -550,6 +550,14 @@ MUTATIONS: list[Mutation] = [
         "if (c < best_c) {",
         (DEGENERACY, "-k", "fewest_then_best"),
         "among patches with the fewest zero-area faces, not the least area",
+    ),
+    M(
+        "fewest-then-weight-ignores-weight",
+        "src/core/holes_degenerate.cpp",
+        "return is_max ? py_max(py_max(left, right), w) : left + right + w;",
+        "return is_max ? py_max(left, right) : left + right;",
+        (DEGENERACY, "-k", "triangle_weights"),
+        "triangle weights with zero-area faces: the fewest, but not the best objective",
     ),
     M(
         "delaunay-accepts-zero-area-faces",

@@ -16,8 +16,8 @@ it is; one with some is replaced by the least (count, objective) patch:
   searches, so their patch has one only when every patch has one; every patch
   is then worth (pi, area), and :func:`optri.holes.search.fewest_degenerate`
   (the least (count, area) patch) is the exact optimum of (count, objective);
-* triangle weights: the engines' optimum over non-degenerate triangles when the
-  fewest is 0, else their optimum of the pair (count, objective);
+* triangle weights: the least (count, objective) patch, by a compiled search
+  for built-in weights (see ``_engine_fill`` for callables and pairs);
 * ``"delaunay"``: a candidate set whose patch has a degenerate triangle is
   widened like one holding no patch, unless no patch at all avoids them.
 """
@@ -25,6 +25,7 @@ it is; one with some is replaced by the least (count, objective) patch:
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 from typing import Any, NamedTuple
 
@@ -39,7 +40,7 @@ from ..objective import Cost, ObjectiveLike, as_objective
 from ..polygon import Polygon
 from ..result import Triangulation, recompute_cost
 from ..solve import build_problem, solve_problem
-from ..weights import Weight, custom_weight
+from ..weights import Weight, WeightCode, custom_weight, get_weight
 from . import search
 from .candidates import candidate_sets
 from .liepa import angle_of_key, liepa_keys
@@ -183,7 +184,9 @@ def _engine_dp(
 ) -> Tris | None:
     problem = _problem(hole, allowed) if problem is None else problem
     try:
-        return solve_problem(problem, "auto")[1].triangles
+        with warnings.catch_warnings():  # the user's callable already runs in Python
+            warnings.filterwarnings("ignore", "weight 'degenerate'", RuntimeWarning)
+            return solve_problem(problem, "auto")[1].triangles
     except NoTriangulationError:
         if problem.allowed is None and not problem.gates:
             raise
@@ -203,31 +206,39 @@ def _degenerate_weight(hole: Hole) -> Weight:
 
 
 def _engine_fill(hole: Hole, allowed: NDArray[np.bool_], stats: dict[str, Any]) -> Tris | None:
-    """The engines' least (degenerate count, objective) patch over the allowed chords.
+    """The least (degenerate count, objective) patch over the allowed chords.
 
-    The plain optimum when it has no degenerate triangle. Otherwise: with a patch
-    free of them, the optimum of the triangles that are not degenerate (an exact
-    gate); without one, the lexicographic optimum of (count, objective) -- for a
-    pair objective, which cannot take a third component, the least (count, area).
+    The engines' optimum when it has no degenerate triangle. Otherwise, for a
+    built-in weight and a one-component objective, the compiled (count, sum or
+    max) search; for a user callable (which runs in Python anyway) the engines
+    with degenerate triangles gated out exactly, or with the pair (count,
+    objective) when every patch has some; for a pair objective, which cannot
+    take a third component, the fewest and then the least area.
     """
     tris = _engine_dp(hole, allowed)
     if tris is None or degenerate_count(hole.P, tris) == 0:
         return tris
-    least = search.fewest_degenerate(hole.P, hole.Q, hole.n, allowed)
-    if least is None:  # cannot happen: tris is a patch over these chords
+    weight = get_weight(hole.weight)
+    components = as_objective(hole.objective).components
+    if weight.code != WeightCode.CUSTOM and len(components) == 1:
+        found = search.fewest_then_weight(
+            hole.P, hole.n, int(weight.code), components[0] == "max", allowed
+        )
+    else:
+        found = search.fewest_degenerate(hole.P, hole.Q, hole.n, allowed)
+    if found is None:  # cannot happen: tris is a patch over these chords
         raise OptriError("internal error: the fewest-degenerate search found no patch")
-    stats["degenerate_minimum"] = least[0]
+    stats["degenerate_minimum"] = found[0]
+    if weight.code != WeightCode.CUSTOM or len(components) > 1:
+        return found[1]
     flag = _degenerate_weight(hole)
-    if least[0] == 0:
+    if found[0] == 0:
         problem = _problem(hole, allowed)
         problem.gates = (*problem.gates, (flag, 0.5))
-        return _engine_dp(hole, allowed, problem)
-    components = as_objective(hole.objective).components
-    if len(components) > 1:
-        return least[1]
-    polygon = Polygon(hole.P, hole.P, np.arange(hole.n, dtype=np.int64), None, True)
-    problem = build_problem(polygon, (flag, hole.weight), ("sum", components[0]), keep_table=False)
-    problem.allowed = None if allowed.all() else allowed
+    else:
+        polygon = Polygon(hole.P, hole.P, np.arange(hole.n, dtype=np.int64), None, True)
+        problem = build_problem(polygon, (flag, weight), ("sum", components[0]), keep_table=False)
+        problem.allowed = None if allowed.all() else allowed
     return _engine_dp(hole, allowed, problem)
 
 

@@ -28,6 +28,7 @@ __all__ = [
     "exact_bytes",
     "exact_search",
     "fewest_degenerate",
+    "fewest_then_weight",
     "liepa_dense",
     "liepa_sparse",
     "mesh_normals",
@@ -182,15 +183,42 @@ def fewest_degenerate(
 
     Degenerate means exactly collinear (``P``, the points as given); areas are
     the searches' (``Q``). None when the allowed chords admit no patch. O(n^3)
-    time, 4 n^2 bytes; see ``src/core/holes_degenerate.cpp``.
+    time, about 20 n^2 bytes; see ``src/core/holes_degenerate.cpp``.
 
     >>> P = np.array([[0., 0, 0], [1, 0, 0], [2, 0, 0], [1, 1, 0]])
     >>> count, tris = fewest_degenerate(P, P, 4, np.ones((4, 4), dtype=np.bool_))
     >>> count, tris.tolist()
     (0, [[0, 1, 3], [1, 2, 3]])
     """
+    require_memory(
+        20 * n * n,
+        f"the fewest-degenerate search of a {n}-vertex hole",
+        "fill a smaller hole",
+    )
     K = np.full((n, n), -1, dtype=np.int32)
-    count = int(_kernels().fewest_degenerate(P, Q, n, allowed, K))
+    return _traced(int(_kernels().fewest_degenerate(P, Q, n, allowed, K)), K, n)
+
+
+def fewest_then_weight(
+    P: NDArray[np.float64], n: int, code: int, is_max: bool, allowed: NDArray[np.bool_]
+) -> tuple[int, Tris] | None:
+    """As :func:`fewest_degenerate`, the sum (max) of built-in weight ``code`` second.
+
+    >>> P = np.array([[0., 0, 0], [1, 0, 0], [2, 0, 0], [1, 1, 0]])
+    >>> count, tris = fewest_then_weight(P, 4, 0, False, np.ones((4, 4), dtype=np.bool_))
+    >>> count, tris.tolist()
+    (0, [[0, 1, 3], [1, 2, 3]])
+    """
+    require_memory(
+        20 * n * n,
+        f"the fewest-degenerate search of a {n}-vertex hole",
+        "fill a smaller hole",
+    )
+    K = np.full((n, n), -1, dtype=np.int32)
+    return _traced(int(_kernels().fewest_then_weight(P, n, code, is_max, allowed, K)), K, n)
+
+
+def _traced(count: int, K: NDArray[np.int32], n: int) -> tuple[int, Tris] | None:
     if count < 0:
         return None
     return count, triangles_from_splits(lambda i, j: int(K[i, j]), n)
