@@ -168,8 +168,14 @@ def test_liepa_weight_fewest_then_best(case, mode):
         assert area <= best[1][1] * (1 + 1e-12)
 
 
+def py_area(vertices, i, k, j):
+    """A user callable: the 3-D area (zero on collinear points, which it therefore likes)."""
+    v = np.asarray(vertices, dtype=float)
+    return 0.5 * float(np.linalg.norm(np.cross(v[k] - v[i], v[j] - v[i])))
+
+
 @settings(max_examples=40, deadline=None)
-@given(runs(), st.sampled_from(MODES), st.sampled_from(["area", "perimeter"]))
+@given(runs(), st.sampled_from(MODES), st.sampled_from(["area", "perimeter", py_area]))
 def test_triangle_weights_fewest_then_best(case, mode, weight):
     P, forbidden = case
     if not _usable(P):
@@ -183,7 +189,25 @@ def test_triangle_weights_fewest_then_best(case, mode, weight):
     count = exact_count(P, t.triangles)
     assert count == t.stats["degenerate"] == best[0], (mode, weight)
     if mode != "delaunay" or count > 0:  # delaunay is exact over its candidates only
-        assert t.weight <= best[1] * (1 + 1e-12)
+        assert t.weight <= best[1] * (1 + 1e-12) + 1e-15
+
+
+@settings(max_examples=15, deadline=None)
+@given(runs())
+def test_pair_objective_gets_the_fewest(case):
+    """A pair objective cannot take the count as a third component: the fewest, least area."""
+    P, forbidden = case
+    if not _usable(P):
+        return
+    try:
+        t = fill_polyline(
+            P, ("perimeter", "area"), objective=("max", "sum"), forbidden=forbidden or None
+        )
+    except Exception as exc:
+        assert type(exc).__name__ == "NoTriangulationError"
+        return
+    best = _best(P, forbidden, lambda tris: 0.0)
+    assert exact_count(P, t.triangles) == t.stats["degenerate"] == best[0]
 
 
 def test_fewest_degenerate_kernel_against_brute_force():
