@@ -227,6 +227,33 @@ def test_fewest_degenerate_kernel_against_brute_force():
     assert free[0] == 0 == _best(P, [], lambda t: 0.0)[0]
 
 
+def _area(P, tris):
+    a, b, c = (P[np.asarray(tris)[:, t]] for t in range(3))
+    return float(0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum())
+
+
+def test_fewest_degenerate_then_least_area():
+    """On the saddle z = xy/4 (sides stay straight): the fewest flat faces differ in area."""
+    side = [(0, 0), (1, 0), (2, 0), (3, 0), (3, 1), (3, 2), (2, 2), (1, 2), (0, 2), (0, 1)]
+    P = np.array([(x, y, x * y / 4) for x, y in side], dtype=float)
+    n = len(P)
+    forbidden = [((c - 1) % n, (c + 1) % n) for c in (0, 3, 5, 8)]
+    allowed = np.ones((n, n), dtype=np.bool_)
+    for a, b in forbidden:
+        allowed[a, b] = allowed[b, a] = False
+    flat: dict = {}
+    scored = [(exact_count(P, t, flat), _area(P, t)) for t in patches(n, forbidden)]
+    fewest = min(c for c, _ in scored)
+    areas = [a for c, a in scored if c == fewest]
+    assert fewest > 0 and max(areas) > min(areas) * 1.01  # the area must decide
+    count, tris = fewest_degenerate(P, P, n, allowed)
+    assert count == fewest == exact_count(P, tris)
+    assert math.isclose(_area(P, tris), min(areas), rel_tol=1e-12)
+    t = fill_polyline(P, forbidden=forbidden)  # Liepa's weight, exact: the same patch
+    assert t.stats["degenerate"] == fewest and t.stats["degenerate_unavoidable"]
+    assert math.isclose(t.weight[1], min(areas), rel_tol=1e-12)
+
+
 # --- libigl's planexy.off and bump-domain.obj -------------------------------------------
 
 

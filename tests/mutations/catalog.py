@@ -548,7 +548,7 @@ MUTATIONS: list[Mutation] = [
         "src/core/holes_degenerate.cpp",
         "if (c < best_c || a < best_a) {",
         "if (c < best_c) {",
-        (DEGENERACY, "-k", "fewest_then_best"),
+        (DEGENERACY, "-k", "least_area or fewest_then_best"),
         "among patches with the fewest zero-area faces, not the least area",
     ),
     M(
