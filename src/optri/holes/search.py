@@ -190,13 +190,7 @@ def fewest_degenerate(
     >>> count, tris.tolist()
     (0, [[0, 1, 3], [1, 2, 3]])
     """
-    require_memory(
-        20 * n * n,
-        f"the fewest-degenerate search of a {n}-vertex hole",
-        "fill a smaller hole",
-    )
-    K = np.full((n, n), -1, dtype=np.int32)
-    return _traced(int(_kernels().fewest_degenerate(P, Q, n, allowed, K)), K, n)
+    return _fewest(n, lambda K: _kernels().fewest_degenerate(P, Q, n, allowed, K))
 
 
 def fewest_then_weight(
@@ -204,21 +198,18 @@ def fewest_then_weight(
 ) -> tuple[int, Tris] | None:
     """As :func:`fewest_degenerate`, the sum (max) of built-in weight ``code`` second.
 
-    >>> P = np.array([[0., 0, 0], [1, 0, 0], [2, 0, 0], [1, 1, 0]])
-    >>> count, tris = fewest_then_weight(P, 4, 0, False, np.ones((4, 4), dtype=np.bool_))
-    >>> count, tris.tolist()
-    (0, [[0, 1, 3], [1, 2, 3]])
+    >>> P = np.array([[0., 0, 0], [1, 0, 0], [2, 0, 0], [2, 1, 0]])   # area 2 = code 2
+    >>> fewest_then_weight(P, 4, 2, False, np.ones((4, 4), dtype=np.bool_))[1].tolist()
+    [[0, 1, 3], [1, 2, 3]]
     """
-    require_memory(
-        20 * n * n,
-        f"the fewest-degenerate search of a {n}-vertex hole",
-        "fill a smaller hole",
-    )
+    return _fewest(n, lambda K: _kernels().fewest_then_weight(P, n, code, is_max, allowed, K))
+
+
+def _fewest(n: int, run: Any) -> tuple[int, Tris] | None:
+    """Memory first, then ``run(K)`` (the kernel: count or -1), then its patch."""
+    require_memory(20 * n * n, f"the fewest-degenerate search of a {n}-vertex hole", "")
     K = np.full((n, n), -1, dtype=np.int32)
-    return _traced(int(_kernels().fewest_then_weight(P, n, code, is_max, allowed, K)), K, n)
-
-
-def _traced(count: int, K: NDArray[np.int32], n: int) -> tuple[int, Tris] | None:
+    count = int(run(K))
     if count < 0:
         return None
     return count, triangles_from_splits(lambda i, j: int(K[i, j]), n)
