@@ -40,7 +40,7 @@ from ..objective import Cost, ObjectiveLike, as_objective
 from ..polygon import Polygon
 from ..result import Triangulation, recompute_cost
 from ..solve import build_problem, solve_problem
-from ..weights import Weight, WeightCode, custom_weight, get_weight
+from ..weights import Weight, WeightCode, custom_weight, resolve_weights
 from . import search
 from .candidates import candidate_sets
 from .liepa import angle_of_key, liepa_keys
@@ -218,9 +218,11 @@ def _engine_fill(hole: Hole, allowed: NDArray[np.bool_], stats: dict[str, Any]) 
     tris = _engine_dp(hole, allowed)
     if tris is None or degenerate_count(hole.P, tris) == 0:
         return tris
-    weight = get_weight(hole.weight)
     components = as_objective(hole.objective).components
-    if weight.code != WeightCode.CUSTOM and len(components) == 1:
+    weights = resolve_weights(hole.weight, len(components))
+    weight = weights[0]
+    builtin = weight.code != WeightCode.CUSTOM
+    if builtin and len(weights) == 1:
         found = search.fewest_then_weight(
             hole.P, hole.n, int(weight.code), components[0] == "max", allowed
         )
@@ -229,7 +231,7 @@ def _engine_fill(hole: Hole, allowed: NDArray[np.bool_], stats: dict[str, Any]) 
     if found is None:  # cannot happen: tris is a patch over these chords
         raise OptriError("internal error: the fewest-degenerate search found no patch")
     stats["degenerate_minimum"] = found[0]
-    if weight.code != WeightCode.CUSTOM or len(components) > 1:
+    if builtin or len(weights) > 1:
         return found[1]
     flag = _degenerate_weight(hole)
     if found[0] == 0:
