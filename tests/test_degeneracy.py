@@ -21,6 +21,7 @@ from hypothesis import strategies as st
 from optri import fill_polyline
 from optri.cli import main
 from optri.holes.boundary import trace_loops
+from optri.holes.liepa import liepa_objective
 from optri.holes.mesh import HoleRecord, _Edges, fill_holes
 from optri.holes.modes import degenerate_count
 from optri.holes.search import fewest_degenerate
@@ -208,6 +209,22 @@ def test_pair_objective_gets_the_fewest(case):
         return
     best = _best(P, forbidden, lambda tris: 0.0)
     assert exact_count(P, t.triangles) == t.stats["degenerate"] == best[0]
+
+
+def test_zero_area_face_is_worse_than_any_fold():
+    """Points 0, 1, 2 collinear; the best patch without a flat face folds past 90 degrees.
+
+    A search that let the flat face beat that fold would find a patch with it, and
+    the fewest-flat-faces search would then return the least-area patch without one,
+    which folds more: the optimum among patches without a flat face is this one.
+    """
+    P = np.array([[-3, -1, 1], [-1, 0.5, 2], [1, 2, 3], [-1, -3, 2], [0, 3, 0]], dtype=float)
+    T = np.array([[-4, -4, 1], [0, 2.5, 4], [-1, 3, 5], [-3, -4, 4], [1, 3, 1]], dtype=float)
+    t = fill_polyline(P, third_points=T)
+    flat: dict = {}
+    clean = [liepa_objective(P, tr, T) for tr in patches(5, []) if not exact_count(P, tr, flat)]
+    assert t.stats["degenerate"] == 0 and t.weight == min(clean)
+    assert t.weight[0] < max(angle for angle, _ in clean)  # the choice matters
 
 
 def test_fewest_degenerate_kernel_against_brute_force():
