@@ -45,9 +45,11 @@ DOM_BRUTE = "tests/test_domains_brute.py"
 DOM_INV = "tests/test_domains_invariants.py"
 DOM_CAND = "tests/test_domains_candidates.py"
 BATCH_HOLES = "tests/test_batch_formats.py"
+COLUMNS = "tests/test_columns.py"
 CONTOURS_TILING = "tests/test_contours_tiling.py"
 CONTOURS_MESH = "tests/test_contours_mesh.py"
 CONTOURS_CLI = "tests/test_contours_cli.py"
+TEXTURES = "tests/test_mesh_textures.py"
 DEGENERACY = "tests/test_degeneracy.py"
 
 MUTATIONS: list[Mutation] = [
@@ -614,10 +616,83 @@ MUTATIONS: list[Mutation] = [
     M(
         "loader-merges-with-trimesh",
         "src/optri/io/meshes.py",
-        'force="mesh", process=False)',
-        'force="mesh", process=True)',
+        "loaded = trimesh.load(path, file_type=fmt, process=False)",
+        "loaded = trimesh.load(path, file_type=fmt, process=True)",
         ("tests/test_mesh_cli.py", "-k", "scale"),
         "trimesh's absolute 1e-8 merge collapses a mesh drawn in nanometres",
+    ),
+    # --- textured meshes: welding, copies, attributes, material files --------------
+    M(
+        "seams-are-holes",
+        "src/optri/holes/mesh.py",
+        "    faces = weld(vertices, own_faces, rtol)",
+        "    faces = own_faces",
+        (TEXTURES, "-k", "seams_are_not_holes"),
+        "every texture seam of an OBJ is filled as a hole",
+    ),
+    M(
+        "patch-ignores-copies-across-the-border",
+        "src/optri/holes/meshdata.py",
+        "        out[rows, corner], out[rows, (corner + 1) % 3] = cu[hit], cw[hit]",
+        "        pass",
+        (TEXTURES, "-k", "copies_of_the_face_across"),
+    ),
+    M(
+        "new-vertex-takes-one-corner",
+        "src/optri/holes/meshdata.py",
+        "        out[n + k] = (out[a] + out[b] + out[c]) / 3.0",
+        "        out[n + k] = out[a]",
+        (TEXTURES, "-k", "interpolated"),
+    ),
+    M(
+        "refine-records-wrong-parents",
+        "src/optri/holes/refine.py",
+        "                    parents.append((a, b, c))",
+        "                    parents.append((a, b, b))",
+        (TEXTURES, "-k", "interpolated"),
+    ),
+    M(
+        "new-normals-not-renormalised",
+        "src/optri/holes/meshdata.py",
+        "            normals[nv:] = np.divide(new, norm, out=new, where=norm > 0)",
+        "            pass",
+        (TEXTURES, "-k", "keeping_every_attribute"),
+    ),
+    M(
+        "new-faces-take-a-far-face",
+        "src/optri/holes/meshdata.py",
+        "    rows = np.concatenate([np.arange(len(mesh.faces), dtype=np.int64), source])",
+        "    rows = np.concatenate([np.arange(len(mesh.faces), dtype=np.int64), source * 0])",
+        (TEXTURES, "-k", "interpolated"),
+    ),
+    M(
+        "reader-merges-seams",
+        "src/optri/io/meshes.py",
+        "    extra = vertex_columns(loaded) if attributes else np.zeros((len(vertices), 0))",
+        "    extra = np.zeros((len(vertices), 0))",
+        (TEXTURES, "-k", "read_with_its_seams"),
+    ),
+    M(
+        "material-named-by-the-input",
+        "src/optri/io/meshes.py",
+        '    simple.name = f"{stem}_texture"',
+        "    pass",
+        (TEXTURES, "-k", "never_choose"),
+        "a material name such as ../../x would put the texture image outside the output folder",
+    ),
+    M(
+        "cli-watertight-on-split-seams",
+        "src/optri/cli/fill_cmd.py",
+        '"watertight": watertight,',
+        '"watertight": bool(filled.is_watertight),',
+        (TEXTURES, "-k", "round_trip_obj"),
+    ),
+    M(
+        "cli-merge-tolerance-not-welded",
+        "src/optri/cli/fill_cmd.py",
+        "                merge_rtol=merge_tolerance,",
+        "",
+        (TEXTURES, "-k", "near_copies"),
     ),
     # --- batch ----------------------------------------------------------------------
     M(
@@ -650,7 +725,7 @@ MUTATIONS: list[Mutation] = [
     ),
     M(
         "error-reason-multi-line",
-        "src/optri/batch/records.py",
+        "src/optri/batch/each.py",
         'return " ".join(str(message).split()) or "unknown error"',
         'return str(message) or "unknown error"',
         ("tests/test_batch_badinput.py",),
@@ -1801,5 +1876,78 @@ MUTATIONS: list[Mutation] = [
         "parts = [p for p in ((i, k), (k, j)) if p[1] - p[0] >= 2]",
         ("tests/test_enumerate_deep.py",),
         "the recursion-free listing leaves the recursive order",
+    ),
+    # --- batch: the columnar path (batch/columns.py, triangulate_many) ----------------------
+    M(
+        "columns-kernel-triangles-not-shifted",
+        "src/optri/batch/columns.py",
+        "    out[dst] = tris[src] + np.repeat(start[parts], cnt)[:, None]",
+        "    out[dst] = tris[src]",
+        (COLUMNS, "-k", "natural_earth"),
+        "kernel triangles left in polygon-local indices instead of Ragged.coords rows",
+    ),
+    M(
+        "columns-multipolygon-sum-as-max",
+        "src/optri/batch/columns.py",
+        '                fold = np.add if rule == "sum" else np.maximum',
+        "                fold = np.maximum",
+        (COLUMNS, "-k", "combines_its_parts"),
+        "a MultiPolygon's part costs are not added under the sum objective",
+    ),
+    M(
+        "columns-holed-rings-misplaced",
+        "src/optri/batch/columns.py",
+        "        within = np.arange(len(found)) - (np.cumsum(size) - size)[owner]",
+        "        within = np.arange(len(found)) - np.cumsum(size)[owner] + 1",
+        (COLUMNS, "-k", "natural_earth"),
+        "the rings of a holed part land in other parts' slots",
+    ),
+    M(
+        "columns-failing-part-unnamed",
+        "src/optri/batch/columns.py",
+        "                exc = _part_error(exc, p - int(rg.row_offsets[i]))",
+        "                pass",
+        (COLUMNS, "-k", "failing_part"),
+        "a MultiPolygon row's error does not say which part failed",
+    ),
+    M(
+        "columns-flat-triangles-drawn",
+        "src/optri/batch/columns.py",
+        "    keep[bad] = False",
+        "    keep[bad] = True",
+        (COLUMNS, "-k", "upright"),
+        "an upright 3-D polygon's triangles, flat in x-y, make invalid geometry",
+    ),
+    M(
+        "columns-wkb-without-z-flag",
+        "src/optri/batch/columns.py",
+        '    out["kind"] = _WKB_POLYGON + (_WKB_Z if z else 0)',
+        '    out["kind"] = _WKB_POLYGON',
+        (COLUMNS, "-k", "z_is_kept"),
+        "3-D triangles written as 2-D WKB records of 3-D size",
+    ),
+    M(
+        "columns-2d-row-solved-with-nan-z",
+        "src/optri/batch/columns.py",
+        "        width = 3 if self.row_z[self.part_row[part]] else 2",
+        "        width = 3",
+        (COLUMNS, "-k", "z_is_kept"),
+        "a 2-D row of a layer with Z is solved on NaN heights",
+    ),
+    M(
+        "columns-warnings-dropped",
+        "src/optri/batch/columns.py",
+        '            reason[i] = one_line("warning: " + "; ".join(dict.fromkeys(said)))',
+        "            pass",
+        (COLUMNS, "-k", "warnings"),
+        "an ok row's warnings do not reach its reason",
+    ),
+    M(
+        "many-explode-loses-error-rows",
+        "src/optri/batch/many.py",
+        "        geoms, src = _with_error_rows(geoms, src, solved)",
+        "        pass",
+        ("tests/test_batch_many.py", "-k", "explode"),
+        "explode=True silently drops the rows that failed",
     ),
 ]

@@ -26,6 +26,7 @@ from typing import Any
 
 from .. import config
 from ..result import Triangulation
+from .each import one_line
 from .solver import Result, SolveOptions, solve_polygons
 
 __all__ = [
@@ -36,6 +37,7 @@ __all__ = [
     "error_record",
     "json_id",
     "json_safe",
+    "one_line",
     "record_of",
     "solve_chunk",
     "solve_item",
@@ -88,15 +90,6 @@ class ChunkTask:
         One thread: a batch's parallelism is its workers (processes), not the kernel's.
         """
         return SolveOptions(self.weight, self.objective, self.method, self.project, threads=1)
-
-
-def one_line(message: str) -> str:
-    r"""Collapse whitespace so a reason is always a single line.
-
-    >>> one_line("vertex 3\n  is bad")
-    'vertex 3 is bad'
-    """
-    return " ".join(str(message).split()) or "unknown error"
 
 
 def error_record(item_id: Any, reason: str, n: int | None = None, seconds: float = 0.0) -> dict:

@@ -105,7 +105,7 @@ def _write_ogr(
                 driver=OGR_DRIVERS[fmt],
                 layer=path.stem or "triangles",
                 geometry_name=GEOMETRY,
-                geometry_type="MultiPolygon Z" if has_z(schema) else "MultiPolygon",
+                geometry_type="GeometryCollection Z" if has_z(schema) else "GeometryCollection",
                 crs=_wkt(layer.crs),
                 layer_options=_LAYER_OPTIONS.get(fmt),
             )

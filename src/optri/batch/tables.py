@@ -7,7 +7,8 @@ lexicographic ``cost`` are JSON text and ``diagonals`` are left out). Columns:
 ``id`` (unless an attribute ``id`` already holds the ids), the attributes in
 input order, ``status``, ``n``, ``cost``, ``reason``, ``triangles``
 (``diagonals``), ``seconds``, and ``geometry``: the triangles as a WKB
-MultiPolygon in the input coordinates (null for errors).
+GeometryCollection of Polygons in the input coordinates (valid, as shapely's
+``constrained_delaunay_triangles`` returns; null for errors).
 
 Attribute columns read from an Arrow layer keep their exact types; those of
 JSON features are inferred per chunk (a column mixing types becomes text) and
@@ -139,13 +140,13 @@ def _wkb(records: Sequence[dict], items: Sequence[Item]) -> tuple[list[bytes | N
         has_z = has_z or pts.shape[1] == 3
         rings = pts[np.asarray(rec["triangles"], dtype=np.int64)]
         closed = np.concatenate([rings, rings[:, :1]], axis=1)
-        out.append(shapely.to_wkb(shapely.multipolygons(shapely.polygons(closed))))
+        out.append(shapely.to_wkb(shapely.geometrycollections(shapely.polygons(closed))))
     return out, has_z
 
 
 def geo_metadata(layer: Layer, has_z: bool) -> dict:
     """GeoParquet 1.1 metadata for the ``geometry`` column (``crs`` null when unknown)."""
-    kind = "MultiPolygon Z" if has_z else "MultiPolygon"
+    kind = "GeometryCollection Z" if has_z else "GeometryCollection"
     column = {"encoding": "WKB", "geometry_types": [kind], "crs": projjson(layer.crs)}
     return {"version": "1.1.0", "primary_column": GEOMETRY, "columns": {GEOMETRY: column}}
 

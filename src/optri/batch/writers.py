@@ -9,7 +9,8 @@ once complete, so a part file that exists is whole.
 NDJSON records keep the feature's attributes under ``"properties"``; GeoJSON
 features hold the attributes and the batch's fields side by side in their
 ``properties`` (an attribute named like a batch field gets ``_input`` appended)
-and the triangles as a MultiPolygon geometry.
+and the triangles as a GeometryCollection of Polygons (valid, unlike a
+MultiPolygon of triangles that share edges).
 """
 
 from __future__ import annotations
@@ -77,19 +78,22 @@ def dumps(obj: Any) -> str:
 
 
 def feature_of(record: dict, coords: Any, props: dict | None = None) -> dict:
-    """A GeoJSON Feature: the triangles as a MultiPolygon, attributes and record as properties.
+    """A GeoJSON Feature: triangles as a GeometryCollection, attributes and record as properties.
 
     >>> rec = {"id": 1, "status": "ok", "triangles": [[0, 1, 2]]}
-    >>> feature_of(rec, [[0, 0], [1, 0], [0, 1]])["geometry"]["coordinates"]
-    [[[[0, 0], [1, 0], [0, 1], [0, 0]]]]
+    >>> feature_of(rec, [[0, 0], [1, 0], [0, 1]])["geometry"]["geometries"]
+    [{'type': 'Polygon', 'coordinates': [[[0, 0], [1, 0], [0, 1], [0, 0]]]}]
     >>> feature_of(rec, [[0, 0], [1, 0], [0, 1]], {"status": "built"})["properties"]
     {'status_input': 'built', 'status': 'ok', 'triangles': [[0, 1, 2]]}
     """
     geometry = None
     if record["status"] == "ok":
         pts = coords.tolist() if hasattr(coords, "tolist") else coords
-        polys = [[[pts[a], pts[b], pts[c], pts[a]]] for a, b, c in record["triangles"]]
-        geometry = {"type": "MultiPolygon", "coordinates": polys}
+        polys = [
+            {"type": "Polygon", "coordinates": [[pts[a], pts[b], pts[c], pts[a]]]}
+            for a, b, c in record["triangles"]
+        ]
+        geometry = {"type": "GeometryCollection", "geometries": polys}
     attrs = json_safe(props) or {}
     renames = renamed_columns(list(attrs))
     out = {renames.get(k, k): v for k, v in attrs.items()}

@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import config
 from ..errors import (
     HoleSkippedWarning,
     InvalidPolygonError,
@@ -36,7 +37,7 @@ from ..weights import get_weight
 from .boundary import Loop, edge_keys, trace_loops
 from .fair import CONTINUITY, fair_vertices
 from .intersect import intersecting_pairs
-from .meshdata import mesh_arrays, same_kind
+from .meshdata import copies_at_border, mesh_arrays, same_kind, weld, with_attributes
 from .polyline import METHODS, fill_polyline
 from .refine import boundary_scales, refine_patch
 
@@ -150,6 +151,7 @@ def fill_holes(
     refine: bool = False,
     fair: int | None = None,
     density: float = math.sqrt(2.0),
+    merge_rtol: float | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> tuple[Any, list[HoleRecord]]:
     """Fill every hole of a triangle mesh with an optimal patch, refined and faired if asked.
@@ -176,6 +178,10 @@ def fill_holes(
         vertices to :func:`optri.fair_region`.
     density : float
         Liepa's density factor (> 0): larger gives smaller triangles.
+    merge_rtol : float, optional
+        Vertices closer than this fraction of the bounding-box diagonal are one
+        vertex for finding and filling holes; default ``config.MESH_MERGE_RTOL``
+        (0: exactly equal positions). The output keeps the input's vertices.
     progress : callable, optional
         ``progress(done, total)`` after each hole.
 
@@ -184,7 +190,10 @@ def fill_holes(
     (mesh, records)
         A new mesh of the input's kind (old vertices unchanged, refinement's new
         vertices appended after them, new faces appended) and one
-        :class:`HoleRecord` per hole.
+        :class:`HoleRecord` per hole. A ``trimesh.Trimesh`` keeps its texture
+        coordinates, material, vertex normals, colours and vertex and face
+        attributes (:func:`optri.holes.meshdata.with_attributes`); a
+        ``(vertices, faces)`` pair has none to keep.
 
     Raises
     ------
@@ -199,6 +208,13 @@ def fill_holes(
     earlier patch) already joins; a hole every patch of which would is left
     open (``status="failed"``). Pinched boundary vertices (two loops touching)
     are split as CGAL's border cycles are, so each loop is filled on its own.
+
+    Holes are found on the mesh welded by position: copies of a vertex that a
+    texture or normal seam splits (OBJ files keep one per texture coordinate) are
+    one vertex, so seams are no holes. The output keeps the copies; each patch face
+    uses, along the hole's border, the copies of the mesh face across it, so it meets
+    the mesh with that face's texture coordinates and normals. Records name each
+    loop vertex by its lowest-numbered copy.
 
     A fairing whose patch would cross the mesh where the refined patch did not is
     undone (the refined patch stays, ``fair_reason`` says so); a system that cannot
@@ -230,11 +246,14 @@ def fill_holes(
         raise InvalidPolygonError(f"fair must be None, 0, 1 or 2, got {fair!r}")
     if not (isinstance(density, (int, float)) and density > 0 and math.isfinite(density)):
         raise InvalidPolygonError(f"density must be a positive number, got {density!r}")
-    vertices, faces, is_trimesh = mesh_arrays(mesh)
+    vertices, own_faces, is_trimesh = mesh_arrays(mesh)
+    rtol = config.MESH_MERGE_RTOL if merge_rtol is None else merge_rtol
+    faces = weld(vertices, own_faces, rtol)  # copies split by seams are one vertex
     loops = trace_loops(faces)
     joined = _Edges(faces, loops, len(vertices))
     records: list[HoleRecord] = []
     new_faces = [faces]
+    parents: list[tuple[int, int, int]] = []
     points = [vertices]
     for h, loop in enumerate(loops):
         rec, patch = _fill_one(h, vertices, loop, joined, max_hole_edges, weight, method)
@@ -245,7 +264,13 @@ def fill_holes(
                 scales = boundary_scales(vertices, faces, loop.vertices)
                 forbidden = joined.pairs_among(loop.vertices)
                 added, patch = refine_patch(
-                    allv, patch, loop.vertices, scales, density, forbidden=forbidden
+                    allv,
+                    patch,
+                    loop.vertices,
+                    scales,
+                    density,
+                    forbidden=forbidden,
+                    parents=parents,
                 )
                 if len(added):
                     allv = np.concatenate([allv, added])
@@ -261,8 +286,13 @@ def fill_holes(
         records.append(rec)
         if progress is not None:
             progress(h + 1, len(loops))
-    out_faces = np.concatenate(new_faces).astype(np.int64)
     out_vertices = np.concatenate(points) if len(points) > 1 else vertices.copy()
+    patches = np.concatenate([np.zeros((0, 3), np.int64), *new_faces[1:]]).astype(np.int64)
+    split = np.asarray(parents, dtype=np.int64).reshape(-1, 3)
+    patches, split, source = copies_at_border(own_faces, faces, patches, len(vertices), split)
+    out_faces = np.concatenate([own_faces, patches])
+    if is_trimesh:
+        return with_attributes(mesh, out_vertices, out_faces, split, source), records
     return same_kind(out_vertices, out_faces, is_trimesh), records
 
 

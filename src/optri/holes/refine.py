@@ -75,6 +75,7 @@ def refine_patch(
     max_rounds: int = MAX_ROUNDS,
     *,
     forbidden: set[frozenset[int]] | None = None,
+    parents: list[tuple[int, int, int]] | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Refine a hole's patch; returns ``(new_vertices, faces)``.
 
@@ -95,6 +96,10 @@ def refine_patch(
     forbidden : set of frozenset, optional
         Vertex pairs an edge swap must not join (edges the mesh already has between
         the loop's vertices: a swap to one would give that edge a third face).
+    parents : list, optional
+        Filled with the triangle ``(a, b, c)`` each new vertex is the centroid of, in
+        the order of the new vertices (to interpolate texture coordinates, normals or
+        colours the same way: the mean of the three corners').
 
     Returns
     -------
@@ -140,6 +145,8 @@ def refine_patch(
                 k = base + len(added)
                 added.append((float(m[0]), float(m[1]), float(m[2])))
                 sigma[k] = sm
+                if parents is not None:
+                    parents.append((a, b, c))
                 next_faces += [(a, b, k), (b, c, k), (c, a, k)]
                 split = True
             else:
