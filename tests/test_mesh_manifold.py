@@ -245,7 +245,9 @@ def test_real_meshes(method):
             assert "does not close" in str(exc), path.name
             continue
         added = assert_manifold_fill(mesh.vertices, mesh.faces, out.faces)
-        assert not zero_area(mesh.vertices, added).any(), path.name
+        # zero-area faces only where no patch avoids them (bump-domain.obj's corners)
+        assert zero_area(mesh.vertices, added).sum() == sum(r.degenerate for r in rec), path.name
+        assert all(r.degenerate_unavoidable for r in rec if r.degenerate), path.name
         assert all(r.status == "filled" for r in rec), path.name
         filled_any |= bool(rec)
     assert filled_any

@@ -97,7 +97,7 @@ inline double mesh_key(const double* MN, int64_t s, double x, double y, double z
 
 }  // namespace optri::holes
 
-// --- the kernels (holes_geometry.cpp, holes_liepa.cpp, holes_exact.cpp) -------------------
+// --- the kernels (holes_geometry, holes_liepa, holes_exact, holes_degenerate .cpp) --------
 // Arrays are C-contiguous; the binding (holes_bind.cpp) checks their shapes.
 namespace optri::holes {
 
@@ -140,6 +140,18 @@ void mark_pending(double* states, int64_t count, double M);
 bool exact_trace(const double* Q, int64_t n, bool has_third, const double* MN,
                  const double* leaf, const int64_t* off, const double* A, double M,
                  int64_t* out);
+
+// Whether P's points a, b, c are exactly collinear (orient2d = 0 in all three coordinate
+// planes); the flags of index triangles (m, 3) into out.
+bool collinear(const double* P, int64_t a, int64_t b, int64_t c);
+void collinear_rows(const double* P, const int64_t* tris, int64_t m, bool* out);
+// The least (exactly degenerate triangles, area) patch over allowed chords (areas from Q):
+// its count (-1: no patch) and its apexes K (n, n) of chords (i, j), i < j (-1: none).
+int64_t fewest_degenerate(const double* P, const double* Q, int64_t n, const bool* allowed,
+                          int32_t* K);
+// The same for (count, sum or max of built-in triangle weight `code` on P (n, 3)).
+int64_t fewest_then_weight(const double* P, int64_t n, int code, bool is_max,
+                           const bool* allowed, int32_t* K);
 
 // Pass-2 mark of a state whose area is still to be computed (areas are >= 0).
 constexpr double kPending = -1.0;

@@ -15,6 +15,7 @@
 
 #include "bind.hpp"
 #include "holes.hpp"
+#include "weights.hpp"
 
 namespace nb = nanobind;
 
@@ -101,6 +102,54 @@ void bind_holes(nb::module_& m) {
         return out;
     }, nb::arg("Q"), nb::arg("tris"),
        "(m, 5) rows (x, y, z, degenerate, area) of index triangles (sorted first).");
+
+    h.def("collinear", [](In<double> P, In<int64_t> tris) {
+        need(P.ndim() == 2 && P.shape(1) == 3, "points must be (rows, 3)");
+        need(tris.ndim() == 2 && tris.shape(1) == 3, "triangles must be (m, 3)");
+        const int64_t m = static_cast<int64_t>(tris.shape(0));
+        const int64_t rows = static_cast<int64_t>(P.shape(0));
+        const int64_t* t = tris.data();
+        for (int64_t r = 0; r < 3 * m; ++r) need(t[r] >= 0 && t[r] < rows, "triangle index");
+        auto out = new_array<bool>({static_cast<size_t>(m)});
+        collinear_rows(P.data(), t, m, out.data());
+        return out;
+    }, nb::arg("P"), nb::arg("tris"),
+       "(m,) flags: whether each index triangle's points are exactly collinear.");
+
+    h.def("is_collinear", [](In<double> P, int64_t a, int64_t b, int64_t c) {
+        need(P.ndim() == 2 && P.shape(1) == 3, "points must be (rows, 3)");
+        const int64_t rows = static_cast<int64_t>(P.shape(0));
+        need(a >= 0 && b >= 0 && c >= 0 && a < rows && b < rows && c < rows, "point index");
+        return collinear(P.data(), a, b, c);
+    }, nb::arg("P"), nb::arg("a"), nb::arg("b"), nb::arg("c"),
+       "Whether points a, b, c of P are exactly collinear.");
+
+    h.def("fewest_degenerate", [](In<double> P, In<double> Q, int64_t n, In<bool> allowed,
+                                  Out<int32_t> K) {
+        need(P.ndim() == 2 && P.shape(1) == 3 && static_cast<int64_t>(P.shape(0)) >= n,
+             "P must be (>= n, 3)");
+        check_points(Q, n, false);
+        need(shaped(allowed, {n, n}), "allowed must be (n, n)");
+        need(shaped(K, {n, n}), "K must be (n, n)");
+        nb::gil_scoped_release unlocked;
+        return fewest_degenerate(P.data(), Q.data(), n, allowed.data(), K.data());
+    }, nb::arg("P"), nb::arg("Q"), nb::arg("n"), nb::arg("allowed"), nb::arg("K").noconvert(),
+       "Least (exactly degenerate triangles, area) patch over allowed chords: its count "
+       "(-1: none), apexes into K (n, n).");
+
+    h.def("fewest_then_weight", [](In<double> P, int64_t n, int code, bool is_max,
+                                   In<bool> allowed, Out<int32_t> K) {
+        check_points(P, n, false);
+        need(code >= 0 && code <= static_cast<int>(WeightCode::aspect_ratio),
+             "code: a built-in weight");
+        need(shaped(allowed, {n, n}), "allowed must be (n, n)");
+        need(shaped(K, {n, n}), "K must be (n, n)");
+        nb::gil_scoped_release unlocked;
+        return fewest_then_weight(P.data(), n, code, is_max, allowed.data(), K.data());
+    }, nb::arg("P"), nb::arg("n"), nb::arg("code"), nb::arg("is_max"), nb::arg("allowed"),
+       nb::arg("K").noconvert(),
+       "Least (exactly degenerate triangles, sum or max of built-in weight code) patch over "
+       "allowed chords: its count (-1: none), apexes into K (n, n).");
 
     h.def("pair_keys", [](In<double> U, In<double> V) {
         const int64_t rows = U.ndim() == 2 ? static_cast<int64_t>(U.shape(0)) : -1;

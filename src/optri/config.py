@@ -62,12 +62,6 @@ HOLES_EXACT_MAX_N = 400
 #: 3-D holes: work (about apex evaluations) per compiled-kernel call of the Liepa and
 #: exact searches; between calls Ctrl-C takes effect.
 HOLES_CHUNK_WORK = 2e7
-#: 3-D holes, triangle weights: a patch without zero-area triangles replaces the optimum
-#: when its value is within this relative tolerance (a tie up to rounding).
-HOLES_TIE_RTOL = 1e-9
-#: 3-D holes: a triangle whose aspect ratio (circumradius / (2 inradius)) exceeds this
-#: counts as zero-area when triangle-weight patches avoid degenerate triangles.
-HOLES_DEGENERATE_ASPECT = 1e12
 #: Mesh files: vertices closer than this fraction of the bounding-box diagonal are merged
 #: on loading (0: only exactly equal positions, at any scale).
 MESH_MERGE_RTOL = 0.0

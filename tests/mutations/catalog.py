@@ -51,6 +51,7 @@ CONTOURS_MESH = "tests/test_contours_mesh.py"
 CONTOURS_CLI = "tests/test_contours_cli.py"
 TEXTURES = "tests/test_mesh_textures.py"
 DASK = "tests/test_batch_dask.py"
+DEGENERACY = "tests/test_degeneracy.py"
 
 MUTATIONS: list[Mutation] = [
     # --- the issue's list: two-phase rule, ties, check(), CLI errors, 3-D limit ---------
@@ -518,9 +519,9 @@ MUTATIONS: list[Mutation] = [
         "zero-area-is-just-a-fold",
         "src/core/holes.hpp",
         "constexpr double kDegenerateKey = 3.0;",
-        "constexpr double kDegenerateKey = 2.0;",
-        ("tests/test_mesh_manifold.py", "-k", "flat_sheet"),
-        "a flat sheet's border gets zero-area faces although patches without them tie",
+        "constexpr double kDegenerateKey = 1.0;",
+        ("tests/test_mesh_manifold.py", DEGENERACY, "-k", "flat_sheet or worse_than_any_fold"),
+        "a zero-area face beats a fold: among patches without one, not the best objective",
     ),
     M(
         "pinched-fans-not-followed",
@@ -2109,5 +2110,75 @@ MUTATIONS: list[Mutation] = [
         "        pass",
         (DASK, "-k", "directory_equals"),
         "parts of one dataset disagree on a column's type (all null in some)",
+    ),
+    M(
+        "collinear-tests-one-plane",
+        "src/core/holes_degenerate.cpp",
+        "           orient_sign(A[1], A[2], B[1], B[2], C[1], C[2]) == 0 &&",
+        "           true &&",
+        (DEGENERACY, "-k", "collinearity"),
+        "3-D collinearity decided by the xy and zx projections only",
+    ),
+    M(
+        "fewest-degenerate-ignores-count",
+        "src/core/holes_degenerate.cpp",
+        "left + right + (collinear(P, i, k, j) ? 1 : 0);",
+        "left + right + 0;",
+        (DEGENERACY, "-k", "kernel or needs_two"),
+        "the fewest-degenerate search minimizes area alone",
+    ),
+    M(
+        "fewest-degenerate-ignores-forbidden-chords",
+        "src/core/holes_degenerate.cpp",
+        "if (allowed[i * n + j] || L == n - 1) {",
+        "if (true) {",
+        (DEGENERACY, "-k", "kernel or needs_two"),
+    ),
+    M(
+        "fewest-degenerate-ignores-area",
+        "src/core/holes_degenerate.cpp",
+        "if (c < best_c || a < best_a) {",
+        "if (c < best_c) {",
+        (DEGENERACY, "-k", "least_area or fewest_then_best"),
+        "among patches with the fewest zero-area faces, not the least area",
+    ),
+    M(
+        "fewest-then-weight-ignores-weight",
+        "src/core/holes_degenerate.cpp",
+        "return is_max ? py_max(py_max(left, right), w) : left + right + w;",
+        "return is_max ? py_max(left, right) : left + right;",
+        (DEGENERACY, "-k", "triangle_weights"),
+        "triangle weights with zero-area faces: the fewest, but not the best objective",
+    ),
+    M(
+        "delaunay-accepts-zero-area-faces",
+        "src/optri/holes/modes.py",
+        "if found is not None and degenerate_count(hole.P, found):",
+        "if False:",
+        (DEGENERACY, "-k", "planexy"),
+        "a candidate set whose patch has a zero-area face is not widened",
+    ),
+    M(
+        "liepa-keeps-search-degenerates",
+        "src/optri/holes/modes.py",
+        "    if tris is None or degenerate_count(hole.P, tris) == 0:\n        return tris\n"
+        "    found = search.fewest_degenerate(",
+        "    if True:\n        return tris\n    found = search.fewest_degenerate(",
+        (DEGENERACY, "-k", "liepa_weight or bump_domain_adds"),
+        "the searches' patch kept with 86 zero-area faces where 2 are unavoidable",
+    ),
+    M(
+        "triangle-weights-keep-degenerates",
+        "src/optri/holes/modes.py",
+        "        problem.gates = (*problem.gates, (flag, 0.5))",
+        "        pass",
+        (DEGENERACY, "-k", "triangle_weights"),
+    ),
+    M(
+        "record-hides-unavoidable",
+        "src/optri/holes/mesh.py",
+        'rec.degenerate_unavoidable = bool(tri.stats.get("degenerate_unavoidable", False))',
+        "rec.degenerate_unavoidable = False",
+        (DEGENERACY, "-k", "bump_domain_adds and liepa"),
     ),
 ]

@@ -75,7 +75,11 @@ class HoleRecord:
         Chords the patch could not use: pairs of loop vertices the mesh (or a
         patch filled before) already joins.
     degenerate : int
-        Zero-area triangles in the patch: 0 unless every allowed patch has one.
+        Zero-area (exactly collinear) triangles the patch added: 0 whenever some
+        allowed patch has none, else the fewest any allowed patch has.
+    degenerate_unavoidable : bool
+        Whether ``degenerate > 0`` and no allowed patch has fewer (proven by an
+        exact search over every patch).
     candidates : str
         ``method="delaunay"``: the candidate set that held the patch
         (``"delaunay"``, ``"delaunay-edges"``, ``"knn-8"``... or ``"all"``).
@@ -102,6 +106,7 @@ class HoleRecord:
     pinched: list[int] = field(default_factory=list)
     forbidden_chords: int = 0
     degenerate: int = 0
+    degenerate_unavoidable: bool = False
     candidates: str = ""
     vertices_added: int = 0
     faired: bool = False
@@ -123,7 +128,8 @@ class HoleRecord:
         if self.forbidden_chords:
             notes.append(f"{self.forbidden_chords} chords avoided (existing edges)")
         if self.degenerate:
-            notes.append(f"{self.degenerate} zero-area faces (no patch avoids them)")
+            fewest = "no patch has fewer" if self.degenerate_unavoidable else "fewest found"
+            notes.append(f"{self.degenerate} zero-area faces ({fewest})")
         if self.vertices_added:
             notes.append(f"refined: {self.vertices_added} vertices added")
         if self.faired:
@@ -392,6 +398,7 @@ def _fill_one(
     rec.weight, rec.method = tri.weight, tri.method
     rec.faces_added = len(tri.triangles)
     rec.degenerate = int(tri.stats.get("degenerate", 0))
+    rec.degenerate_unavoidable = bool(tri.stats.get("degenerate_unavoidable", False))
     rec.candidates = str(tri.stats.get("candidates", ""))
     # fill_polyline winds (i, k, j), i < k < j, in the loop's (patch) order
     return rec, loop.vertices[tri.triangles]

@@ -5,11 +5,27 @@
 ``fill_delaunay`` tries the candidate sets of :mod:`optri.holes.candidates`
 one after the other. Both return the patch's triangles or None when the
 allowed chords admit no patch.
+
+Degenerate (zero-area) triangles come first in every mode: a patch has the
+fewest that any patch over the allowed chords has, and among those the best
+objective. A triangle is degenerate when its points are exactly collinear
+(:func:`degenerate_count`). A patch a search returns without one is kept as
+it is; one with some is replaced by the least (count, objective) patch:
+
+* Liepa's objective: a degenerate triangle is worse than any fold in both
+  searches, so their patch has one only when every patch has one; every patch
+  is then worth (pi, area), and :func:`optri.holes.search.fewest_degenerate`
+  (the least (count, area) patch) is the exact optimum of (count, objective);
+* triangle weights: the least (count, objective) patch, by a compiled search
+  for built-in weights (see ``_engine_fill`` for callables and pairs);
+* ``"delaunay"``: a candidate set whose patch has a degenerate triangle is
+  widened like one holding no patch, unless no patch at all avoids them.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 from typing import Any, NamedTuple
 
@@ -19,12 +35,12 @@ from numpy.typing import NDArray
 from .. import config
 from ..engines.memory import available_memory_bytes
 from ..engines.problem import Problem
-from ..errors import InvalidPolygonError, NoTriangulationError, WeightError
-from ..objective import Cost, ObjectiveLike
+from ..errors import InvalidPolygonError, NoTriangulationError, OptriError, WeightError
+from ..objective import Cost, ObjectiveLike, as_objective
 from ..polygon import Polygon
 from ..result import Triangulation, recompute_cost
 from ..solve import build_problem, solve_problem
-from ..weights import get_weight
+from ..weights import Weight, WeightCode, custom_weight, resolve_weights
 from . import search
 from .candidates import candidate_sets
 from .liepa import angle_of_key, liepa_keys
@@ -58,7 +74,7 @@ class Hole(NamedTuple):
 def fill_all(hole: Hole, method: str, stats: dict[str, Any]) -> tuple[Tris | None, str]:
     """The best patch over every triangle (None if the allowed chords admit none)."""
     if not hole.liepa:  # a sum or max of triangle weights: the normal engines
-        return _engine_fill(hole, hole.allowed), "exact"
+        return _engine_fill(hole, hole.allowed, stats), "exact"
     n = hole.n
     fits = search.exact_bytes(n) <= available_memory_bytes()
     exact = method == "exact" or (method == "auto" and n <= config.HOLES_EXACT_MAX_N and fits)
@@ -66,27 +82,58 @@ def fill_all(hole: Hole, method: str, stats: dict[str, Any]) -> tuple[Tris | Non
         search.require_exact_memory(n)  # refuse before Liepa's bound is computed
     tris = search.liepa_dense(hole.Q, n, hole.has_third, hole.allowed)
     if not exact or tris is None:
-        return tris, "liepa"
+        return _fewest(hole, tris, hole.allowed, stats), "liepa"
     bound, _ = liepa_keys(hole.Q, n, hole.has_third, tris)
     stats["bound"] = angle_of_key(bound)  # Liepa's largest angle: the exact search's bound
-    return search.exact_search(hole.Q, n, hole.has_third, hole.allowed, bound), "exact"
+    tris = search.exact_search(hole.Q, n, hole.has_third, hole.allowed, bound)
+    return _fewest(hole, tris, hole.allowed, stats), "exact"
 
 
 def fill_delaunay(hole: Hole, stats: dict[str, Any]) -> tuple[Tris | None, str]:
-    """The best patch over the first candidate set holding one, else over all triangles."""
+    """The best patch over the first candidate set holding one, else over all triangles.
+
+    A set whose best patch has a degenerate triangle counts as holding none
+    while some patch over all triangles has none.
+    """
     n = hole.n
+    fewest: int | None = None  # over all allowed chords, known once a set needs it
     for name, tris in candidate_sets(hole.Q[:n]):
         tris = tris[_uses_allowed(tris, hole.allowed)]
+        sub: dict[str, Any] = {}
         if hole.liepa:
             found = search.liepa_sparse(hole.Q, n, hole.has_third, tris)
         else:
-            found = _engine_fill(hole, hole.allowed & _chords_of(tris, n))
+            found = _engine_fill(hole, hole.allowed & _chords_of(tris, n), sub)
+        if found is not None and degenerate_count(hole.P, found):
+            if fewest is None:
+                least = search.fewest_degenerate(hole.P, hole.Q, n, hole.allowed)
+                fewest = least[0] if least is not None else 0
+            if fewest > 0:
+                break  # no set avoids them: the search over all triangles counts them
+            found = None
         if found is not None:
             stats.update(candidates=name, candidate_triangles=len(tris), fallback=0)
             return found, "delaunay"
     stats.update(candidates="all", fallback=1)
     found, used = fill_all(hole, "auto", stats)
     return found, f"delaunay->{used}"
+
+
+def _fewest(
+    hole: Hole, tris: Tris | None, allowed: NDArray[np.bool_], stats: dict[str, Any]
+) -> Tris | None:
+    """``tris`` when it has no degenerate triangle, else the least (count, area) patch.
+
+    Only for Liepa's objective, whose searches return a degenerate triangle only
+    when every patch has one (then every patch is worth (pi, area)).
+    """
+    if tris is None or degenerate_count(hole.P, tris) == 0:
+        return tris
+    found = search.fewest_degenerate(hole.P, hole.Q, hole.n, allowed)
+    if found is None:  # cannot happen: tris is a patch over these chords
+        raise OptriError("internal error: the fewest-degenerate search found no patch")
+    stats["degenerate_minimum"] = found[0]
+    return found[1]
 
 
 def _uses_allowed(tris: Tris, allowed: NDArray[np.bool_]) -> NDArray[np.bool_]:
@@ -102,13 +149,22 @@ def _chords_of(tris: Tris, n: int) -> NDArray[np.bool_]:
     return mask
 
 
-def degenerate_count(Q: NDArray[np.float64], tris: Tris) -> int:
-    """Zero-area triangles among ``tris`` (the searches' own test: sine <= 1e-12)."""
+def degenerate_count(P: NDArray[np.float64], tris: Tris) -> int:
+    """Degenerate triangles among ``tris``: their points are exactly collinear.
+
+    Decided by exact orientation tests (no tolerance): a triangle of ``P``'s
+    rows is degenerate when its projections on the three coordinate planes all
+    have orientation 0.
+
+    >>> P = np.array([[0., 0, 0], [1, 0, 0], [2, 0, 0], [1, 1e-300, 0]])
+    >>> degenerate_count(P, np.array([[0, 1, 2], [0, 1, 3], [0, 2, 3]]))
+    1
+    """
     from .._core import holes
 
     if len(tris) == 0:
         return 0
-    return int(holes.triangle_normals(Q, np.sort(tris, axis=1))[:, 3].sum())
+    return int(holes.collinear(P, np.ascontiguousarray(tris, dtype=np.int64)).sum())
 
 
 # --- triangle weights: the normal engines -------------------------------------------
@@ -123,41 +179,69 @@ def _problem(hole: Hole, allowed: NDArray[np.bool_] | None) -> Problem:
     return problem
 
 
-def _engine_dp(hole: Hole, allowed: NDArray[np.bool_], gated: bool = False) -> Tris | None:
-    problem = _problem(hole, allowed)
-    if gated:
-        gate = (get_weight("aspect_ratio"), float(config.HOLES_DEGENERATE_ASPECT))
-        problem.gates = (*problem.gates, gate)
+def _engine_dp(
+    hole: Hole, allowed: NDArray[np.bool_], problem: Problem | None = None
+) -> Tris | None:
+    problem = _problem(hole, allowed) if problem is None else problem
     try:
-        return solve_problem(problem, "auto")[1].triangles
+        with warnings.catch_warnings():  # the user's callable already runs in Python
+            warnings.filterwarnings("ignore", "weight 'degenerate'", RuntimeWarning)
+            return solve_problem(problem, "auto")[1].triangles
     except NoTriangulationError:
-        if problem.allowed is None and not gated:
+        if problem.allowed is None and not problem.gates:
             raise
         return None  # the allowed chords (or non-degenerate triangles) hold no patch
 
 
-def _engine_fill(hole: Hole, allowed: NDArray[np.bool_]) -> Tris | None:
-    """The engines' optimum; one without zero-area triangles instead when it ties."""
+def _degenerate_weight(hole: Hole) -> Weight:
+    """1.0 on an exactly collinear triangle, else 0.0 (input indices are polyline indices)."""
+    from .._core import holes
+
+    P = hole.P
+
+    def degenerate(i: int, k: int, j: int) -> float:
+        return 1.0 if holes.is_collinear(P, i, k, j) else 0.0
+
+    return custom_weight(degenerate, "degenerate")
+
+
+def _engine_fill(hole: Hole, allowed: NDArray[np.bool_], stats: dict[str, Any]) -> Tris | None:
+    """The least (degenerate count, objective) patch over the allowed chords.
+
+    The engines' optimum when it has no degenerate triangle. Otherwise, for a
+    built-in weight and a one-component objective, the compiled (count, sum or
+    max) search; for a user callable (which runs in Python anyway) the engines
+    with degenerate triangles gated out exactly, or with the pair (count,
+    objective) when every patch has some; for a pair objective, which cannot
+    take a third component, the fewest and then the least area.
+    """
     tris = _engine_dp(hole, allowed)
-    if tris is None or degenerate_count(hole.Q, tris) == 0:
+    if tris is None or degenerate_count(hole.P, tris) == 0:
         return tris
-    alt = _engine_dp(hole, allowed, gated=True)
-    if alt is None or degenerate_count(hole.Q, alt) > 0:
-        return tris
-    again = _recompute(hole)
-    return alt if _ties(again(alt), again(tris)) else tris
-
-
-def _ties(a: Cost, b: Cost) -> bool:
-    xs = a if isinstance(a, tuple) else (a,)
-    ys = b if isinstance(b, tuple) else (b,)
-    rtol = config.HOLES_TIE_RTOL
-    return all(math.isclose(x, y, rel_tol=rtol, abs_tol=0.0) for x, y in zip(xs, ys))
-
-
-def _recompute(hole: Hole) -> Callable[[Tris], Cost]:
-    problem = _problem(hole, None)
-    return recompute_cost(problem.evaluator(), problem.objective, problem.polygon.order)
+    components = as_objective(hole.objective).components
+    weights = resolve_weights(hole.weight, len(components))
+    weight = weights[0]
+    builtin = weight.code != WeightCode.CUSTOM
+    if builtin and len(weights) == 1:
+        found = search.fewest_then_weight(
+            hole.P, hole.n, int(weight.code), components[0] == "max", allowed
+        )
+    else:
+        found = search.fewest_degenerate(hole.P, hole.Q, hole.n, allowed)
+    if found is None:  # cannot happen: tris is a patch over these chords
+        raise OptriError("internal error: the fewest-degenerate search found no patch")
+    stats["degenerate_minimum"] = found[0]
+    if builtin or len(weights) > 1:
+        return found[1]
+    flag = _degenerate_weight(hole)
+    if found[0] == 0:
+        problem = _problem(hole, allowed)
+        problem.gates = (*problem.gates, (flag, 0.5))
+    else:
+        polygon = Polygon(hole.P, hole.P, np.arange(hole.n, dtype=np.int64), None, True)
+        problem = build_problem(polygon, (flag, weight), ("sum", components[0]), keep_table=False)
+        problem.allowed = None if allowed.all() else allowed
+    return _engine_dp(hole, allowed, problem)
 
 
 # --- the result -----------------------------------------------------------------------
@@ -195,7 +279,9 @@ def result(
     value = again(tris)
     if isinstance(value, float) and math.isnan(value):
         raise WeightError("the weight returned NaN")
-    stats["degenerate"] = degenerate_count(hole.Q, tris)
+    stats["degenerate"] = count = degenerate_count(hole.P, tris)
+    # a patch with some is the fewest over the allowed chords: every path proves it
+    stats["degenerate_unavoidable"] = count > 0 and stats.get("degenerate_minimum") == count
     return Triangulation(
         vertices=hole.P,
         triangles=tris,

@@ -82,8 +82,10 @@ def fill_polyline(
         ``triangles`` (input indices ``(i, k, j)``, ``i < k < j``, wound in the
         polyline's order), ``weight`` (for ``"liepa"``: the pair (largest
         dihedral angle in radians, total area)), ``method`` and ``stats``
-        (``degenerate``: zero-area triangles in the patch, 0 unless every
-        patch has one; ``forbidden``: chords excluded).
+        (``degenerate``: zero-area -- exactly collinear -- triangles in the
+        patch, 0 whenever a patch without one exists, else the fewest any
+        patch has; ``degenerate_unavoidable``: whether ``degenerate > 0`` and
+        no patch has fewer; ``forbidden``: chords excluded).
 
     Raises
     ------
@@ -103,10 +105,17 @@ def fill_polyline(
     Liepa's dihedral angle of two triangles sharing an edge is the angle
     between their normals when both are wound the same way, i.e. pi minus the
     opening angle between them: 0 for a flat continuation, pi for a full fold.
-    It does not depend on the direction in which the polyline is given. A
-    zero-area triangle counts as worse than a full fold against every
-    neighbour, so both searches avoid degenerate triangles whenever any patch
-    without one exists (its angle is still reported as pi).
+    It does not depend on the direction in which the polyline is given.
+
+    Degenerate triangles (three exactly collinear points, decided by exact
+    orientation tests) come first in every mode and weight: the patch has none
+    whenever some patch over the allowed chords has none, and otherwise the
+    fewest any patch has, with the best objective among patches with that
+    many. For ``"liepa"`` a degenerate triangle counts as worse than a full
+    fold against every neighbour (its angle is reported as pi), so a patch with
+    one is worth (pi, area) and the fewest are found with the least area.
+    ``"delaunay"`` widens its candidate set rather than accept one that a
+    patch over all triangles avoids.
 
     Which mode is exact: ``"exact"`` always. ``"liepa"`` and ``"delaunay"``
     with the ``"liepa"`` weight are Liepa's heuristic (the latter is the

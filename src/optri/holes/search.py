@@ -27,6 +27,8 @@ __all__ = [
     "dense_bytes",
     "exact_bytes",
     "exact_search",
+    "fewest_degenerate",
+    "fewest_then_weight",
     "liepa_dense",
     "liepa_sparse",
     "mesh_normals",
@@ -172,3 +174,42 @@ def exact_search(
     if not K.trace(Q, n, has_third, MN, leaf, off, states, M, out):
         raise OptriError("internal error: the exact search's trace found no apex")
     return out
+
+
+def fewest_degenerate(
+    P: NDArray[np.float64], Q: NDArray[np.float64], n: int, allowed: NDArray[np.bool_]
+) -> tuple[int, Tris] | None:
+    """``(count, triangles)``: the patch with the fewest degenerate triangles, then least area.
+
+    Degenerate means exactly collinear (``P``, the points as given); areas are
+    the searches' (``Q``). None when the allowed chords admit no patch. O(n^3)
+    time, about 20 n^2 bytes; see ``src/core/holes_degenerate.cpp``.
+
+    >>> P = np.array([[0., 0, 0], [1, 0, 0], [2, 0, 0], [1, 1, 0]])
+    >>> count, tris = fewest_degenerate(P, P, 4, np.ones((4, 4), dtype=np.bool_))
+    >>> count, tris.tolist()
+    (0, [[0, 1, 3], [1, 2, 3]])
+    """
+    return _fewest(n, lambda K: _kernels().fewest_degenerate(P, Q, n, allowed, K))
+
+
+def fewest_then_weight(
+    P: NDArray[np.float64], n: int, code: int, is_max: bool, allowed: NDArray[np.bool_]
+) -> tuple[int, Tris] | None:
+    """As :func:`fewest_degenerate`, the sum (max) of built-in weight ``code`` second.
+
+    >>> P = np.array([[0., 0, 0], [1, 0, 0], [2, 0, 0], [2, 1, 0]])   # area 2 = code 2
+    >>> fewest_then_weight(P, 4, 2, False, np.ones((4, 4), dtype=np.bool_))[1].tolist()
+    [[0, 1, 3], [1, 2, 3]]
+    """
+    return _fewest(n, lambda K: _kernels().fewest_then_weight(P, n, code, is_max, allowed, K))
+
+
+def _fewest(n: int, run: Any) -> tuple[int, Tris] | None:
+    """Memory first, then ``run(K)`` (the kernel: count or -1), then its patch."""
+    require_memory(20 * n * n, f"the fewest-degenerate search of a {n}-vertex hole", "")
+    K = np.full((n, n), -1, dtype=np.int32)
+    count = int(run(K))
+    if count < 0:
+        return None
+    return count, triangles_from_splits(lambda i, j: int(K[i, j]), n)
