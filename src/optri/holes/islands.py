@@ -43,9 +43,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..engines import jit
 from ..errors import InvalidPolygonError, NoTriangulationError
 from ..objective import Cost, ObjectiveLike
 from ..result import Triangulation
+from ..solve import solve_problem
 from ..weights import _positional_arity
 from .liepa import angle_of_key, as_points3d, liepa_keys, power_of_two_scale
 from .modes import Hole, _problem, _recompute, degenerate_count, fill_all
@@ -216,7 +218,7 @@ def _config_count(ids: list[Ints], limit: int) -> int:
     return count
 
 
-def _heuristic_config(V: Floats, ids: list[Ints], rank: int) -> list[int]:
+def _heuristic_config(V: Floats, ids: list[Ints], rank: int, forbid: set[int]) -> list[int]:
     """One merged polygon: a minimum spanning tree of the loops (Prim's order).
 
     Each bridge is the ``rank``-th closest vertex pair of its two loops.
@@ -229,6 +231,9 @@ def _heuristic_config(V: Floats, ids: list[Ints], rank: int) -> list[int]:
         for i in left:
             for j in inside:
                 d = np.linalg.norm(V[ids[j]][:, None, :] - V[ids[i]][None, :, :], axis=2)
+                a, b = np.meshgrid(ids[j], ids[i], indexing="ij")
+                keys = np.minimum(a, b) * len(V) + np.maximum(a, b)
+                d[np.isin(keys, np.fromiter(forbid, np.int64))] = np.inf  # no forbidden bridge
                 flat = np.argsort(d, axis=None, kind="stable")
                 pick = int(flat[min(rank, len(flat) - 1)])
                 pj, ci = divmod(pick, len(ids[i]))
@@ -264,7 +269,7 @@ def _merge(
     side_third: dict[tuple[int, int], Floats],
     loop_keys: set[int],
     forbid_keys: set[int],
-) -> _Merged:
+) -> _Merged | None:
     orig = np.asarray(cycle, dtype=np.int64)
     N, nv = len(orig), len(V)
     nxt = np.roll(orig, -1)
@@ -278,6 +283,8 @@ def _merge(
             bridges.append((first[key], s))
         else:
             first[key] = s
+    if any(int(skeys[s1]) in forbid_keys for s1, _ in bridges):
+        return None  # a bridge along a forbidden pair
     lo = np.minimum.outer(orig, orig)
     hi = np.maximum.outer(orig, orig)
     pair = lo * nv + hi
@@ -376,11 +383,22 @@ class _Search:
     def solve(
         self, m: _Merged, allowed: NDArray[np.bool_], thirds: Floats, mode: str
     ) -> Ints | None:
+        """The best triangulation of merged polygon ``m`` with these chords (None: none)."""
         self.solves += 1
-        tris, _ = fill_all(self.hole(m, allowed, thirds), mode, {})
-        return tris
+        hole = self.hole(m, allowed, thirds)
+        if self.liepa:
+            return fill_all(hole, mode, {})[0]
+        # triangle weights: the compiled engine at every size (many small searches)
+        problem = _problem(hole, allowed)
+        engine = (
+            "fast" if jit.unavailable() is None and jit.unsupported(problem) is None else "auto"
+        )
+        try:
+            return solve_problem(problem, engine)[1].triangles  # type: ignore[no-any-return]
+        except NoTriangulationError:
+            return None
 
-    def value(self, m: _Merged, tris: Ints, thirds: Floats) -> Cost:
+    def value(self, m: _Merged, tris: Ints, thirds: Floats) -> Any:
         """The polygon search's own objective of ``tris`` (Liepa: the key, not the angle)."""
         hole = self.hole(m, m.allowed, thirds)
         if self.liepa:
@@ -524,10 +542,11 @@ def fill_polylines(
     merge = lambda cycle: _merge(cycle, V, side_third, loop_keys, forbid)  # noqa: E731
     found = None
     if exact:
-        found = _branch_and_bound(search, map(merge, _configs(ids)), max_nodes, stats)
+        merged = (m for m in map(merge, _configs(ids)) if m is not None)
+        found = _branch_and_bound(search, merged, max_nodes, stats)
     if found is None:
-        tries = [merge(_heuristic_config(V, ids, r)) for r in range(HEURISTIC_TRIES)]
-        found = _heuristic(search, tries)
+        tries = [merge(_heuristic_config(V, ids, r, forbid)) for r in range(HEURISTIC_TRIES)]
+        found = _heuristic(search, [m for m in tries if m is not None])
         stats["configurations"] = len(tries)
     if found is None:
         raise NoTriangulationError(
@@ -554,7 +573,8 @@ def _one_loop(
     tri.optimality = "proven" if proven else "heuristic"
     tri.bound = tri.weight if proven else -math.inf
     tri.gap = 0.0 if proven else math.inf
-    tri.stats.update(loops=[len(V)], bridges=[])
+    tri.stats["loops"] = [len(V)]  # type: ignore[assignment]
+    tri.stats["bridges"] = []  # type: ignore[assignment]
     return tri
 
 
@@ -564,7 +584,7 @@ class _Found:
 
     merged: _Merged
     tris: Ints
-    value: Cost
+    value: Any  # Cost: a float or a tuple, compared with <
     method: str
     proven: bool
     bound: Cost | None = None  # a proven lower bound when not proven (None: unknown)
@@ -587,6 +607,10 @@ def _branch_and_bound(
 
     configs = 0
     for m in merged:
+        if search.solves >= max_nodes:  # configurations left unsolved: no bound
+            stats["configurations"] = configs
+            some = _best_of(search, heap)
+            return None if some is None else _Found(*some, "exact", False)
         configs += 1
         push(m, m.allowed, m.thirds, frozenset())
     stats["configurations"] = configs
@@ -628,6 +652,18 @@ def _branch_and_bound(
             return best
     if best is not None:
         best.proven = True
+    return best
+
+
+def _best_of(search: _Search, heap: list[_Node]) -> tuple[_Merged, Ints, Any] | None:
+    """The best glued surface among the nodes' solutions that double no edge."""
+    best: tuple[_Merged, Ints, Any] | None = None
+    for node in heap:
+        m = node.merged
+        if _doubled(m.orig, node.tris, len(search.V)) is None:
+            value = search.value(m, node.tris, search.glued_thirds(m, node.tris))
+            if best is None or value < best[2]:
+                best = (m, node.tris, value)
     return best
 
 
