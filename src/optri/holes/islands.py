@@ -525,11 +525,11 @@ def fill_polylines(
         nxt = np.roll(lp, -1)
         loop_keys |= set((np.minimum(lp, nxt) * nv + np.maximum(lp, nxt)).tolist())
     if T is not None:
+        # T is aligned with the loops as given: row a is side (a, the point after a)
+        after = np.concatenate([np.roll(np.arange(nv)[lp.min() : lp.max() + 1], -1) for lp in ids])
         for lp in ids:
             for a, b in zip(lp.tolist(), np.roll(lp, -1).tolist()):
-                # T is aligned with the loops as given: side (a, a + 1) or, reversed, (b, b + 1)
-                given = (a, b) if b == _next_given(a, ids, V) else (b, a)
-                side_third[(a, b)] = T[given[0]]
+                side_third[(a, b)] = T[a] if after[a] == b else T[b]  # T[b]: a reversed island
     forbid = _forbidden_keys(forbidden, nv, loop_keys)
     search = _Search(V, T, weight, objective)
     N = nv + 2 * (len(ids) - 1)
@@ -554,15 +554,6 @@ def fill_polylines(
         )
     stats["searches"] = search.solves
     return _result(search, V, found, stats, time.perf_counter() - start)
-
-
-def _next_given(a: int, ids: list[Ints], V: Floats) -> int:
-    """The point after ``a`` on its loop as given (point ids run along each given loop)."""
-    for lp in ids:
-        lo, hi = int(lp.min()), int(lp.max())
-        if lo <= a <= hi:
-            return lo if a == hi else a + 1
-    raise AssertionError(a)
 
 
 def _one_loop(
