@@ -516,7 +516,7 @@ MUTATIONS: list[Mutation] = [
         "if np.abs(pts @ normal).max() > radius:",
         "if False:",
         (ISLANDS, "-k", "flat_hole"),
-        "a disk far above a hole is taken for its island",
+        "a disk lifted above a hole is taken for its island",
     ),
     M(
         "island-patch-wound-backwards",
