@@ -6,6 +6,9 @@ Figures 2 and 3 and the GIF need matplotlib and pillow; the explorer screenshots
 Playwright and Chromium from the system packages (skipped with a message without them);
 the README's two pictures are the gallery scripts' figures (examples/plot_*.py, the same
 that ``make docs`` runs), which need the compare and mesh extras.
+``mesh_refill_peers.png`` (docs/mesh.md) refills one hole with optri, CGAL and MeshLib
+through ``benchmarks/bench_refill.py``; it needs the bench extra (the peers' wheels) and is
+skipped with a message without them.
 Every PNG is reduced to a small palette so the repository stays light.
 """
 
@@ -118,12 +121,82 @@ def readme_pictures() -> None:
     plt.close("all")
 
 
+def refill_pictures() -> None:
+    """One hole cut from a sphere; optri's flat and faired patches, CGAL's and MeshLib's."""
+    import importlib.util
+
+    try:
+        import CGAL  # noqa: F401
+        import meshlib  # noqa: F401
+    except ImportError:
+        print("cgal or meshlib missing: mesh_refill_peers.png skipped", file=sys.stderr)
+        return
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    from optri import fill_holes
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_refill.py"
+    spec = importlib.util.spec_from_file_location("bench_refill", path)
+    assert spec is not None and spec.loader is not None
+    bench = importlib.util.module_from_spec(spec)
+    sys.modules["bench_refill"] = bench
+    spec.loader.exec_module(bench)
+    sphere = bench.icosphere(4)
+    top = int(np.argmax(sphere.vertices @ np.array([0.45, -0.3, 0.84])))
+    centre = sphere.vertices[top]
+
+    class Pick:  # the random centre of cut_hole, made the vertex nearest that direction
+        def integers(self, n: int) -> int:
+            return top
+
+    hole = bench.cut_hole(sphere, 70, Pick())
+    (fv, ff), _ = fill_holes((hole.vertices, hole.faces))
+    flat = bench.Refill("flat", fv, ff, len(hole.faces), 0.0)
+    panels = [
+        (f"the hole ({hole.edges} edges)", None),
+        ("optri, optimal patch", flat),
+        ("optri, refine + fair=1", bench.refill_optri(hole, 1)),
+        ("optri, refine + fair=2", bench.refill_optri(hole, 2)),
+        ("CGAL refine + fair", bench.refill_cgal(hole)),
+        ("MeshLib fillHoleNicely", bench.refill_meshlib(hole)),
+    ]
+    fig = plt.figure(figsize=(12, 6.4))
+    for i, (title, r) in enumerate(panels):
+        ax = fig.add_subplot(2, 3, i + 1, projection="3d")
+        v, f, old = (hole.vertices, hole.faces, len(hole.faces)) if r is None else (
+            r.vertices, r.faces, r.old_faces)
+        near = np.linalg.norm(v[f].mean(axis=1) - centre, axis=1) < 1.0
+        colours = np.where(np.arange(len(f)) >= old, "#f28e2b", "#c9d6ea")[near]
+        ax.add_collection3d(Poly3DCollection(
+            v[f[near]], facecolors=colours, edgecolors="#4a4a4a", linewidths=0.25))
+        if r is not None and r.method != "flat":
+            new = r.vertices[len(hole.vertices):]
+            rms = float(np.sqrt(np.mean((np.linalg.norm(new, axis=1) - 1) ** 2)))
+            title += f"\nRMS to the sphere {rms:.3f}"
+        ax.set_title(title, fontsize=11)
+        lim = centre + np.array([[-0.5], [0.5]])
+        ax.set(xlim=lim[:, 0], ylim=lim[:, 1], zlim=lim[:, 2])
+        ax.set_box_aspect((1, 1, 1))
+        ax.view_init(elev=14, azim=-56)
+        ax.set_axis_off()
+    fig.subplots_adjust(left=0, right=1, bottom=0, top=0.93, wspace=0, hspace=0.12)
+    fig.savefig(OUT / "mesh_refill_peers.png", dpi=80, bbox_inches="tight")
+    plt.close(fig)
+    _shrink(OUT / "mesh_refill_peers.png", colours=64)
+
+
 def main() -> None:
     """Write every picture and list the sizes."""
     OUT.mkdir(exist_ok=True)
     figures()
     screenshots()
     readme_pictures()
+    refill_pictures()
     for f in sorted(OUT.iterdir()):
         print(f"{f.name}: {f.stat().st_size // 1024} KiB")
 

@@ -25,7 +25,7 @@ CORE = "optri._core"
 LAYERS = [
     ["optri.errors", "optri.config", "optri._version", "optri._optional", "optri.params", CORE],
     ["optri.predicates"],
-    ["optri.polygon"],
+    ["optri.polygon", "optri.meshdata"],
     ["optri.io", "optri.data"],
     ["optri.weights", "optri.objective"],
     ["optri.drawing"],
@@ -261,9 +261,11 @@ def test_heavy_packages_load_only_in_kernel_modules_or_on_use():
     assert eager == []
 
 
-def test_at_most_twelve_modules_at_the_top():
+def test_at_most_thirteen_modules_at_the_top():
+    # the shared foundations (errors, config, predicates, polygon, meshdata, ...) and the
+    # facades; anything else belongs in a feature folder
     top = [p.name for p in PACKAGE.glob("*.py") if p.name not in ("__init__.py", "__main__.py")]
-    assert len(top) <= 12, sorted(top)
+    assert len(top) <= 13, sorted(top)
 
 
 def test_import_optri_stays_light():

@@ -43,9 +43,9 @@ BAD = {
             "type": "Feature",
             "id": "multi",
             "properties": {},
-            "geometry": {"type": "MultiPolygon", "coordinates": [[SQUARE], [GOOD]]},
+            "geometry": {"type": "MultiPolygon", "coordinates": [[SQUARE], [[[0, 0], [1, 1]]]]},
         },
-        "2 parts",
+        "MultiPolygon part 1: a polygon needs at least 3 vertices",
     ),
     "point": (
         {

@@ -63,8 +63,13 @@ def test_geojson_in_geojson_out_is_valid_geojson(tmp_path):
     fc = json.loads((tmp_path / "out.geojson").read_text())
     assert fc["type"] == "FeatureCollection" and len(fc["features"]) == len(ROWS)
     feat = next(f for f in fc["features"] if f["geometry"])
-    assert feat["geometry"]["type"] == "MultiPolygon"
-    assert len(feat["geometry"]["coordinates"]) == feat["properties"]["n"] - 2
+    assert feat["geometry"]["type"] == "GeometryCollection"
+    parts = feat["geometry"]["geometries"]
+    assert {p["type"] for p in parts} == {"Polygon"}
+    assert len(parts) == feat["properties"]["n"] - 2
+    shapely = pytest.importorskip("shapely")
+    for f in fc["features"]:  # valid as shapely reads it
+        assert f["geometry"] is None or shapely.from_geojson(json.dumps(f["geometry"])).is_valid
 
 
 def test_geojson_directory_parts_are_each_valid(tmp_path):
@@ -172,7 +177,7 @@ def test_holes_in_ndjson_and_geojson(tmp_path):
     want = optri.triangulate((square, [hole]))
     assert feat["properties"]["status"] == "ok"
     assert feat["properties"]["cost"] == want.weight
-    tris = feat["geometry"]["coordinates"]
+    tris = [p["coordinates"] for p in feat["geometry"]["geometries"]]
     assert len(tris) == 8  # 8 vertices, one hole: 8 + 2 - 2 triangles
     area = sum(abs(shoelace(t[0][:3])) for t in tris)
     assert area == 9 - 1  # the square less its hole

@@ -115,7 +115,13 @@ def _shapes():
     ]
 
 
-STATUS = ["ok", "error", "error", "ok", "error", "ok", "ok", "error"]
+STATUS = ["ok", "error", "error", "ok", "ok", "ok", "ok", "error"]
+
+
+def _reference(shape):
+    """optri.triangulate on each part: (cost combined by "sum", triangle count)."""
+    parts = [optri.triangulate(p) for p in getattr(shape, "geoms", [shape])]
+    return sum(p.weight for p in parts[1:]) + parts[0].weight, sum(len(p.triangles) for p in parts)
 
 
 def test_geoseries_keeps_index_and_crs():
@@ -131,13 +137,14 @@ def test_geoseries_keeps_index_and_crs():
         if STATUS[k] == "error":
             assert row.geometry is None and row.reason and np.isnan(row.cost)
             continue
-        tri = optri.triangulate(shape)
-        assert row.cost == tri.weight and pd.isna(row.reason)
-        assert row.geometry.geom_type == "MultiPolygon"
-        assert len(row.geometry.geoms) == len(tri.triangles)  # n - 2, n + 2h - 2 with holes
+        cost, count = _reference(shape)
+        assert row.cost == cost and pd.isna(row.reason)
+        assert row.geometry.geom_type == "GeometryCollection" and row.geometry.is_valid
+        assert len(row.geometry.geoms) == count  # n - 2, n + 2h - 2 with holes, per part
         assert row.geometry.area == pytest.approx(shape.area)
     assert out.iloc[3].cost == optri.triangulate(_shapes()[3]).weight  # exterior, then the hole
-    assert "2 parts" in out.iloc[4].reason
+    unit = optri.triangulate(shapely.box(0, 0, 1, 1)).weight
+    assert out.iloc[4].cost == 2 * unit  # two unit squares: one MultiPolygon row, costs added
 
 
 def test_geodataframe_keeps_its_attributes_and_renames_clashing_columns():
@@ -201,3 +208,32 @@ def test_apply_triangulate_pattern_stops_at_the_first_bad_row():
     with pytest.raises(optri.OptriError):
         s.apply(optri.triangulate)  # the documented contrast: one bad row ends it
     assert optri.triangulate_many(s)["status"].tolist() == ["ok", "error"]
+
+
+def test_explode_gives_one_row_per_triangle_with_its_source():
+    gdf = gpd.GeoDataFrame(
+        {"name": [f"n{i}" for i in range(len(_shapes()))]},
+        geometry=_shapes(),
+        index=range(10, 10 + len(_shapes())),
+        crs="EPSG:3857",
+    )
+    whole = optri.triangulate_many(gdf)
+    out = optri.triangulate_many(gdf, explode=True)
+    per_row = [len(g.geoms) if g is not None else 1 for g in whole.geometry]
+    assert out.index.tolist() == np.repeat(gdf.index, per_row).tolist()
+    assert out["name"].tolist() == np.repeat(gdf["name"], per_row).tolist()
+    ok = out["status"] == "ok"
+    assert (out.geometry[ok].geom_type == "Polygon").all() and out.geometry[ok].is_valid.all()
+    assert out.geometry[~ok].isna().all() and out.crs == gdf.crs
+    assert out["cost"].tolist()[:2] == [whole["cost"].iloc[0]] * 2
+    areas = out.geometry[ok].area.groupby(level=0).sum()
+    assert np.allclose(areas, gdf.geometry[areas.index].area)
+    with pytest.raises(optri.OptriError, match="explode"):
+        optri.triangulate_many([SQUARE], explode=True)
+
+
+def test_lexicographic_costs_are_tuples():
+    s = gpd.GeoSeries([shapely.Polygon(SQUARE), None])
+    out = optri.triangulate_many(s, weight=("max_angle", "perimeter"), objective=("max", "sum"))
+    want = optri.triangulate(SQUARE, weight=("max_angle", "perimeter"), objective=("max", "sum"))
+    assert out["cost"].iloc[0] == want.weight and out["cost"].iloc[1] is None

@@ -149,6 +149,19 @@ def test_relaxation_swaps_a_thin_pair_but_never_onto_an_edge_the_mesh_has():
     assert fixed == faces  # a boundary edge is never swapped away
 
 
+def test_relaxation_never_sharpens_a_crease():
+    from optri.holes.refine import _relax
+
+    # y lies in the diametral sphere of (u, v, x), but the swapped pair would meet at a
+    # sharper angle than the pair it replaces: the swap is refused; flattened, it is made
+    pts = np.array([[0.0, 0, 0], [4, 0, 0], [3, 1.8, 0], [2.9, -1.6, -0.55]])
+    faces = [(0, 1, 2), (1, 0, 3)]
+    assert _relax(faces, lambda i: pts[i], set(), set()) == faces
+    flat = pts.copy()
+    flat[3, 2] = 0.0
+    assert _relax(faces, lambda i: flat[i], set(), set()) != faces
+
+
 def test_a_corner_with_a_coarse_neighbourhood_keeps_its_triangle_whole():
     # each corner's own scale counts, not only the centroid's (their mean)
     v = np.array([[0.0, 0, 0], [10, 0, 0], [5, 8.66, 0]])
@@ -214,6 +227,53 @@ def test_crossing_triangles_are_found_and_neighbours_are_not():
     # shares vertex 0 and cuts through the first triangle's interior
     w = np.vstack([v, [[1.0, 1.5, -1], [1.5, 1.0, 1]]])
     assert len(intersecting_pairs(w, faces, np.array([[0, 9, 10]]))) == 1
+
+
+def test_crossing_pairs_match_a_brute_force_scan():
+    # faces of very different widths: a long face starting far left of a patch face's box
+    # still reaches it, so the sorted window must look back by the widest face
+    rng = np.random.default_rng(7)
+    centres = np.repeat(rng.random((30, 3)) * [4.0, 0.4, 0.4], 3, axis=0)
+    v = centres + (rng.random((90, 3)) - 0.5) * 0.5
+    v[:6] = [[0.0, 0.1, 0.2], [4, 0.2, 0.1], [2, 0.3, 0.3],   # two faces across the range
+             [0.1, 0.3, 0.0], [3.9, 0.0, 0.4], [2, 0.1, 0.2]]
+    faces = np.arange(60).reshape(-1, 3)
+    patch = np.arange(60, 90).reshape(-1, 3)
+    found = {tuple(x) for x in intersecting_pairs(v, faces, patch).tolist()}
+    def crosses(q, f):  # one pair, tested both ways round (no window can miss it twice)
+        return bool(len(intersecting_pairs(v, faces[f : f + 1], patch[q : q + 1]))
+                    or len(intersecting_pairs(v, patch[q : q + 1], faces[f : f + 1])))
+
+    brute = {(q, f) for q in range(len(patch)) for f in range(len(faces)) if crosses(q, f)}
+    assert found == brute and len(brute) >= 3
+    assert {f for _, f in brute} & {0, 1}  # the long faces cross some patch faces
+
+
+def _not_locally_delaunay(pts, faces):
+    from optri.holes.refine import _inside_sphere
+
+    where = {}
+    for a, b, c in faces:
+        where[(a, b)], where[(b, c)], where[(c, a)] = c, a, b
+    return [
+        (u, w) for (u, w), x in where.items()
+        if (w, u) in where and _inside_sphere(*(tuple(pts[i]) for i in (u, w, x, where[(w, u)])))
+    ]
+
+
+def test_relaxation_and_refinement_leave_a_flat_patch_locally_delaunay():
+    from optri.holes.refine import _relax
+
+    # a fan over a convex polygon: each swap makes its neighbours' edges swappable in turn
+    t = np.linspace(0, 2 * np.pi, 25)[:-1]
+    pts = np.column_stack([5 * np.cos(t), np.sin(t), np.zeros(24)])
+    fan = [(0, i, i + 1) for i in range(1, 23)]
+    loop = {frozenset((i, (i + 1) % 24)) for i in range(24)}
+    relaxed = _relax(fan, lambda i: pts[i], loop, set())
+    assert _not_locally_delaunay(pts, fan) != [] and _not_locally_delaunay(pts, relaxed) == []
+    v = np.array([[0.0, 0, 0], [10, 0, 0], [10, 3, 0], [0, 3, 0]])
+    new, faces = refine_patch(v, np.array([[0, 1, 2], [0, 2, 3]]), np.arange(4), np.full(4, 0.6))
+    assert len(new) > 20 and _not_locally_delaunay(np.vstack([v, new]), faces.tolist()) == []
 
 
 def test_the_fill_cli_refines_and_fairs(tmp_path):

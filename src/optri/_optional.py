@@ -18,6 +18,7 @@ EXTRAS = {
     "numba": "numba",
     "dask": "dask",
     "distributed": "dask",
+    "dask_geopandas": "dask",
     "geopandas": "geo",
     "pyogrio": "geo",
     "pyarrow": "geo",

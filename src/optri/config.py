@@ -79,6 +79,9 @@ BATCH_POLYGON_WORK = 600
 BATCH_CHUNK_MIN = 8
 BATCH_CHUNK_MAX = 2000
 BATCH_CHUNK_SAMPLE = 256
+#: Arrow layers (GeoParquet, GeoPackage, FlatGeobuf, shapefile) into table outputs are
+#: solved as columns, a chunk at a time (optri.batch.chunks); False: feature by feature.
+BATCH_COLUMNAR = True
 #: Batch: chunks in flight per worker (keeps workers busy without reading ahead far).
 BATCH_IN_FLIGHT_PER_WORKER = 2
 #: Batch: rows per Parquet record batch / GeoPackage page while reading.

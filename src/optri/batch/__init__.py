@@ -14,8 +14,10 @@ seam), :mod:`.project` (metres from longitude/latitude), :mod:`.records` (the
 per-polygon record and the chunk function), :mod:`.writers`,
 :mod:`.tables`, :mod:`.tablefiles` and :mod:`.layout` (parts, manifest, lock,
 single-file assembly), :mod:`.runner` (pool / Dask backends),
-:mod:`.summary`, :mod:`.driver` (the ``batch`` function) and :mod:`.many`
-(``triangulate_many``).
+:mod:`.summary`, :mod:`.driver` (the ``batch`` function), :mod:`.many`
+(``triangulate_many``), :mod:`.daskframe` (``triangulate_many`` on a dask
+GeoDataFrame) and :mod:`.dasklayer` (``dask_layer``: Dask workers read, solve
+and write GeoParquet parts).
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ from ..errors import (
     DuplicateIdWarning,
     GeographicCRSWarning,
 )
+from .dasklayer import dask_layer
 from .driver import batch, iter_records
 from .many import triangulate_many
 from .records import TIMING_FIELDS, strip_timing
@@ -41,6 +44,7 @@ __all__ = [
     "DuplicateIdWarning",
     "GeographicCRSWarning",
     "batch",
+    "dask_layer",
     "iter_records",
     "strip_timing",
     "triangulate_many",

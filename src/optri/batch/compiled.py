@@ -43,7 +43,15 @@ from ..solve import build_problem
 from ..weights import WeightCode, resolve_weights
 from .each import Polygonal, Result, SolveOptions, solve_each
 
-__all__ = ["STATUS", "ManyPlan", "many_plan", "mode_of", "solve_compiled"]
+__all__ = [
+    "STATUS",
+    "ManyPlan",
+    "kernel_result",
+    "many_plan",
+    "mode_of",
+    "run_kernel",
+    "solve_compiled",
+]
 
 #: Methods whose results the kernel reproduces.
 _METHODS = ("auto", "table", "memo", "fast")
@@ -180,18 +188,12 @@ def _solve_chunk(
     results: list[Result | None],
 ) -> list[int]:
     """Run the kernel on ``arrays[idx]``, fill ``results``; returns the indices it declined."""
-    from .._core import many
-
     counts = np.array([arrays[i].shape[0] for i in idx], dtype=np.int64)
     starts = np.zeros(len(idx), dtype=np.int64)
     np.cumsum(counts[:-1], out=starts[1:])
     xy = np.ascontiguousarray(np.concatenate([arrays[i] for i in idx]))
-    wanted = available() if options.threads is None else int(options.threads)
-    threads = max(1, min(wanted, len(idx)))
     start = time.perf_counter()
-    status, sizes, cw, costs, tris, first = many.solve(
-        xy, starts, counts, plan.modes, plan.code, plan.is_max, plan.minplus, threads
-    )
+    status, sizes, cw, costs, tris, first = run_kernel(plan, options, xy, starts, counts)
     seconds = time.perf_counter() - start
     work = sizes.astype(np.float64) ** 3
     share = seconds / max(float(work[status == 0].sum()), 1.0)
@@ -202,14 +204,45 @@ def _solve_chunk(
             continue
         n, t0 = int(sizes[r]), int(first[r])
         s = int(starts[r])  # vertices from the chunk's own copy: never the caller's array
-        results[i] = _result(
+        results[i] = kernel_result(
             plan, options, xy[s : s + n], tris[t0 : t0 + n - 2], float(costs[r]), bool(cw[r])
         )
         results[i].stats["wall_seconds"] = share * work[r]  # type: ignore[union-attr]
     return declined
 
 
-def _result(
+def run_kernel(
+    plan: ManyPlan,
+    options: SolveOptions,
+    xy: NDArray[np.float64],
+    starts: NDArray[np.int64],
+    counts: NDArray[np.int64],
+) -> tuple[NDArray[Any], ...]:
+    """One call of ``optri._core.many.solve`` on rows ``starts[p]:starts[p] + counts[p]`` of xy.
+
+    ``xy`` is a C-contiguous ``(m, 2)`` float64 array; returns the kernel's
+    columns ``(status, sizes, cw, costs, triangles, first)`` (see src/core/many.cpp),
+    on ``options.threads`` threads (None: all), at most one per polygon.
+    """
+    from .._core import many
+
+    wanted = available() if options.threads is None else int(options.threads)
+    threads = max(1, min(wanted, len(starts)))
+    return tuple(
+        many.solve(
+            xy,
+            np.ascontiguousarray(starts, dtype=np.int64),
+            np.ascontiguousarray(counts, dtype=np.int64),
+            plan.modes,
+            plan.code,
+            plan.is_max,
+            plan.minplus,
+            threads,
+        )
+    )
+
+
+def kernel_result(
     plan: ManyPlan,
     options: SolveOptions,
     vertices: NDArray[np.float64],
@@ -217,6 +250,7 @@ def _result(
     cost: float,
     cw: bool,
 ) -> Triangulation:
+    """The Triangulation of one polygon the kernel solved (its raw cost and orientation)."""
     n = len(vertices)
     order = np.arange(n, dtype=np.int64)
     if cw:

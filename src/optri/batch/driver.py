@@ -14,11 +14,15 @@ from pathlib import Path
 from typing import Any
 
 from .. import config
+from .._optional import import_optional
 from .._version import __version__
 from ..engines.interrupts import stop_signals_unwind
 from ..errors import BatchFailedError, BatchInputError
 from ..io.atomic import write_json
-from .layer import Layer, warn_geographic
+from .chunks import TableTask
+from .dasklayer import dask_layer, wants_dask_layer
+from .geo import ArrowSource, open_arrow_batches
+from .layer import Layer, renamed_columns, warn_geographic
 from .layout import Layout, file_sha256, job_key, output_lock, plan_layout
 from .project import local_projector
 from .readers import count_items, detect_input_format, open_layer
@@ -26,9 +30,13 @@ from .records import ChunkTask, Item
 from .runner import open_backend, run_tasks
 from .solver import check_options
 from .summary import BatchSummary, Counter, report_duplicates
+from .tablefiles import flavor_of, write_table
 from .writers import SINGLE_FILE_SUFFIXES, assemble, read_part, write_part
 
 __all__ = ["BatchSummary", "batch", "iter_records"]
+
+#: Input formats read as Arrow record batches (solved chunk by chunk as tables).
+ARROW_INPUTS = ("parquet", "gpkg", "fgb", "shp")
 
 
 @dataclass(frozen=True)
@@ -165,7 +173,22 @@ def batch(
         layer,
     )
     with stop_signals_unwind():  # kill and hang-up also remove half-written parts
-        summary = _run(Path(inp), out, settings)
+        if wants_dask_layer(scheduler, inp, out, fmt, out_fmt):  # workers read and write
+            summary = dask_layer(
+                inp,
+                out,
+                **options,
+                project=project,
+                scheduler=scheduler,
+                workers=workers,
+                chunksize=chunk_size,
+                layer=layer,
+                fmt=fmt,
+                overwrite=overwrite,
+                progress=progress,
+            )
+        else:
+            summary = _run(Path(inp), out, settings)
     if strict and summary.errors:
         raise BatchFailedError(f"{summary.errors} of {summary.total} polygons failed", summary)
     return summary
@@ -199,8 +222,13 @@ def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
             if layout.single and layout.target.exists():
                 layout.check_receipt(job)
                 return _summary_of_existing(layout, start)
-        layer, items = open_layer(inp, kind, s.layer)
-        items, size = _choose_chunk_size(items, s.chunk_size, None if s.overwrite else layout)
+        columnar = kind in ARROW_INPUTS and layout.part_fmt == "parquet" and config.BATCH_COLUMNAR
+        if columnar:
+            layer, source = open_arrow_batches(inp, kind, s.layer)
+            chunks, size = _table_chunks(source, s.chunk_size, None if s.overwrite else layout)
+        else:
+            layer, items = open_layer(inp, kind, s.layer)
+            items, size = _choose_chunk_size(items, s.chunk_size, None if s.overwrite else layout)
         crs = _projection(inp, layer, s.project)
         warn_geographic(layer.crs, s.project)
         if s.overwrite:  # only now: a bad input file must not cost the earlier output
@@ -214,7 +242,12 @@ def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
         total = (count_items(inp, kind, s.layer) or 0) if s.progress is not None else 0
         counter = Counter(s.progress, total)
         work = _Work(layout, layer, size, job_key(manifest), recorded)
-        _solve_all(work, items, s, crs, counter)
+        if columnar:
+            _solve_tables(work, chunks, source, s, crs, counter)
+        else:
+            _solve_all(work, items, s, crs, counter)
+        if not layout.single:  # the parts are the product: on disk before _SUCCESS says so
+            layout.sync()
         write_json(layout.success, {"ok": counter.ok, "errors": counter.errors, "total": counter.n})
         if layout.single:
             assemble(layout.parts(), layout.fmt, layout.target, layer, layout.parts_dir)
@@ -244,7 +277,7 @@ def _solve_all(
     layout = work.layout
     tasks = _pending_tasks(items, work, {**s.options, "project": crs}, counter, in_flight)
 
-    def done(task: ChunkTask, records: list[dict]) -> None:
+    def done(task: Any, records: Any) -> None:
         chunk = in_flight.pop(task.index)
         part = layout.part(task.index)
         write_part(part, layout.part_fmt, records, chunk, work.layer, layout.fmt)
@@ -253,6 +286,102 @@ def _solve_all(
 
     with open_backend(s.scheduler, s.workers) as backend:
         run_tasks(backend, tasks, done)
+
+
+def _solve_tables(
+    work: _Work,
+    chunks: Iterator[Any],
+    source: ArrowSource,
+    s: _Settings,
+    crs: str | None,
+    counter: Counter,
+) -> None:
+    """Solve every pending chunk of an Arrow layer as a table (:mod:`.chunks`); write its part."""
+    layout = work.layout
+    options = {**s.options, "project": crs}
+    flavor = flavor_of(layout.fmt)
+
+    def tasks() -> Iterator[TableTask]:
+        for index, table in enumerate(chunks):
+            if layout.adopted(index, work.recorded):
+                counter.add(read_part(layout.part(index), layout.part_fmt), reused=True)
+                continue
+            first = index * work.size
+            fid, table = _ids_of(table, source.fid, first)
+            renames = work.layer.renames
+            yield TableTask(index, table, source.geometry, first, fid, renames, flavor, **options)
+
+    def done(task: Any, table: Any) -> None:
+        part = layout.part(task.index)
+        write_table(part, table, layout.part_fmt, work.layer, layout.parts_dir, durable=False)
+        layout.record(task.index, task.index * work.size, table.num_rows, work.job)
+        counter.add_rows(table.column("id").to_pylist(), table.column("status").to_pylist())
+
+    with open_backend(s.scheduler, s.workers) as backend:
+        run_tasks(backend, tasks(), done)
+
+
+def _ids_of(table: Any, fid: str | None, first: int) -> tuple[str | None, Any]:
+    """Where a chunk's ids are: its ``id`` column (nulls filled as positions), or the FID.
+
+    As for Items (:func:`~optri.batch.records.json_id`): an ``id`` attribute,
+    else the FID, else the position in the layer.
+    """
+    if "id" not in table.column_names:
+        return fid, table
+    pa = import_optional("pyarrow")
+    if fid is not None:
+        fallback = table.column(fid).to_pylist()
+        table = table.drop_columns([fid])
+    else:
+        fallback = list(range(first, first + table.num_rows))
+    col = table.column("id")
+    if col.null_count:  # the ids differ from the attribute: it stays, renamed (as for Items)
+        values = [v if v is not None else f for v, f in zip(col.to_pylist(), fallback)]
+        if pa.types.is_string(col.type):
+            values = [str(v) for v in values]
+        k = table.schema.get_field_index("id")
+        kept = renamed_columns(table.column_names, ("id",))["id"]
+        table = table.set_column(k, kept, col).append_column("id", pa.array(values, col.type))
+    return None, table
+
+
+def _table_chunks(
+    source: ArrowSource, chunk_size: int | None, layout: Layout | None
+) -> tuple[Iterator[Any], int]:
+    """The layer's rows as tables of ``size`` rows (the last may be shorter), and ``size``."""
+    pa = import_optional("pyarrow")
+    shapely = import_optional("shapely")
+    batches = iter(source.batches)
+    head = list(itertools.islice(batches, 1))  # an unreadable file fails before any output
+    size = chunk_size
+    if size is not None and size < 1:
+        raise BatchInputError(f"chunk size must be at least 1, got {size}")
+    previous = None if layout is None else _manifest_value(layout, "chunk_size")
+    if size is None and isinstance(previous, int):
+        size = previous
+    if size is None:
+        column = head[0].column(source.geometry) if head else pa.array([], pa.binary())
+        raw = column.slice(0, config.BATCH_CHUNK_SAMPLE).to_numpy(zero_copy_only=False)
+        geoms = shapely.from_wkb(raw, on_invalid="ignore")
+        n = shapely.get_num_coordinates(geoms) - shapely.get_num_interior_rings(geoms) - 1
+        size = auto_chunk_size([Item(0, [[0, 0]] * max(int(k), 0)) for k in n])
+
+    def chunks() -> Iterator[Any]:
+        held: list[Any] = []
+        rows = 0
+        for batch in itertools.chain(head, batches):
+            held.append(batch)
+            rows += batch.num_rows
+            while rows >= size:
+                table = pa.Table.from_batches(held)
+                yield table.slice(0, size)
+                rest = table.slice(size)
+                held, rows = rest.to_batches(), rest.num_rows
+        if rows:
+            yield pa.Table.from_batches(held)
+
+    return chunks(), size
 
 
 def _projection(inp: Path, layer: Layer, project: bool) -> str | None:

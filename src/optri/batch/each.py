@@ -20,9 +20,26 @@ from ..errors import OptriError
 from ..result import Triangulation
 from ..solve import triangulate
 
-__all__ = ["ChunkSolver", "HoledRings", "Polygonal", "Result", "SolveOptions", "solve_each"]
+__all__ = [
+    "ChunkSolver",
+    "HoledRings",
+    "Polygonal",
+    "Result",
+    "SolveOptions",
+    "one_line",
+    "solve_each",
+]
 
 Result = Triangulation | OptriError
+
+
+def one_line(message: str) -> str:
+    r"""Collapse whitespace so a reason is always a single line.
+
+    >>> one_line("vertex 3\n  is bad")
+    'vertex 3 is bad'
+    """
+    return " ".join(str(message).split()) or "unknown error"
 
 
 @dataclass(frozen=True)

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -20,12 +21,28 @@ from .. import config
 from .._optional import import_optional
 from ..errors import BatchInputError, OptriError
 from .layer import Layer, renamed_columns, warn_renamed
-from .records import RESULT_FIELDS, Item, json_id
-from .solver import polygon_vertices
+from .records import RESULT_FIELDS, Item, feature_vertices, json_id
 
-__all__ = ["count_rows", "first_line", "open_arrow_layer"]
+__all__ = [
+    "ArrowSource",
+    "count_rows",
+    "first_line",
+    "ogr_timestamps",
+    "open_arrow_batches",
+    "open_arrow_layer",
+    "parse_timestamps",
+]
 
 _OGR_DRIVERS = {"gpkg": "GeoPackage", "fgb": "FlatGeobuf", "shp": "shapefile"}
+
+
+@dataclass(frozen=True)
+class ArrowSource:
+    """An Arrow layer's record batches (date-times typed again), its geometry and FID columns."""
+
+    geometry: str
+    fid: str | None
+    batches: Iterator[Any]
 
 
 def open_arrow_layer(
@@ -36,12 +53,25 @@ def open_arrow_layer(
     ``name`` picks the layer of a file holding several (a GeoPackage); without
     it such a file is refused, its layers listed.
     """
+    layer, source = open_arrow_batches(path, kind, name)
+
+    def items() -> Iterator[Item]:
+        index = 0
+        for batch in source.batches:
+            yield from _batch_items(batch, source.geometry, source.fid, index, layer, path)
+            index += batch.num_rows
+
+    return layer, items()
+
+
+def open_arrow_batches(path: Path, kind: str, name: str | None = None) -> tuple[Layer, ArrowSource]:
+    """The header and the record batches of a GeoParquet file or an OGR layer."""
     if kind == "parquet":
         return _open_parquet(path)
     return _open_ogr(path, kind, name)
 
 
-def _open_parquet(path: Path) -> tuple[Layer, Iterator[Item]]:
+def _open_parquet(path: Path) -> tuple[Layer, ArrowSource]:
     pq = import_optional("pyarrow.parquet")
     try:
         pf = pq.ParquetFile(path)
@@ -51,17 +81,11 @@ def _open_parquet(path: Path) -> tuple[Layer, Iterator[Item]]:
     geom_col, crs = _geoparquet_column(schema.metadata or {}, schema.names, path)
     attrs = schema.remove(schema.get_field_index(geom_col))
     layer = _layer("parquet", crs, attrs)
-
-    def items() -> Iterator[Item]:
-        index = 0
-        for batch in pf.iter_batches(batch_size=config.BATCH_ROWS_PER_READ):
-            yield from _batch_items(batch, geom_col, None, index, layer, path)
-            index += batch.num_rows
-
-    return layer, items()
+    batches = pf.iter_batches(batch_size=config.BATCH_ROWS_PER_READ)
+    return layer, ArrowSource(geom_col, None, batches)
 
 
-def _open_ogr(path: Path, kind: str, name: str | None) -> tuple[Layer, Iterator[Item]]:
+def _open_ogr(path: Path, kind: str, name: str | None) -> tuple[Layer, ArrowSource]:
     pyogrio = import_optional("pyogrio")
     info = _ogr_info(path, kind, name)
     query = _query(pyogrio, path, kind) or {"layer": info["layer"]}
@@ -72,23 +96,97 @@ def _open_ogr(path: Path, kind: str, name: str | None) -> tuple[Layer, Iterator[
         schema = r.schema
     fid_col = schema.names[0]  # return_fids puts the FID first
     geom_col = _wkb_column(schema, path)
+    stamps = ogr_timestamps(path, schema, query)
+    schema = pa_schema_with(schema, stamps)
     attrs = schema.remove(schema.get_field_index(geom_col)).remove(0)
     layer = _layer(kind, info.get("crs"), attrs)
 
-    def items() -> Iterator[Item]:
-        index = 0
+    def batches() -> Iterator[Any]:
         with pyogrio.open_arrow(
             path,
             use_pyarrow=True,
             batch_size=config.BATCH_ROWS_PER_READ,
             return_fids=True,
+            datetime_as_string=bool(stamps),
             **query,
         ) as (_, reader):
             for batch in reader:
-                yield from _batch_items(batch, geom_col, fid_col, index, layer, path)
-                index += batch.num_rows
+                yield parse_timestamps(batch, stamps)
 
-    return layer, items()
+    return layer, ArrowSource(geom_col, fid_col, batches())
+
+
+def ogr_timestamps(path: Path, schema: Any, query: dict) -> dict[str, Any]:
+    """``{column: Arrow type}`` of an OGR layer's date-time columns, naive or zoned as stored.
+
+    GDAL's Arrow stream gives one time zone per column (a GeoPackage's are all
+    "UTC", a FlatGeobuf's none), so naive values would come back in UTC and
+    zoned ones lose their zone; read as text (``datetime_as_string``) each value
+    keeps its own. A column is zoned (in the first value's offset) when its
+    first non-null value has an offset, else naive.
+    """
+    pa = import_optional("pyarrow")
+    pyogrio = import_optional("pyogrio")
+    names = [f.name for f in schema if pa.types.is_timestamp(f.type)]
+    if not names:
+        return {}
+    out = {name: pa.timestamp("ms") for name in names}
+    todo = set(names)
+    with pyogrio.open_arrow(
+        path,
+        use_pyarrow=True,
+        datetime_as_string=True,
+        read_geometry=False,
+        batch_size=config.BATCH_ROWS_PER_READ,
+        **query,
+    ) as (_, reader):
+        for batch in reader:
+            for name in list(todo):
+                first = next((v for v in batch.column(name).to_pylist() if v), None)
+                if first is not None:
+                    zone = _fromiso(first).tzinfo
+                    if zone is not None:
+                        out[name] = pa.timestamp("ms", tz=_offset(zone, first))
+                    todo.discard(name)
+            if not todo:
+                break
+    return out
+
+
+def pa_schema_with(schema: Any, types: dict[str, Any]) -> Any:
+    """``schema`` with the types of the named columns replaced."""
+    return import_optional("pyarrow").schema(
+        [f.with_type(types[f.name]) if f.name in types else f for f in schema],
+        metadata=schema.metadata,
+    )
+
+
+def parse_timestamps(batch: Any, types: dict[str, Any]) -> Any:
+    """``batch`` with its date-time columns read as text (``datetime_as_string``) typed again."""
+    if not types:
+        return batch
+    pa = import_optional("pyarrow")
+    arrays = [
+        pa.array([None if v is None else _fromiso(v) for v in col.to_pylist()], types[name])
+        if name in types
+        else col
+        for name, col in zip(batch.schema.names, batch.columns)
+    ]
+    return pa.RecordBatch.from_arrays(arrays, schema=pa_schema_with(batch.schema, types))
+
+
+def _fromiso(text: str) -> Any:
+    import datetime
+
+    return datetime.datetime.fromisoformat(text)
+
+
+def _offset(zone: Any, text: str) -> str:
+    """The ``+HH:MM`` of a value's zone (Arrow's fixed-offset time zone)."""
+    delta = zone.utcoffset(_fromiso(text))
+    minutes = int(delta.total_seconds() // 60)
+    sign = "-" if minutes < 0 else "+"
+    return f"{sign}{abs(minutes) // 60:02d}:{abs(minutes) % 60:02d}"
 
 
 def _query(pyogrio: Any, path: Path, kind: str) -> dict:
@@ -128,7 +226,7 @@ def _batch_items(
             yield Item(item_id, reason="invalid WKB geometry", props=props)
             continue
         try:
-            yield Item(item_id, polygon_vertices(geom), props=props)
+            yield Item(item_id, feature_vertices(geom), props=props)
         except OptriError as exc:
             yield Item(item_id, reason=str(exc), props=props)
 

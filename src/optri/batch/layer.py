@@ -2,13 +2,17 @@
 
 The CRS is kept as the text it was read as (``"EPSG:32633"``, WKT, PROJJSON,
 a GeoJSON ``urn``) and handed to pyproj only where a writer or ``--project``
-needs it, so JSON in and JSON out needs no geo package at all. A GeoJSON
+needs it, so JSON in and JSON out needs no geo package at all. pyproj parses a
+given CRS text once per process (:func:`parsed_crs`; a PROJJSON parse costs
+tens of milliseconds), and its WKT and PROJJSON forms are derived once from that
+parse: writing a part never parses a CRS again. A GeoJSON
 FeatureCollection without a ``"crs"`` member is in OGC:CRS84 (longitude,
 latitude), as RFC 7946 says and GDAL reads it; NDJSON lines carry no CRS.
 """
 
 from __future__ import annotations
 
+import functools
 import json
 import warnings
 from collections.abc import Iterable
@@ -16,6 +20,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..errors import BatchWarning, GeographicCRSWarning
+from .project import parsed_crs
 from .records import RESULT_FIELDS
 
 __all__ = [
@@ -73,15 +78,32 @@ class Layer:
         return [self.renames.get(n, n) for n in self.schema.names]
 
 
+def _parsed_or_none(crs: str) -> Any:
+    """:func:`parsed_crs`, or None when pyproj is missing or refuses the text."""
+    pyproj = _pyproj()
+    if pyproj is None:
+        return None
+    try:
+        return parsed_crs(crs)
+    except pyproj.exceptions.CRSError:
+        return None
+
+
+@functools.lru_cache(maxsize=16)
+def crs_wkt(crs: str) -> str:
+    """``crs`` as WKT (for GDAL writers), derived once from :func:`parsed_crs`."""
+    return str(parsed_crs(crs).to_wkt())
+
+
+@functools.lru_cache(maxsize=16)
+def _projjson_text(crs: str) -> str:
+    return str(parsed_crs(crs).to_json())
+
+
 def crs_name(crs: str) -> str:
     """A short name for ``crs``: ``"WGS 84 (EPSG:4326)"``; the text itself without pyproj."""
-    try:
-        import pyproj  # optional: names are nicer with it, not needed
-    except ImportError:
-        return crs
-    try:
-        obj = pyproj.CRS.from_user_input(crs)
-    except pyproj.exceptions.CRSError:
+    obj = _parsed_or_none(crs)
+    if obj is None:
         return crs
     auth = obj.to_authority()
     return f"{obj.name} ({auth[0]}:{auth[1]})" if auth else obj.name
@@ -95,25 +117,26 @@ def is_geographic(crs: str | None) -> bool | None:
     """
     if crs is None:
         return None
-    try:
-        import pyproj
-    except ImportError:
+    if _pyproj() is None:
         return True if crs.strip().lower() in _GEOGRAPHIC else None
-    try:
-        return bool(pyproj.CRS.from_user_input(crs).is_geographic)
-    except pyproj.exceptions.CRSError:
-        return None
+    obj = _parsed_or_none(crs)
+    return None if obj is None else bool(obj.is_geographic)
 
 
-def warn_geographic(crs: str | None, project: bool) -> None:
+#: What a batch suggests against costs in degrees.
+PROJECT_HINT = "pass --project (project=True) to measure each polygon in metres"
+
+
+def warn_geographic(
+    crs: str | None, project: bool, what: str = "the layer's", hint: str = PROJECT_HINT
+) -> None:
     """Warn once that costs will be in degrees, unless ``project`` measures in metres."""
     if project or not is_geographic(crs):
         return
     assert crs is not None
     warnings.warn(
-        f"the layer's CRS is geographic ({crs_name(crs)}): lengths and areas are in "
-        "degrees, not metres; pass --project (project=True) to measure each polygon in "
-        "metres",
+        f"{what} CRS is geographic ({crs_name(crs)}): lengths and areas are in "
+        f"degrees, not metres; {hint}",
         GeographicCRSWarning,
         stacklevel=3,
     )
@@ -125,8 +148,8 @@ def geojson_crs_member(layer: Layer) -> dict | None:
         return layer.geojson_crs
     if layer.crs is None or is_geographic(layer.crs):
         return None
-    pyproj = _pyproj()
-    auth = pyproj.CRS.from_user_input(layer.crs).to_authority() if pyproj else None
+    obj = _parsed_or_none(layer.crs)
+    auth = obj.to_authority() if obj is not None else None
     if auth is None:
         warnings.warn(
             f"GeoJSON cannot name the CRS {crs_name(layer.crs)} (no authority code); "
@@ -153,12 +176,9 @@ def crs_from_geojson_member(member: Any) -> str | None:
 
 def projjson(crs: str | None) -> Any:
     """``crs`` as PROJJSON (for GeoParquet metadata), or None when unknown."""
-    if crs is None:
+    if crs is None or _pyproj() is None:
         return None
-    pyproj = _pyproj()
-    if pyproj is None:
-        return None
-    return json.loads(pyproj.CRS.from_user_input(crs).to_json())
+    return json.loads(_projjson_text(crs))
 
 
 def renamed_columns(names: Iterable[str], reserved: Iterable[str] = RESULT_FIELDS) -> dict:

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -26,6 +27,20 @@ from ..errors import BatchInputError, InvalidPolygonError
 __all__ = ["local_centre", "local_projector"]
 
 Projector = Callable[[NDArray[np.float64]], NDArray[np.float64]]
+
+
+@functools.lru_cache(maxsize=16)
+def parsed_crs(crs: str) -> Any:
+    """``pyproj.CRS`` of the text ``crs``, parsed once per process; None without pyproj.
+
+    Raises ``pyproj.exceptions.CRSError`` for text pyproj does not accept (not
+    cached: each call raises again).
+    """
+    try:
+        import pyproj
+    except ImportError:
+        return None
+    return pyproj.CRS.from_user_input(crs)
 
 
 @functools.lru_cache(maxsize=8)
@@ -46,7 +61,7 @@ def local_projector(crs: str) -> Projector:
     """
     pyproj = import_optional("pyproj")
     try:
-        source = pyproj.CRS.from_user_input(crs)
+        source = parsed_crs(crs)
         geodetic = source.geodetic_crs
         geod = source.get_geod()
     except pyproj.exceptions.CRSError as exc:

@@ -25,7 +25,7 @@ from ..errors import BatchInputError, OptriError
 from . import geo
 from .jsonstream import BadValue, read_feature_collection
 from .layer import GEOJSON_DEFAULT_CRS, Layer, crs_from_geojson_member
-from .records import Item, json_id, json_safe
+from .records import Item, json_id, json_safe, multi_parts
 from .solver import polygon_rings, polygon_vertices
 
 __all__ = [
@@ -121,8 +121,9 @@ def item_from_geojson(obj: Any, index: int) -> Item:
     The id is the feature's ``id``, else ``properties.id``, else ``index``.
     A Feature's ``properties`` (or the bare form's other keys) are its
     attributes. A Polygon contributes its rings (exterior, then holes:
-    :class:`~optri.batch.solver.HoledRings`); a multi-part MultiPolygon or
-    anything else becomes an item with a ``reason``.
+    :class:`~optri.batch.solver.HoledRings`), a MultiPolygon its parts
+    (:class:`~optri.batch.records.PolygonParts`); anything else becomes an
+    item with a ``reason``.
 
     >>> item_from_geojson({"id": "a", "coordinates": [[0, 0], [1, 0], [0, 1]]}, 0).coords.shape
     (3, 2)
@@ -158,7 +159,12 @@ def item_from_geojson(obj: Any, index: int) -> Item:
     coords = rings
     if reason is None:
         try:
-            coords = polygon_vertices(rings) if geom.get("type") is None else polygon_rings(rings)
+            if geom.get("type") is None:
+                coords = polygon_vertices(rings)
+            elif geom.get("type") == "MultiPolygon" and len(geom["coordinates"]) > 1:
+                coords = multi_parts(rings, polygon_rings)
+            else:
+                coords = polygon_rings(rings)
         except OptriError as exc:
             reason = str(exc)
     return Item(item_id, coords, reason, attrs)
@@ -171,13 +177,15 @@ def _rings(gtype: Any, coords: Any) -> tuple[Any, str | None]:
     if gtype is None:  # the bare {"id", "coordinates": [[x, y], ...]} form
         return coords, None
     if gtype == "MultiPolygon":
-        if len(coords) != 1:
-            return None, f"MultiPolygon with {len(coords)} parts; split it into Polygons"
+        if not coords:
+            return None, "MultiPolygon without parts"
+        if not all(isinstance(part, list) and part for part in coords):
+            return None, "MultiPolygon part must be a non-empty list of rings"
+        if len(coords) > 1:
+            return coords, None  # solved part by part
         gtype, coords = "Polygon", coords[0]
-        if not isinstance(coords, list):
-            return None, "MultiPolygon part must be a list of rings"
     if gtype != "Polygon":
-        return None, f"geometry type {gtype!r} is not a Polygon"
+        return None, f"geometry type {gtype!r} is not a Polygon or MultiPolygon"
     if not coords:
         return None, "Polygon without rings"
     return coords, None

@@ -11,6 +11,13 @@ the warnings its polygon raised, if any. ``seconds`` is the only field that
 changes between runs (wall time of that polygon); :func:`strip_timing` drops it.
 The input feature's attributes travel beside the records in the parent process
 (workers never see them) and are joined to them by the writers.
+
+A MultiPolygon is one row: its parts (:class:`PolygonParts`) are solved one by
+one and their results joined, vertices numbered part after part (each part
+exterior first, then its holes), ``n`` counting them all, the cost combined by
+the objective (``"sum"`` adds the parts' costs, ``"max"`` takes the largest; a
+lexicographic objective combines component by component, each part optimal on
+its own). A part that fails fails the row, its reason naming the part.
 """
 
 from __future__ import annotations
@@ -20,22 +27,29 @@ import datetime
 import decimal
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from .. import config
+from ..errors import InvalidPolygonError, OptriError
+from ..objective import as_objective
 from ..result import Triangulation
-from .solver import Result, SolveOptions, solve_polygons
+from .each import one_line
+from .solver import Polygonal, Result, SolveOptions, polygon_vertices, solve_polygons
 
 __all__ = [
     "RESULT_FIELDS",
     "TIMING_FIELDS",
     "ChunkTask",
     "Item",
+    "PolygonParts",
     "error_record",
     "json_id",
     "json_safe",
+    "one_line",
     "record_of",
     "solve_chunk",
     "solve_item",
@@ -68,12 +82,77 @@ class Item:
         return self if self.props is None else Item(self.id, self.coords, self.reason)
 
 
-@dataclass(frozen=True)
-class ChunkTask:
-    """A partition of the input: its index, items and the solve options (picklable)."""
+@dataclass(frozen=True, eq=False)
+class PolygonParts:
+    """The parts of a MultiPolygon, each a vertex array or HoledRings, solved part by part.
 
-    index: int
-    items: Sequence[Item]
+    Behaves as the array of all its vertices, part after part, for the writers:
+    a row's triangles index it.
+
+    >>> parts = PolygonParts((np.zeros((3, 2)), np.ones((4, 2))))
+    >>> parts.shape, len(parts)
+    ((7, 2), 7)
+    """
+
+    parts: tuple[Polygonal, ...]
+
+    @property
+    def vertices(self) -> np.ndarray:
+        """Every part's vertices, concatenated."""
+        return np.concatenate([np.asarray(p, dtype=np.float64) for p in self.parts])
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The shape of :attr:`vertices`."""
+        return (len(self), np.asarray(self.parts[0]).shape[1])
+
+    def __len__(self) -> int:
+        return sum(len(p) for p in self.parts)
+
+    def __array__(self, dtype: Any = None, copy: Any = None) -> np.ndarray:
+        return np.asarray(self.vertices, dtype=dtype)
+
+    def tolist(self) -> list:
+        """:attr:`vertices` as nested lists."""
+        return self.vertices.tolist()
+
+
+def feature_vertices(geom: Any) -> Polygonal | PolygonParts:
+    """The vertices of a shapely Polygon, or the parts of a MultiPolygon of several.
+
+    Raises InvalidPolygonError (naming the part) when a part is unusable.
+    """
+    kind = getattr(geom, "geom_type", None)
+    if kind is not None and kind not in ("Polygon", "MultiPolygon") and not geom.is_empty:
+        raise InvalidPolygonError(f"geometry type {kind!r} is not a Polygon or MultiPolygon")
+    if kind != "MultiPolygon" or len(geom.geoms) < 2:
+        return polygon_vertices(geom)
+    return multi_parts(list(geom.geoms))
+
+
+def multi_parts(
+    parts: Sequence[Any], convert: Callable[[Any], Polygonal] = polygon_vertices
+) -> PolygonParts:
+    """:class:`PolygonParts` of a MultiPolygon's parts, each read by ``convert``.
+
+    (shapely Polygons by default; GeoJSON ring lists with ``polygon_rings``.)
+    """
+    out = []
+    for k, part in enumerate(parts):
+        try:
+            out.append(convert(part))
+        except OptriError as exc:
+            raise InvalidPolygonError(f"MultiPolygon part {k}: {exc}") from None
+    dims = {np.asarray(p).shape[1] for p in out}
+    if len(dims) > 1:
+        raise InvalidPolygonError("the parts of a MultiPolygon mix 2-D and 3-D coordinates")
+    return PolygonParts(tuple(out))
+
+
+@dataclass(frozen=True, kw_only=True)
+class TaskOptions:
+    """What every task of a batch carries besides its rows: the solve options (picklable)."""
+
     weight: Any = "perimeter"
     objective: Any = "sum"
     method: str = "auto"
@@ -90,13 +169,12 @@ class ChunkTask:
         return SolveOptions(self.weight, self.objective, self.method, self.project, threads=1)
 
 
-def one_line(message: str) -> str:
-    r"""Collapse whitespace so a reason is always a single line.
+@dataclass(frozen=True)
+class ChunkTask(TaskOptions):
+    """A partition of the input: its index, items and the solve options (picklable)."""
 
-    >>> one_line("vertex 3\n  is bad")
-    'vertex 3 is bad'
-    """
-    return " ".join(str(message).split()) or "unknown error"
+    index: int
+    items: Sequence[Item]
 
 
 def error_record(item_id: Any, reason: str, n: int | None = None, seconds: float = 0.0) -> dict:
@@ -117,9 +195,9 @@ def error_record(item_id: Any, reason: str, n: int | None = None, seconds: float
     }
 
 
-def record_of(item: Item, result: Result) -> dict:
+def record_of(item: Item, result: Result | _Joined) -> dict:
     """The record of ``item`` from its solver result (a Triangulation or an error)."""
-    if not isinstance(result, Triangulation):
+    if not isinstance(result, (Triangulation, _Joined)):
         return error_record(item.id, str(result), _count(item.coords))
     notes = result.stats.get("warnings")
     return {
@@ -135,15 +213,65 @@ def record_of(item: Item, result: Result) -> dict:
 
 
 def solve_records(items: Sequence[Item], options: SolveOptions) -> list[dict]:
-    """Records of ``items`` in order; items a reader already refused keep their reason."""
+    """Records of ``items`` in order; items a reader already refused keep their reason.
+
+    The parts of every MultiPolygon go to the solver with the other polygons,
+    one polygon each, and are joined again (:func:`join_parts`).
+    """
     todo = [it for it in items if it.reason is None]
-    results = iter(solve_polygons([it.coords for it in todo], options))
-    return [
-        error_record(it.id, it.reason, _count(it.coords))
-        if it.reason is not None
-        else record_of(it, next(results))
-        for it in items
-    ]
+    polygons: list[Any] = []
+    for it in todo:
+        polygons.extend(it.coords.parts if isinstance(it.coords, PolygonParts) else [it.coords])
+    results = iter(solve_polygons(polygons, options))
+    out = []
+    for it in items:
+        if it.reason is not None:
+            out.append(error_record(it.id, it.reason, _count(it.coords)))
+        elif isinstance(it.coords, PolygonParts):
+            got = [next(results) for _ in it.coords.parts]
+            out.append(record_of(it, join_parts(got, it.coords, options.objective)))
+        else:
+            out.append(record_of(it, next(results)))
+    return out
+
+
+def join_parts(results: Sequence[Result], parts: PolygonParts, objective: Any) -> Result | _Joined:
+    """One result for a MultiPolygon from its parts' results (see the module's docstring)."""
+    for k, res in enumerate(results):
+        if not isinstance(res, Triangulation):
+            return OptriError(f"MultiPolygon part {k}: {res}")
+    tris = [r for r in results if isinstance(r, Triangulation)]
+    starts = np.cumsum([0] + [len(p) for p in parts.parts])[:-1]
+    obj = as_objective(objective)
+    notes = [w for r in tris for w in r.stats.get("warnings", [])]  # type: ignore[union-attr]
+    stats: dict[str, Any] = {"wall_seconds": sum(_seconds(r) for r in tris)}
+    if notes:
+        stats["warnings"] = list(dict.fromkeys(notes))
+    return _Joined(
+        n=int(sum(r.n for r in tris)),
+        weight=obj.aggregate([r.weight for r in tris]),
+        triangles=np.concatenate([r.triangles + s for r, s in zip(tris, starts)]),
+        diagonals=np.concatenate(
+            [np.asarray(r.diagonals, np.int64).reshape(-1, 2) + s for r, s in zip(tris, starts)]
+        ),
+        stats=stats,
+    )
+
+
+@dataclass
+class _Joined:
+    """What :func:`record_of` reads of a Triangulation, for a MultiPolygon's joined parts."""
+
+    n: int
+    weight: Any
+    triangles: np.ndarray
+    diagonals: np.ndarray
+    stats: dict[str, Any]
+    seconds: float = 0.0
+
+
+def _seconds(tri: Triangulation) -> float:
+    return float(tri.stats.get("wall_seconds", tri.seconds))  # type: ignore[arg-type]
 
 
 def solve_item(

@@ -1,7 +1,8 @@
 """Run chunk tasks in-process, on a local process pool, or on Dask, with bounded in-flight work.
 
-All three backends run the same :func:`~optri.batch.records.solve_chunk` and hand
-results back to the calling process, which alone writes part files. At most
+All three backends run the same :func:`solve_task` (records of a chunk of
+Items, or the output table of an Arrow chunk: :mod:`.chunks`) and hand results
+back to the calling process, which alone writes part files. At most
 ``config.BATCH_IN_FLIGHT_PER_WORKER * workers`` chunks are queued at once, so memory does not
 grow with the input.
 
@@ -33,12 +34,21 @@ from typing import Any
 from .. import config
 from .._optional import import_optional
 from ..errors import BatchInputError
+from .chunks import TableTask, solve_table
 from .records import ChunkTask, error_record, solve_chunk
 
 __all__ = ["Backend", "default_workers", "open_backend", "run_tasks"]
 
 
-Result = tuple[int, list[dict]]
+Result = tuple[int, Any]
+Task = ChunkTask | TableTask
+
+
+def solve_task(task: Task) -> Result:
+    """Solve one task: ``(index, records)`` of a ChunkTask, ``(index, table)`` of a TableTask."""
+    if isinstance(task, TableTask):
+        return solve_table(task)
+    return solve_chunk(task)
 
 
 class WorkerDied(Exception):
@@ -60,7 +70,7 @@ class Backend:
     #: A dead worker loses every task in flight (a process pool), not only its own.
     shared_fate = False
 
-    def submit(self, task: ChunkTask) -> Any:
+    def submit(self, task: Task) -> Any:
         """Start ``task``; return a handle for :meth:`wait_any`."""
         raise NotImplementedError
 
@@ -84,9 +94,9 @@ class Backend:
 class _Inline(Backend):
     """Runs each chunk at once in this process (``workers=1``; also for custom weights)."""
 
-    def submit(self, task: ChunkTask) -> Any:
+    def submit(self, task: Task) -> Any:
         fut: cf.Future[Result] = cf.Future()
-        fut.set_result(solve_chunk(task))
+        fut.set_result(solve_task(task))
         return fut
 
     def wait_any(self, handles: Iterable[Any]) -> set[Any]:
@@ -100,8 +110,8 @@ class _Pool(Backend):
         self.make, self.workers = make, workers
         self.executor = make()
 
-    def submit(self, task: ChunkTask) -> Any:
-        return self.executor.submit(solve_chunk, task)
+    def submit(self, task: Task) -> Any:
+        return self.executor.submit(solve_task, task)
 
     def wait_any(self, handles: Iterable[Any]) -> set[Any]:
         done, _ = cf.wait(list(handles), return_when=cf.FIRST_COMPLETED)
@@ -123,9 +133,9 @@ class _Dask(Backend):
         self.client, self.workers = client, workers
         self.distributed = import_optional("distributed")
 
-    def submit(self, task: ChunkTask) -> Any:
+    def submit(self, task: Task) -> Any:
         # pure=False: a rerun must recompute, never reuse a cached key
-        return self.client.submit(solve_chunk, task, pure=False)
+        return self.client.submit(solve_task, task, pure=False)
 
     def wait_any(self, handles: Iterable[Any]) -> set[Any]:
         """Wait for a task; give up when the cluster has had no worker for a while."""
@@ -270,8 +280,8 @@ def _dask_client(scheduler: Any, workers: int | None) -> Iterator[Any]:
 
 def run_tasks(
     backend: Backend,
-    tasks: Iterable[ChunkTask],
-    on_done: Callable[[ChunkTask, list[dict]], None],
+    tasks: Iterable[Task],
+    on_done: Callable[[Task, Any], None],
 ) -> None:
     """Run every task on ``backend``, calling ``on_done(task, records)`` as each finishes.
 
@@ -299,12 +309,12 @@ def run_tasks(
 class _Run:
     """The tasks in flight, those lost with a dead worker, and chunks solved polygon by polygon."""
 
-    def __init__(self, backend: Backend, on_done: Callable[[ChunkTask, list[dict]], None]):
+    def __init__(self, backend: Backend, on_done: Callable[[Task, Any], None]):
         self.backend, self.on_done = backend, on_done
-        self.pending: dict[Any, ChunkTask] = {}
-        self.lost: deque[ChunkTask] = deque()
+        self.pending: dict[Any, Task] = {}
+        self.lost: deque[Task] = deque()
         # chunk index -> (the whole chunk, its records so far) while solved polygon by polygon
-        self.split: dict[int, tuple[ChunkTask, list[dict | None]]] = {}
+        self.split: dict[int, tuple[Task, list[Any]]] = {}
 
     def collect(self) -> None:
         """Wait for some tasks; finish in index order among the done ones (equal runs alike)."""
@@ -342,28 +352,52 @@ class _Run:
                 continue
             self.finish(task, records)
 
-    def blame(self, task: ChunkTask) -> list[ChunkTask]:
+    def blame(self, task: Task) -> list[Task]:
         """A task that killed its worker alone: its polygons one by one, or an error record."""
         if len(task.items) > 1 and task.offset is None:
             self.split[task.index] = (task, [None] * len(task.items))
+            if isinstance(task, TableTask):
+                return [
+                    dataclasses.replace(task, table=row, first=task.first + k, offset=k)
+                    for k, row in enumerate(task.items)
+                ]
             return [
                 dataclasses.replace(task, items=[item], offset=k)
                 for k, item in enumerate(task.items)
             ]
-        item = task.items[0]
+        ident = task.ids()[0] if isinstance(task, TableTask) else task.items[0].id
         reason = (
-            f"the worker process died while solving polygon {item.id!r} (killed by the "
+            f"the worker process died while solving polygon {ident!r} (killed by the "
             "system, for example for lack of memory); it was retried once"
         )
-        self.finish(task, [error_record(item.id, reason)])
+        if isinstance(task, TableTask):
+            self.finish(task, killed_row(task, reason))
+        else:
+            self.finish(task, [error_record(ident, reason)])
         return []
 
-    def finish(self, task: ChunkTask, records: list[dict]) -> None:
+    def finish(self, task: Task, result: Any) -> None:
         if task.offset is None:
-            self.on_done(task, records)
+            self.on_done(task, result)
             return
         whole, got = self.split[task.index]
-        got[task.offset] = records[0]
+        got[task.offset] = result if isinstance(task, TableTask) else result[0]
         if all(r is not None for r in got):
             del self.split[task.index]
-            self.on_done(whole, [r for r in got if r is not None])
+            done = [r for r in got if r is not None]
+            if isinstance(whole, TableTask):
+                pa = import_optional("pyarrow")
+                self.on_done(whole, pa.concat_tables(done, promote_options="permissive"))
+            else:
+                self.on_done(whole, done)
+
+
+def killed_row(task: TableTask, reason: str) -> Any:
+    """The output of a one-row table task whose polygon killed its worker: an error row."""
+    pa = import_optional("pyarrow")
+    table = task.table
+    k = table.schema.get_field_index(task.geometry)
+    table = table.set_column(k, table.schema.field(k), pa.nulls(1, table.schema.field(k).type))
+    _, out = solve_table(dataclasses.replace(task, table=table))
+    k = out.schema.get_field_index("reason")
+    return out.set_column(k, out.schema.field(k), pa.array([reason], pa.string()))

@@ -93,6 +93,10 @@ class Counter:
         if self.progress is not None:
             self.progress(self.n, max(self.total, self.n))
 
+    def add_rows(self, ids: list[Any], statuses: list[str]) -> None:
+        """Count one part's rows, given as columns."""
+        self.add(({"id": i, "status": st} for i, st in zip(ids, statuses)), reused=False)
+
     def repeated_hashes(self) -> tuple[int, set[int]]:
         """How many records repeat an earlier id hash, and which hashes repeat."""
         if not self.hashes:

@@ -6,7 +6,9 @@ its Parquet parts as one Arrow stream (``pyarrow.RecordBatchReader`` into
 ``ParquetWriter`` or ``pyogrio.write_arrow``), so memory stays flat however
 many features there are. FlatGeobuf is written without a spatial index: the
 index cannot hold the null geometry of an error row, and it would keep every
-feature's box in memory.
+feature's box in memory. A FlatGeobuf file has one dimension: when some rows
+are 3-D, the 2-D rows are written with z = NaN (GeoPackage and GeoParquet keep
+each row's own dimension).
 """
 
 from __future__ import annotations
@@ -24,8 +26,9 @@ from typing import Any
 from .. import config
 from .._optional import import_optional
 from ..errors import BatchInputError
-from ..io.atomic import atomic_write, kept_mode
-from .layer import Layer
+from ..io.atomic import atomic_write, fsync_path, kept_mode
+from .geo import ogr_timestamps, parse_timestamps
+from .layer import Layer, crs_wkt
 from .tables import GEOMETRY, conform, geo_metadata, has_z, records_table, unify
 
 __all__ = ["OGR_DRIVERS", "assemble_tables", "read_table_records", "write_table"]
@@ -41,15 +44,20 @@ def flavor_of(fmt: str) -> str:
     return "ogr" if fmt in OGR_DRIVERS else "parquet"
 
 
-def write_table(path: Path, table: Any, fmt: str, layer: Layer, temp_dir: Path) -> None:
-    """Write one table as a ``fmt`` file (parquet, gpkg, fgb) at ``path``, atomically."""
+def write_table(
+    path: Path, table: Any, fmt: str, layer: Layer, temp_dir: Path, *, durable: bool = True
+) -> None:
+    """Write one table as a ``fmt`` file (parquet, gpkg, fgb) at ``path``, atomically.
+
+    ``durable=False`` skips the ``fsync`` (a part file, vouched for by its hash).
+    """
     if fmt == "parquet":
         pq = import_optional("pyarrow.parquet")
         table = table.replace_schema_metadata(_parquet_metadata(table.schema, layer))
-        with atomic_write(path, "wb") as fh:
+        with atomic_write(path, "wb", durable=durable) as fh:
             pq.write_table(table, fh)
         return
-    _write_ogr(path, fmt, layer, table.schema, table.to_batches(), temp_dir)
+    _write_ogr(path, fmt, layer, table.schema, table.to_batches(), temp_dir, durable=durable)
 
 
 def assemble_tables(
@@ -82,7 +90,14 @@ def _parquet_metadata(schema: Any, layer: Layer) -> dict:
 
 
 def _write_ogr(
-    path: Path, fmt: str, layer: Layer, schema: Any, batches: Iterable[Any], temp_dir: Path
+    path: Path,
+    fmt: str,
+    layer: Layer,
+    schema: Any,
+    batches: Iterable[Any],
+    temp_dir: Path,
+    *,
+    durable: bool = True,
 ) -> None:
     pa = import_optional("pyarrow")
     pyogrio = import_optional("pyogrio")
@@ -94,6 +109,9 @@ def _write_ogr(
         [f.with_type(pa.string()) if pa.types.is_null(f.type) else f for f in schema],
         metadata=schema.metadata,
     )
+    z = has_z(schema)
+    if z and fmt == "fgb":  # one dimension per FlatGeobuf file: 2-D rows get z = NaN
+        batches = (_force_3d(b) for b in batches)
     reader = pa.RecordBatchReader.from_batches(typed, (b.cast(typed) for b in batches))
     try:
         with warnings.catch_warnings():
@@ -105,13 +123,15 @@ def _write_ogr(
                 driver=OGR_DRIVERS[fmt],
                 layer=path.stem or "triangles",
                 geometry_name=GEOMETRY,
-                geometry_type="MultiPolygon Z" if has_z(schema) else "MultiPolygon",
+                geometry_type="GeometryCollection Z" if z else "GeometryCollection",
                 crs=_wkt(layer.crs),
                 layer_options=_LAYER_OPTIONS.get(fmt),
             )
         bits = kept_mode(path)
         if bits is not None:
             os.chmod(tmp, bits)
+        if durable:
+            fsync_path(tmp)
         os.replace(tmp, path)
     except pyogrio.errors.DataLayerError as exc:  # GDAL says "failed", seldom why
         raise BatchInputError(f"{path}: cannot write ({_why(exc, temp_dir)})") from None
@@ -119,6 +139,25 @@ def _write_ogr(
         for name in (str(tmp), *(str(tmp) + s for s in _SIDECARS)):
             with contextlib.suppress(FileNotFoundError):
                 os.unlink(name)
+
+
+def _force_3d(batch: Any) -> Any:
+    """``batch`` with its 2-D geometries made 3-D, z NaN ("no height"), 3-D ones untouched."""
+    pa = import_optional("pyarrow")
+    shapely = import_optional("shapely")
+    k = batch.schema.get_field_index(GEOMETRY)
+    geoms = shapely.from_wkb(batch.column(k).to_numpy(zero_copy_only=False))
+    flat = ~shapely.has_z(geoms) & ~shapely.is_missing(geoms)
+    if not flat.any():
+        return batch
+    # our collections of triangles, rebuilt with a third coordinate (shapely's
+    # force_3d refuses NaN; the constructors take it)
+    parts, index = shapely.get_parts(geoms[flat], return_index=True)
+    rings = shapely.get_coordinates(shapely.get_exterior_ring(parts), include_z=True)
+    polys = shapely.polygons(rings.reshape(-1, 4, 3)[:, :3])  # closed by shapely (NaN != NaN)
+    geoms[flat] = shapely.geometrycollections(polys, indices=index)
+    wkb = pa.array(shapely.to_wkb(geoms, output_dimension=3).tolist(), batch.schema.field(k).type)
+    return batch.set_column(k, batch.schema.field(k), wkb)
 
 
 def _why(exc: Exception, folder: Path) -> str:
@@ -136,8 +175,8 @@ def _why(exc: Exception, folder: Path) -> str:
 def _wkt(crs: str | None) -> str | None:
     if crs is None:
         return None
-    pyproj = import_optional("pyproj")
-    return str(pyproj.CRS.from_user_input(crs).to_wkt())
+    import_optional("pyproj")  # a clear error when the geo extra is missing
+    return crs_wkt(crs)
 
 
 def read_table_records(path: Path, fmt: str) -> Iterator[dict]:
@@ -154,11 +193,17 @@ def read_table_records(path: Path, fmt: str) -> Iterator[dict]:
             yield from batch.to_pylist()
         return
     pyogrio = import_optional("pyogrio")
+    with pyogrio.open_arrow(path, use_pyarrow=True, read_geometry=False, batch_size=1) as (_, r):
+        stamps = ogr_timestamps(path, r.schema, {})
     with pyogrio.open_arrow(
-        path, use_pyarrow=True, read_geometry=False, batch_size=config.BATCH_ROWS_PER_READ
+        path,
+        use_pyarrow=True,
+        read_geometry=False,
+        batch_size=config.BATCH_ROWS_PER_READ,
+        datetime_as_string=bool(stamps),
     ) as (_, reader):
         for batch in reader:
-            for row in batch.to_pylist():
+            for row in parse_timestamps(batch, stamps).to_pylist():
                 for key in ("triangles", "cost"):
                     if isinstance(row.get(key), str):
                         row[key] = json.loads(row[key])

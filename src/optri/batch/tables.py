@@ -7,7 +7,7 @@ lexicographic ``cost`` are JSON text and ``diagonals`` are left out). Columns:
 ``id`` (unless an attribute ``id`` already holds the ids), the attributes in
 input order, ``status``, ``n``, ``cost``, ``reason``, ``triangles``
 (``diagonals``), ``seconds``, and ``geometry``: the triangles as a WKB
-MultiPolygon in the input coordinates (null for errors).
+GeometryCollection of Polygons in the input coordinates (null for errors).
 
 Attribute columns read from an Arrow layer keep their exact types; those of
 JSON features are inferred per chunk (a column mixing types becomes text) and
@@ -84,7 +84,7 @@ def _attributes(pa: Any, props: list[dict | None], layer: Layer, flavor: str) ->
         renames = renamed_columns(list(names))
         cols = {renames.get(k, k): _infer(pa, [(p or {}).get(k) for p in props]) for k in names}
     if flavor == "ogr":
-        cols = {k: _ogr_column(pa, v) for k, v in cols.items()}
+        cols = {k: ogr_column(pa, v) for k, v in cols.items()}
     return cols
 
 
@@ -104,7 +104,7 @@ def _text(value: Any) -> str | None:
     return json.dumps(value, separators=(",", ":"), allow_nan=True)
 
 
-def _ogr_column(pa: Any, arr: Any) -> Any:
+def ogr_column(pa: Any, arr: Any) -> Any:
     """A column GDAL can store: nested and decimal columns become text.
 
     (A column of nulls only stays typeless here, so parts still unify; it
@@ -128,24 +128,41 @@ def _costs(pa: Any, costs: list[Any], flavor: str) -> Any:
 
 
 def _wkb(records: Sequence[dict], items: Sequence[Item]) -> tuple[list[bytes | None], bool]:
+    """WKB GeometryCollections of the ok rows' triangles (None for errors), and whether 3-D.
+
+    Built for the whole chunk at once: every triangle's ring, then one Polygon
+    per triangle and one collection per row, by shapely's vectorised calls.
+    """
     shapely = import_optional("shapely")
-    out: list[bytes | None] = []
-    has_z = False
-    for rec, item in zip(records, items):
+    out: list[bytes | None] = [None] * len(records)
+    rings_2d: list[np.ndarray] = []
+    rings_3d: list[np.ndarray] = []
+    rows_2d: list[np.ndarray] = []
+    rows_3d: list[np.ndarray] = []
+    for k, (rec, item) in enumerate(zip(records, items)):
         if rec["status"] != "ok":
-            out.append(None)
             continue
         pts = np.asarray(item.coords, dtype=np.float64)
-        has_z = has_z or pts.shape[1] == 3
-        rings = pts[np.asarray(rec["triangles"], dtype=np.int64)]
-        closed = np.concatenate([rings, rings[:, :1]], axis=1)
-        out.append(shapely.to_wkb(shapely.multipolygons(shapely.polygons(closed))))
-    return out, has_z
+        tri = np.asarray(rec["triangles"], dtype=np.int64).reshape(-1, 3)
+        rings, rows = (rings_3d, rows_3d) if pts.shape[1] == 3 else (rings_2d, rows_2d)
+        rings.append(pts[tri[:, [0, 1, 2, 0]]])
+        rows.append(np.full(len(tri), k, dtype=np.int64))
+    for rings, rows in ((rings_2d, rows_2d), (rings_3d, rows_3d)):
+        if not rings:
+            continue
+        row = np.concatenate(rows)
+        polys = shapely.polygons(np.concatenate(rings))
+        # one collection per row that has triangles (geometrycollections numbers rows 0..max)
+        keys, dense = np.unique(row, return_inverse=True)
+        collections = shapely.geometrycollections(polys, indices=dense)
+        for k, wkb in zip(keys.tolist(), shapely.to_wkb(collections).tolist()):
+            out[k] = wkb
+    return out, bool(rings_3d)
 
 
 def geo_metadata(layer: Layer, has_z: bool) -> dict:
     """GeoParquet 1.1 metadata for the ``geometry`` column (``crs`` null when unknown)."""
-    kind = "MultiPolygon Z" if has_z else "MultiPolygon"
+    kind = "GeometryCollection Z" if has_z else "GeometryCollection"
     column = {"encoding": "WKB", "geometry_types": [kind], "crs": projjson(layer.crs)}
     return {"version": "1.1.0", "primary_column": GEOMETRY, "columns": {GEOMETRY: column}}
 

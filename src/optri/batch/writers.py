@@ -4,12 +4,14 @@ JSON parts (NDJSON, GeoJSON) are written here, compactly and with a fixed key
 order, one record (feature) per line, so identical input gives identical bytes
 apart from ``seconds``; table parts (GeoParquet, GeoPackage, FlatGeobuf) through
 :mod:`.tablefiles`. Every part is written under a temporary name and renamed
-once complete, so a part file that exists is whole.
+once complete, so a part file that exists is whole; parts are not synced to
+the disk one by one (see :mod:`.layout` for what vouches for them instead).
 
-NDJSON records keep the feature's attributes under ``"properties"``; GeoJSON
-features hold the attributes and the batch's fields side by side in their
-``properties`` (an attribute named like a batch field gets ``_input`` appended)
-and the triangles as a MultiPolygon geometry.
+Both JSON formats hold GeoJSON Features: a FeatureCollection (``.geojson``)
+or a GeoJSON text sequence, one Feature per line (``.ndjson``, what GDAL's
+GeoJSONSeq driver reads). A Feature holds the attributes and the batch's fields
+side by side in its ``properties`` (an attribute named like a batch field gets
+``_input`` appended) and the triangles as a GeometryCollection of Polygons.
 """
 
 from __future__ import annotations
@@ -77,19 +79,25 @@ def dumps(obj: Any) -> str:
 
 
 def feature_of(record: dict, coords: Any, props: dict | None = None) -> dict:
-    """A GeoJSON Feature: the triangles as a MultiPolygon, attributes and record as properties.
+    """A GeoJSON Feature: the triangles as a GeometryCollection of Polygons, attributes and record.
+
+    (A GeometryCollection, as shapely's ``constrained_delaunay_triangles`` gives:
+    a MultiPolygon's parts may not share edges, so triangles as one would be invalid.)
 
     >>> rec = {"id": 1, "status": "ok", "triangles": [[0, 1, 2]]}
-    >>> feature_of(rec, [[0, 0], [1, 0], [0, 1]])["geometry"]["coordinates"]
-    [[[[0, 0], [1, 0], [0, 1], [0, 0]]]]
+    >>> feature_of(rec, [[0, 0], [1, 0], [0, 1]])["geometry"]["geometries"][0]["coordinates"]
+    [[[0, 0], [1, 0], [0, 1], [0, 0]]]
     >>> feature_of(rec, [[0, 0], [1, 0], [0, 1]], {"status": "built"})["properties"]
     {'status_input': 'built', 'status': 'ok', 'triangles': [[0, 1, 2]]}
     """
     geometry = None
     if record["status"] == "ok":
         pts = coords.tolist() if hasattr(coords, "tolist") else coords
-        polys = [[[pts[a], pts[b], pts[c], pts[a]]] for a, b, c in record["triangles"]]
-        geometry = {"type": "MultiPolygon", "coordinates": polys}
+        polys = [
+            {"type": "Polygon", "coordinates": [[pts[a], pts[b], pts[c], pts[a]]]}
+            for a, b, c in record["triangles"]
+        ]
+        geometry = {"type": "GeometryCollection", "geometries": polys}
     attrs = json_safe(props) or {}
     renames = renamed_columns(list(attrs))
     out = {renames.get(k, k): v for k, v in attrs.items()}
@@ -113,16 +121,13 @@ def write_part(
     """
     if fmt in ("parquet", "gpkg", "fgb"):
         table = records_table(records, items, layer, flavor_of(target_fmt or fmt))
-        write_table(path, table, fmt, layer, path.parent)
+        write_table(path, table, fmt, layer, path.parent, durable=False)
         return
-    with atomic_write(path, "w") as fh:
-        if fmt == "ndjson":
-            for rec, it in zip(records, items):
-                if it.props is not None:
-                    rec = {**rec, "properties": json_safe(it.props)}
-                fh.write(dumps(rec) + "\n")
+    with atomic_write(path, "w", durable=False) as fh:
+        feats = (feature_of(r, it.coords, it.props) for r, it in zip(records, items))
+        if fmt == "ndjson":  # a GeoJSON text sequence: one Feature per line
+            fh.writelines(dumps(feat) + "\n" for feat in feats)
         else:
-            feats = (feature_of(r, it.coords, it.props) for r, it in zip(records, items))
             _write_features(fh, feats, layer)
 
 
@@ -148,15 +153,13 @@ def read_part(path: str | os.PathLike[str], fmt: str) -> Iterator[dict]:
     with p.open(encoding="utf-8") as fh:
         for lineno, line in enumerate(fh, start=1):
             text = line.strip().lstrip(",")
-            if fmt == "geojson" and not text.startswith(_FEATURE):
+            if not text.startswith(_FEATURE):
                 continue  # the FeatureCollection's head and tail lines
-            if not text:
-                continue
             try:
                 obj = json.loads(text)
             except json.JSONDecodeError as exc:
                 raise BatchInputError(f"{p}:{lineno}: invalid JSON ({exc.msg})") from None
-            yield {"id": obj["id"], **obj["properties"]} if fmt == "geojson" else obj
+            yield {"id": obj["id"], **obj["properties"]}
 
 
 def assemble(parts: Sequence[Path], fmt: str, target: Path, layer: Layer, temp_dir: Path) -> None:

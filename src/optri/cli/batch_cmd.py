@@ -80,14 +80,14 @@ def batch_command(
     a run does not resume).
 
     Writes one row per input feature, in input order, with its attributes and
-    CRS, plus id, status, cost, reason and the triangles (a MultiPolygon, or
-    index triples in NDJSON). Bad features, even lines that are not JSON, get
+    CRS, plus id, status, cost, reason and the triangles (a GeometryCollection
+    of Polygons, and as vertex index triples). Bad features, even lines that are not JSON, get
     status "error" and a reason; the run goes on. Rerunning the same command
     resumes an interrupted run.
     """
     with (
         layer_input(inp, fmt) as source,
-        _warnings_as_lines(quiet),
+        warnings_as_lines(quiet),
         progress_bar("polygons", not quiet, counts=True) as progress,
     ):
         try:
@@ -125,8 +125,8 @@ def _report(summary: BatchSummary, as_json: bool, line: str | None) -> None:
 
 
 @contextlib.contextmanager
-def _warnings_as_lines(quiet: bool) -> Iterator[None]:
-    """Show the batch's warnings as ``optri: warning: ...`` lines, once each."""
+def warnings_as_lines(quiet: bool) -> Iterator[None]:
+    """Show optri's batch warnings as ``optri: warning: ...`` lines, once each."""
     shown: set[str] = set()
 
     def show(message: Any, category: Any, *args: Any, **kwargs: Any) -> None:

@@ -8,11 +8,14 @@ import warnings
 from typing import Any
 
 import click
+import numpy as np
 
+from .. import config
 from ..errors import HoleSkippedWarning, InvalidPolygonError
 from ..holes import METHODS, HoleRecord, fill_holes
 from ..holes.boundary import edge_summary
 from ..io.meshes import mesh_format, read_mesh, write_mesh
+from ..meshdata import weld
 from .app import main
 from .options import input_path, output_option
 from .progress import compile_notice, progress_bar
@@ -35,9 +38,21 @@ def _summary(rec: HoleRecord) -> str:
     return f"hole {rec.index}: {rec.edges} edges, {rec.status.upper()}: {rec.reason}"
 
 
-def _check_has_holes(mesh: Any) -> None:
+def _welded_edges(mesh: Any, rtol: float | None) -> dict[str, int]:
+    """:func:`edge_summary` of the mesh welded by position (seams are no boundary)."""
+    rtol = config.MESH_MERGE_RTOL if rtol is None else rtol
+    return edge_summary(weld(np.asarray(mesh.vertices), np.asarray(mesh.faces), rtol))
+
+
+def _watertight(mesh: Any, rtol: float | None) -> bool:
+    """Every edge of the mesh welded by position has two faces."""
+    counts = _welded_edges(mesh, rtol)
+    return counts["boundary"] == 0 and counts["nonmanifold"] == 0
+
+
+def _check_has_holes(mesh: Any, rtol: float | None) -> None:
     """Refuse a mesh that is not closed although no hole boundary can be traced."""
-    counts = edge_summary(mesh.faces)
+    counts = _welded_edges(mesh, rtol)
     if counts["boundary"] == 0 and counts["nonmanifold"] > 0:
         raise InvalidPolygonError(
             f"the mesh is not closed but has no hole to fill: {counts['nonmanifold']} edges "
@@ -70,7 +85,8 @@ def _check_has_holes(mesh: Any) -> None:
     type=click.FloatRange(min=0.0, max=1.0),
     default=None,
     help="Merge vertices closer than this fraction of the mesh's size "
-    "[default: 0, exactly equal positions only].",
+    "[default: 0, exactly equal positions only]. Copies with different texture "
+    "coordinates, normals or colours are kept and welded only to find holes.",
 )
 @click.option(
     "--refine",
@@ -116,13 +132,17 @@ def fill(
     as_json: bool,
     quiet: bool,
 ) -> None:
-    """Fill the holes of the mesh in INFILE (.obj/.ply/.stl/.off; - for stdin), write OUTPUT."""
+    """Fill the holes of the mesh in INFILE (.obj/.ply/.stl/.off; - for stdin), write OUTPUT.
+
+    Texture coordinates, normals and colours are kept (new vertices get interpolated
+    ones); a textured OBJ gets its material and texture image beside OUTPUT.
+    """
     mesh_format(output, "output")  # refuse an unknown output suffix before any work
     if fair is not None and not refine:
         raise click.UsageError("--fair moves the vertices --refine adds: give --refine too")
     with mesh_input(infile) as path:
         mesh = read_mesh(path, merge_tolerance)
-    _check_has_holes(mesh)
+    _check_has_holes(mesh, merge_tolerance)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", HoleSkippedWarning)
         with (
@@ -138,6 +158,7 @@ def fill(
                 fair=fair,
                 density=density,
                 islands=not no_islands,
+                merge_rtol=merge_tolerance,
                 progress=progress,
             )
     for w in caught:  # skipped holes: never silent, one stderr line each
@@ -153,13 +174,19 @@ def fill(
                 f"nothing was written"
             )
     write_mesh(filled, output)
-    _report(infile, output, mesh, filled, records, as_json)
+    _report(infile, output, mesh, filled, records, as_json, _watertight(filled, merge_tolerance))
     if strict and any(r.status != "filled" for r in records):
         sys.exit(1)
 
 
 def _report(
-    infile: str, output: str, mesh: Any, filled: Any, records: list[HoleRecord], as_json: bool
+    infile: str,
+    output: str,
+    mesh: Any,
+    filled: Any,
+    records: list[HoleRecord],
+    as_json: bool,
+    watertight: bool,
 ) -> None:
     loaded = mesh.metadata.get("optri", {})
     if as_json:
@@ -168,7 +195,7 @@ def _report(
             "output": output,
             "faces_before": int(len(mesh.faces)),
             "faces_after": int(len(filled.faces)),
-            "watertight": bool(filled.is_watertight),
+            "watertight": watertight,
             "merged_vertices": int(loaded.get("merged_vertices", 0)),
             "dropped_faces": int(loaded.get("dropped_faces", 0)),
             "holes": [r.to_dict() for r in records],
@@ -186,5 +213,5 @@ def _report(
         )
     click.echo(
         f"{done} of {len(records)} holes filled; {len(mesh.faces)} -> {len(filled.faces)} faces"
-        f"{merged}; watertight: {filled.is_watertight}; written to {output}"
+        f"{merged}; watertight: {watertight}; written to {output}"
     )

@@ -9,11 +9,13 @@ from typing import Any
 import click
 
 from .. import config
+from ..batch.layer import warn_geographic
 from ..chain import matrix_chain
 from ..drawing import format_table, save_figure
-from ..io.files import read_rings
+from ..io.files import read_rings_and_crs
 from ..solve import triangulate
 from .app import main
+from .batch_cmd import warnings_as_lines
 from .options import PlotPath, columns_option, engine_options, input_path, parse_pair
 from .progress import compile_notice, progress_bar
 
@@ -70,7 +72,9 @@ def solve(
     Vertices are numbered from 0 (as in --json and the Python API), or from 1 with
     --one-based (the paper's labels), in every line printed.
     """
-    rings = read_rings(file, columns)
+    rings, crs = read_rings_and_crs(file, columns)
+    with warnings_as_lines(quiet):
+        warn_geographic(crs, False, "the polygon's", _DEGREES_HINT)
     n = sum(len(r) for r in rings)
     if show_table:
         _check_table(n, len(rings))
@@ -121,6 +125,11 @@ def solve(
         click.echo(format_table(tri, base=base))
     if plot_path:
         click.echo(f"plot written to {plot_path}")
+
+
+_DEGREES_HINT = (
+    "project it to a metric CRS first (or triangulate a layer with optri batch --project)"
+)
 
 
 def _check_table(n: int, rings: int) -> None:

@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 
 from .._optional import import_optional
 from ..errors import InvalidPolygonError
-from .meshdata import mesh_arrays, same_kind
+from ..meshdata import mesh_arrays, same_kind
 
 __all__ = ["FairResult", "fair_region", "fair_vertices", "laplacian"]
 

@@ -16,6 +16,8 @@ from numpy.typing import NDArray
 __all__ = ["intersecting_pairs"]
 
 _EPS = 1e-9  # relative: a crossing closer than this to an end or a side is a touch
+_BLOCK = 1 << 20  # candidate pairs per block
+_WIDE = 8.0  # a face wider in x than this many median widths is paired directly
 
 
 def intersecting_pairs(
@@ -48,18 +50,35 @@ def intersecting_pairs(
         np.all((flo <= phi.max(axis=0) + pad) & (fhi >= plo.min(axis=0) - pad), axis=1)
     )
     f, flo, fhi = f[near], flo[near], fhi[near]
-    # candidate pairs: overlapping boxes, by a sort along x and a scan
+    if len(f) == 0:
+        return np.empty((0, 2), dtype=np.int64)
+    # candidate pairs: nearby faces sorted by their box's low x; a patch face's candidates
+    # are the run whose low x lies in [its low x - the widest face, its high x]. Faces much
+    # wider than the rest (slivers, long faces) would widen every run: they are paired
+    # with the patch faces directly
+    extent = fhi[:, 0] - flo[:, 0]
+    wide = extent > _WIDE * max(float(np.median(extent)), pad)
     pairs = []
-    order = np.argsort(flo[:, 0])
+    for w in np.flatnonzero(wide).tolist():
+        q = np.flatnonzero(np.all((flo[w] <= phi + pad) & (fhi[w] >= plo - pad), axis=1))
+        if len(q):
+            pairs.append(np.column_stack([q, np.full(len(q), w)]))
+    narrow = np.flatnonzero(~wide)
+    order = narrow[np.argsort(flo[narrow, 0], kind="stable")]
     lo_sorted = flo[order, 0]
-    for q in range(len(p)):
-        stop = np.searchsorted(lo_sorted, phi[q, 0] + pad, side="right")
-        cand = order[:stop]
-        cand = cand[fhi[cand, 0] >= plo[q, 0] - pad]
-        ok = np.all((flo[cand] <= phi[q] + pad) & (fhi[cand] >= plo[q] - pad), axis=1)
-        cand = cand[ok]
-        if len(cand):
-            pairs.append(np.column_stack([np.full(len(cand), q), cand]))
+    width = float(extent[narrow].max()) if len(narrow) else 0.0
+    start = np.searchsorted(lo_sorted, plo[:, 0] - width - pad, side="left")
+    stop = np.searchsorted(lo_sorted, phi[:, 0] + pad, side="right")
+    count = np.maximum(stop - start, 0)
+    bounds = np.searchsorted(np.cumsum(count), np.arange(0, int(count.sum()), _BLOCK), "right")
+    for s0, s1 in zip(bounds.tolist(), (bounds[1:].tolist() + [len(p)])):
+        n = count[s0:s1]
+        q = np.repeat(np.arange(s0, s1), n)
+        offset = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n)
+        c = order[np.repeat(start[s0:s1], n) + offset]
+        ok = np.all((flo[c] <= phi[q] + pad) & (fhi[c] >= plo[q] - pad), axis=1)
+        if ok.any():
+            pairs.append(np.column_stack([q[ok], c[ok]]))
     if not pairs:
         return np.empty((0, 2), dtype=np.int64)
     pq = np.concatenate(pairs)
@@ -86,7 +105,7 @@ def intersecting_pairs(
                 hit[sel] |= opposite & crosses
     out = pq[hit]
     out[:, 1] = near[out[:, 1]]  # back to the caller's face numbers
-    return out
+    return out[np.lexsort((out[:, 1], out[:, 0]))]
 
 
 def _segment_hits_triangle(

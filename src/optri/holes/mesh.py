@@ -25,19 +25,20 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import config
 from ..errors import (
     HoleSkippedWarning,
     InvalidPolygonError,
     NoTriangulationError,
     TableTooLargeError,
 )
+from ..meshdata import copies_at_border, mesh_arrays, same_kind, weld, with_attributes
 from ..objective import Cost
 from ..weights import get_weight
 from .boundary import Loop, edge_keys, trace_loops
 from .fair import CONTINUITY, fair_vertices
 from .intersect import intersecting_pairs
 from .islands import ISLAND_METHODS, fill_polylines, group_chords, island_groups
-from .meshdata import mesh_arrays, same_kind
 from .polyline import METHODS, fill_polyline
 from .refine import boundary_scales, refine_patch
 
@@ -86,7 +87,8 @@ class HoleRecord:
     fair_reason : str
         Why a fairing asked for was not kept ("" when it was, or was not asked for).
     self_intersections : int
-        Pairs of a patch face and a mesh face that cross, in the final patch.
+        Pairs of a patch face and a face of the mesh or of the patch itself that cross,
+        in the final patch.
     islands : list of list of int
         Boundary loops of other pieces of the mesh lying inside this hole, filled
         with it as one patch (each in patch order; they get no record of their own).
@@ -157,6 +159,7 @@ def fill_holes(
     fair: int | None = None,
     density: float = math.sqrt(2.0),
     islands: bool = True,
+    merge_rtol: float | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> tuple[Any, list[HoleRecord]]:
     """Fill every hole of a triangle mesh with an optimal patch, refined and faired if asked.
@@ -188,6 +191,10 @@ def fill_holes(
         connected pieces of the mesh lying inside it
         (:func:`optri.holes.islands.island_groups`) -- as one patch by
         :func:`optri.fill_polylines` (default); False fills every loop on its own.
+    merge_rtol : float, optional
+        Vertices closer than this fraction of the bounding-box diagonal are one
+        vertex for finding and filling holes; default ``config.MESH_MERGE_RTOL``
+        (0: exactly equal positions). The output keeps the input's vertices.
     progress : callable, optional
         ``progress(done, total)`` after each hole.
 
@@ -196,7 +203,10 @@ def fill_holes(
     (mesh, records)
         A new mesh of the input's kind (old vertices unchanged, refinement's new
         vertices appended after them, new faces appended) and one
-        :class:`HoleRecord` per hole (a hole's islands are named in its record).
+        :class:`HoleRecord` per hole (a hole's islands are named in its record). A
+        ``trimesh.Trimesh`` keeps its texture coordinates, material, vertex normals,
+        colours and vertex and face attributes (:func:`optri.meshdata.with_attributes`); a
+        ``(vertices, faces)`` pair has none to keep.
 
     Raises
     ------
@@ -211,6 +221,13 @@ def fill_holes(
     earlier patch) already joins; a hole every patch of which would is left
     open (``status="failed"``). Pinched boundary vertices (two loops touching)
     are split as CGAL's border cycles are, so each loop is filled on its own.
+
+    Holes are found on the mesh welded by position: copies of a vertex that a
+    texture or normal seam splits (OBJ files keep one per texture coordinate) are
+    one vertex, so seams are no holes. The output keeps the copies; each patch face
+    uses, along the hole's border, the copies of the mesh face across it, so it meets
+    the mesh with that face's texture coordinates and normals. Records name each
+    loop vertex by its lowest-numbered copy.
 
     A fairing whose patch would cross the mesh where the refined patch did not is
     undone (the refined patch stays, ``fair_reason`` says so); a system that cannot
@@ -242,11 +259,14 @@ def fill_holes(
         raise InvalidPolygonError(f"fair must be None, 0, 1 or 2, got {fair!r}")
     if not (isinstance(density, (int, float)) and density > 0 and math.isfinite(density)):
         raise InvalidPolygonError(f"density must be a positive number, got {density!r}")
-    vertices, faces, is_trimesh = mesh_arrays(mesh)
+    vertices, own_faces, is_trimesh = mesh_arrays(mesh)
+    rtol = config.MESH_MERGE_RTOL if merge_rtol is None else merge_rtol
+    faces = weld(vertices, own_faces, rtol)  # copies split by seams are one vertex
     loops = trace_loops(faces)
     joined = _Edges(faces, loops, len(vertices))
     records: list[HoleRecord] = []
     new_faces = [faces]
+    parents: list[tuple[int, int, int]] = []
     points = [vertices]
     groups = island_groups(vertices, faces, [lp.vertices for lp in loops]) if islands else {}
     inside = {j for members in groups.values() for j in members}
@@ -262,7 +282,15 @@ def fill_holes(
             if refine:
                 scales = boundary_scales(vertices, faces, ring)
                 forbidden = joined.pairs_among(ring)
-                added, patch = refine_patch(allv, patch, ring, scales, density, forbidden=forbidden)
+                added, patch = refine_patch(
+                    allv,
+                    patch,
+                    ring,
+                    scales,
+                    density,
+                    forbidden=forbidden,
+                    parents=parents,
+                )
                 if len(added):
                     allv = np.concatenate([allv, added])
                     free = np.arange(len(allv) - len(added), len(allv))
@@ -273,12 +301,19 @@ def fill_holes(
                     points.append(allv[free])
             joined.add(patch)
             new_faces.append(patch)
-            rec.self_intersections = len(intersecting_pairs(allv, others, patch))
+            rec.self_intersections = len(
+                intersecting_pairs(allv, np.concatenate([others, patch]), patch)
+            )
         records.append(rec)
         if progress is not None:
             progress(h + 1, len(loops))
-    out_faces = np.concatenate(new_faces).astype(np.int64)
     out_vertices = np.concatenate(points) if len(points) > 1 else vertices.copy()
+    patches = np.concatenate([np.zeros((0, 3), np.int64), *new_faces[1:]]).astype(np.int64)
+    split = np.asarray(parents, dtype=np.int64).reshape(-1, 3)
+    patches, split, source = copies_at_border(own_faces, faces, patches, len(vertices), split)
+    out_faces = np.concatenate([own_faces, patches])
+    if is_trimesh:
+        return with_attributes(mesh, out_vertices, out_faces, split, source), records
     return same_kind(out_vertices, out_faces, is_trimesh), records
 
 
@@ -291,12 +326,14 @@ def _fair_patch(
     continuity: int,
 ) -> NDArray[np.float64]:
     """``allv`` with ``free`` faired; as given when it fails or adds crossings (said in rec)."""
-    res = fair_vertices(allv, np.concatenate([others, patch]), free, continuity)
+    around = np.concatenate([others, patch])
+    res = fair_vertices(allv, around, free, continuity)
     if not res.ok:
         rec.fair_reason = res.reason
         return allv
-    before = len(intersecting_pairs(allv, others, patch))
-    after = len(intersecting_pairs(res.vertices, others, patch))
+    # the patch against the mesh and against itself (a fold within the patch counts too)
+    before = len(intersecting_pairs(allv, around, patch))
+    after = len(intersecting_pairs(res.vertices, around, patch))
     if after > before:
         rec.fair_reason = (
             f"the faired patch would cross the mesh ({after} crossings, {before} before); "

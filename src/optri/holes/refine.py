@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -31,9 +32,15 @@ from ..errors import InvalidPolygonError
 
 __all__ = ["boundary_scales", "refine_patch"]
 
+Point = tuple[float, float, float]
+
+#: Dihedral angle (degrees) under which an edge swap may sharpen the fold between its faces.
+FOLD_FREE = 10.0
+_FOLD_FREE_COS = math.cos(math.radians(FOLD_FREE))
+
 #: Rounds of splitting and relaxation at most (each round at most triples the faces).
 MAX_ROUNDS = 40
-#: Relaxation sweeps after a round at most.
+#: Edge swaps per face at most in one relaxation (a guard against cycling).
 MAX_SWEEPS = 50
 
 
@@ -47,7 +54,11 @@ def boundary_scales(
     >>> boundary_scales(v, np.array([[0, 1, 2]]), np.array([0, 1, 2])).round(3).tolist()
     [1.5, 2.118, 1.618]
     """
-    f = np.asarray(faces, dtype=np.int64)
+    loop = np.asarray(loop, dtype=np.int64)
+    f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    on_loop = np.zeros(len(vertices), dtype=bool)
+    on_loop[loop] = True
+    f = f[on_loop[f].any(axis=1)]  # only the faces at the loop hold its edges
     e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
     e = np.unique(np.sort(e, axis=1), axis=0)
     length = np.linalg.norm(vertices[e[:, 0]] - vertices[e[:, 1]], axis=1)
@@ -56,7 +67,6 @@ def boundary_scales(
     for c in range(2):
         np.add.at(total, e[:, c], length)
         np.add.at(count, e[:, c], 1)
-    loop = np.asarray(loop, dtype=np.int64)
     out = np.where(count[loop] > 0, total[loop] / np.maximum(count[loop], 1), 0.0)
     if not np.any(out > 0):
         return out
@@ -75,6 +85,7 @@ def refine_patch(
     max_rounds: int = MAX_ROUNDS,
     *,
     forbidden: set[frozenset[int]] | None = None,
+    parents: list[tuple[int, int, int]] | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Refine a hole's patch; returns ``(new_vertices, faces)``.
 
@@ -95,6 +106,10 @@ def refine_patch(
     forbidden : set of frozenset, optional
         Vertex pairs an edge swap must not join (edges the mesh already has between
         the loop's vertices: a swap to one would give that edge a third face).
+    parents : list, optional
+        Filled with the triangle ``(a, b, c)`` each new vertex is the centroid of, in
+        the order of the new vertices (to interpolate texture coordinates, normals or
+        colours the same way: the mean of the three corners').
 
     Returns
     -------
@@ -121,25 +136,35 @@ def refine_patch(
     ]
     loop_edges = {frozenset((int(a), int(b))) for a, b in zip(loop, np.roll(loop, -1))}
     blocked = set(forbidden or ())
-    added: list[tuple[float, float, float]] = []
+    # plain floats: the per-triangle work below is scalar, where numpy's overhead dominates
+    coords: dict[int, Point] = {
+        int(i): (float(x), float(y), float(z)) for i, (x, y, z) in _rows(pts, faces)
+    }
+    added: list[Point] = []
 
-    def point(i: int) -> NDArray[np.float64]:
-        return pts[i] if i < base else np.asarray(added[i - base])
+    def point(i: int) -> Point:
+        return coords[i] if i < base else added[i - base]
 
     for _ in range(max_rounds):
         split = False
         next_faces: list[tuple[int, int, int]] = []
         for a, b, c in faces:
             pa, pb, pc = point(a), point(b), point(c)
-            m = (pa + pb + pc) / 3.0
+            m = (
+                (pa[0] + pb[0] + pc[0]) / 3.0,
+                (pa[1] + pb[1] + pc[1]) / 3.0,
+                (pa[2] + pb[2] + pc[2]) / 3.0,
+            )
             sm = (sigma.get(a, 0.0) + sigma.get(b, 0.0) + sigma.get(c, 0.0)) / 3.0
             if sm > 0 and all(
-                density * float(np.linalg.norm(m - p)) > max(sm, sigma.get(x, 0.0))
+                density * math.dist(m, p) > max(sm, sigma.get(x, 0.0))
                 for x, p in ((a, pa), (b, pb), (c, pc))
             ):
                 k = base + len(added)
-                added.append((float(m[0]), float(m[1]), float(m[2])))
+                added.append(m)
                 sigma[k] = sm
+                if parents is not None:
+                    parents.append((a, b, c))
                 next_faces += [(a, b, k), (b, c, k), (c, a, k)]
                 split = True
             else:
@@ -152,60 +177,113 @@ def refine_patch(
     return new, np.asarray(faces, dtype=np.int64).reshape(-1, 3)
 
 
+def _rows(pts: NDArray[np.float64], faces: list[tuple[int, int, int]]) -> Any:
+    """``(index, row)`` of each vertex the faces use."""
+    used = np.unique(np.asarray(faces, dtype=np.int64).reshape(-1))
+    return zip(used.tolist(), pts[used].tolist())
+
+
 def _relax(
     faces: list[tuple[int, int, int]],
-    point: Callable[[int], NDArray[np.float64]],
+    point: Callable[[int], Any],
     fixed_edges: set[frozenset[int]],
     blocked: set[frozenset[int]],
 ) -> list[tuple[int, int, int]]:
     """Swap interior edges whose opposite vertex is inside the diametral sphere.
 
     ``fixed_edges`` are never swapped away; no swap creates an edge of ``blocked``.
+    Every interior edge is tested once, and the four edges around a swap again
+    (a work list); swaps stop after ``MAX_SWEEPS`` per face at most.
     """
     faces = list(faces)
-    for _ in range(MAX_SWEEPS):
-        where: dict[tuple[int, int], int] = {}  # directed edge -> face index
-        for t, (a, b, c) in enumerate(faces):
-            where[(a, b)], where[(b, c)], where[(c, a)] = t, t, t
-        edges = {frozenset(e) for e in where}
-        swapped = False
-        done: set[int] = set()
-        for (u, v), t1 in list(where.items()):
-            t2 = where.get((v, u))
-            if t2 is None or t1 in done or t2 in done or frozenset((u, v)) in fixed_edges:
-                continue
-            x = _third(faces[t1], u, v)
-            y = _third(faces[t2], v, u)
-            if x == y or frozenset((x, y)) in edges or frozenset((x, y)) in blocked:
-                continue
-            if not _inside_sphere(point(u), point(v), point(x), point(y)):
-                continue
-            # (u, v, x) and (v, u, y) become (u, y, x) and (v, x, y): same winding
-            faces[t1], faces[t2] = (u, y, x), (v, x, y)
-            edges.discard(frozenset((u, v)))
-            edges.add(frozenset((x, y)))
-            done |= {t1, t2}
-            swapped = True
-        if not swapped:
-            break
+    coords: dict[int, Point] = {}
+    for face in faces:
+        for i in face:
+            if i not in coords:
+                q = point(i)
+                coords[i] = (float(q[0]), float(q[1]), float(q[2]))
+
+    where: dict[tuple[int, int], int] = {}  # directed edge -> face index
+    for t, (a, b, c) in enumerate(faces):
+        where[(a, b)], where[(b, c)], where[(c, a)] = t, t, t
+    todo = [e for e in where if e[0] < e[1]]
+    budget = MAX_SWEEPS * max(len(faces), 1)
+    while todo and budget > 0:
+        u, v = todo.pop()
+        t1, t2 = where.get((u, v)), where.get((v, u))
+        if t1 is None or t2 is None or frozenset((u, v)) in fixed_edges:
+            continue
+        x = _third(faces[t1], u, v)
+        y = _third(faces[t2], v, u)
+        if x == y or (x, y) in where or (y, x) in where or frozenset((x, y)) in blocked:
+            continue
+        pu, pv, px, py = coords[u], coords[v], coords[x], coords[y]
+        if not _inside_sphere(pu, pv, px, py) or _folds(pu, pv, px, py):
+            continue
+        # (u, v, x) and (v, u, y) become (u, y, x) and (v, x, y): same winding
+        faces[t1], faces[t2] = (u, y, x), (v, x, y)
+        del where[(u, v)], where[(v, u)]
+        where[(u, y)], where[(y, x)], where[(x, u)] = t1, t1, t1
+        where[(v, x)], where[(x, y)], where[(y, v)] = t2, t2, t2
+        todo += [(v, x), (x, u), (u, y), (y, v)]
+        budget -= 1
     return faces
 
 
 def _third(face: tuple[int, int, int], u: int, v: int) -> int:
     """The vertex of ``face`` that follows the directed edge ``(u, v)``."""
     a, b, c = face
-    return {(a, b): c, (b, c): a, (c, a): b}[(u, v)]
+    if a == u:
+        return c
+    return a if b == u else b
 
 
-def _inside_sphere(
-    a: NDArray[np.float64], b: NDArray[np.float64], c: NDArray[np.float64], d: NDArray[np.float64]
-) -> bool:
+def _inside_sphere(a: Point, b: Point, c: Point, d: Point) -> bool:
     """Whether ``d`` lies strictly inside the sphere through ``a, b, c`` centred in their plane."""
-    ab, ac = b - a, c - a
-    n = np.cross(ab, ac)
-    nn = float(n @ n)
+    ax, ay, az = a
+    bx, by, bz = b[0] - ax, b[1] - ay, b[2] - az  # ab
+    cx, cy, cz = c[0] - ax, c[1] - ay, c[2] - az  # ac
+    nx, ny, nz = by * cz - bz * cy, bz * cx - bx * cz, bx * cy - by * cx  # n = ab x ac
+    nn = nx * nx + ny * ny + nz * nz
     if nn == 0.0:
         return True  # a degenerate triangle: swapping its edge can only help
-    center = a + (np.cross(n, ab) * float(ac @ ac) + np.cross(ac, n) * float(ab @ ab)) / (2 * nn)
-    r2 = float((a - center) @ (a - center))
-    return float((d - center) @ (d - center)) < r2 * (1 - 1e-12)
+    s = (cx * cx + cy * cy + cz * cz) / (2 * nn)
+    t = (bx * bx + by * by + bz * bz) / (2 * nn)
+    # centre - a = (n x ab) s + (ac x n) t
+    ox = (ny * bz - nz * by) * s + (cy * nz - cz * ny) * t
+    oy = (nz * bx - nx * bz) * s + (cz * nx - cx * nz) * t
+    oz = (nx * by - ny * bx) * s + (cx * ny - cy * nx) * t
+    r2 = ox * ox + oy * oy + oz * oz
+    dx, dy, dz = d[0] - ax - ox, d[1] - ay - oy, d[2] - az - oz
+    return dx * dx + dy * dy + dz * dz < r2 * (1 - 1e-12)
+
+
+def _folds(u: Point, v: Point, x: Point, y: Point) -> bool:
+    """Whether swapping ``u-v`` for ``x-y`` in ``(u, v, x), (v, u, y)`` folds the patch more.
+
+    The new pair ``(u, y, x), (v, x, y)`` must meet at a dihedral angle no sharper than
+    the old pair's, or below ``FOLD_FREE`` degrees: on a curved patch a swap across a
+    crease would otherwise lay faces over their neighbours (a self-intersecting patch).
+    """
+    old = _cosine(_normal(u, v, x), _normal(v, u, y))
+    new = _cosine(_normal(u, y, x), _normal(v, x, y))
+    return new < min(old, _FOLD_FREE_COS)
+
+
+def _cosine(a: Point, b: Point) -> float:
+    na, nb = _dot(a, a), _dot(b, b)
+    if na == 0.0 or nb == 0.0:
+        return 1.0  # a degenerate face has no fold to speak of
+    return _dot(a, b) / math.sqrt(na * nb)
+
+
+def _normal(a: Point, b: Point, c: Point) -> Point:
+    return _cross((b[0] - a[0], b[1] - a[1], b[2] - a[2]), (c[0] - a[0], c[1] - a[1], c[2] - a[2]))
+
+
+def _dot(u: Point, v: Point) -> float:
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+def _cross(u: Point, v: Point) -> Point:
+    return (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])

@@ -19,7 +19,7 @@ from ..errors import InvalidParameterError, InvalidPolygonError
 from .delimited import parse_delimited
 from .geo import rings_from_geojson, rings_from_wkt
 
-__all__ = ["decode_text", "read_polygon", "read_rings", "read_text"]
+__all__ = ["decode_text", "read_polygon", "read_rings", "read_rings_and_crs", "read_text"]
 
 #: The name that reads standard input wherever a file is read.
 STDIN = "-"
@@ -73,6 +73,17 @@ def read_rings(
         Missing file, binary or non-UTF-8 content, unparsable content; the
         message names the file and line.
     """
+    return read_rings_and_crs(path, columns)[0]
+
+
+def read_rings_and_crs(
+    path: str | os.PathLike[str], columns: Sequence[str] | None = None
+) -> tuple[list[NDArray[np.float64]], str | None]:
+    """:func:`read_rings`, and the CRS the file names, as text (None: it names none).
+
+    A GeoJSON object names its CRS by a ``"crs"`` member, and without one it is
+    in longitude/latitude (``"OGC:CRS84"``, RFC 7946); other formats name none.
+    """
     text = read_text(path)
     stdin = str(path) == STDIN
     p = Path("standard input" if stdin else path)
@@ -81,10 +92,10 @@ def read_rings(
         head = text.lstrip()[:1]
         suffix = ".json" if head in ("{", "[") else ".wkt" if _WKT.match(text) else ".csv"
     if suffix == ".wkt":
-        return rings_from_wkt(text)
+        return rings_from_wkt(text), None
     if suffix in (".json", ".geojson"):
         return _parse_json(text, p)
-    return [parse_delimited(text, str(p), columns)]
+    return [parse_delimited(text, str(p), columns)], None
 
 
 #: Environment variable: the most bytes read from standard input (a number; ``k``, ``M``,
@@ -194,7 +205,7 @@ def decode_text(data: bytes, name: str) -> str:
         ) from None
 
 
-def _parse_json(text: str, path: Path) -> list[NDArray[np.float64]]:
+def _parse_json(text: str, path: Path) -> tuple[list[NDArray[np.float64]], str | None]:
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
@@ -202,18 +213,31 @@ def _parse_json(text: str, path: Path) -> list[NDArray[np.float64]]:
     except RecursionError as exc:
         raise InvalidPolygonError(f"{path}: JSON nested too deeply") from exc
     if isinstance(data, dict) and "type" in data:  # GeoJSON: every ring
-        return rings_from_geojson(data)
+        return rings_from_geojson(data), _geojson_crs(data.get("crs"))
     if isinstance(data, dict) and "exterior" in data:
         holes = data.get("holes") or []
         if not isinstance(holes, list):
             raise InvalidPolygonError(f"{path}: 'holes' must be a list of rings")
-        return [_as_array(r, path) for r in [data["exterior"], *holes]]
+        return [_as_array(r, path) for r in [data["exterior"], *holes]], None
     if isinstance(data, dict):
         for key in ("vertices", "coordinates", "points", "values"):
             if key in data:
                 data = data[key]
                 break
-    return [_as_array(data, path)]
+    return [_as_array(data, path)], None
+
+
+def _geojson_crs(member: object) -> str | None:
+    """The CRS of a GeoJSON object: its named ``"crs"`` member, else OGC:CRS84 (RFC 7946).
+
+    >>> _geojson_crs(None), _geojson_crs({"type": "name", "properties": {"name": "EPSG:3857"}})
+    ('OGC:CRS84', 'EPSG:3857')
+    """
+    if member is None:
+        return "OGC:CRS84"
+    props = member.get("properties") if isinstance(member, dict) else None
+    name = props.get("name") if isinstance(props, dict) else None
+    return name if isinstance(name, str) else None
 
 
 def _as_array(data: object, path: Path) -> NDArray[np.float64]:
