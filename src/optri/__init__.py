@@ -30,7 +30,7 @@ from .errors import (
     TableTooLargeError,
     WeightError,
 )
-from .holes import fair_region, fill_holes, fill_polyline
+from .holes import fair_region, fill_holes, fill_polyline, fill_polylines
 from .polygon import Polygon, as_polygon, require_simple
 from .result import Triangulation
 from .simple import valid_diagonals
@@ -69,6 +69,7 @@ __all__ = [
     "fair_region",
     "fill_holes",
     "fill_polyline",
+    "fill_polylines",
     "format_table",
     "matrix_chain",
     "random_triangulation",

@@ -31,6 +31,7 @@ RESULT = "tests/test_core_result.py"
 ERRORS = "tests/test_core_errors.py"
 POLYLINE = "tests/test_mesh_polyline.py"
 MESH = "tests/test_mesh_fill.py"
+ISLANDS = "tests/test_islands.py"
 RESUME = "tests/test_batch_resume.py"
 MASK = "tests/test_simple_mask.py"
 SIMPLE = "tests/test_simple_solve.py"
@@ -465,6 +466,69 @@ MUTATIONS: list[Mutation] = [
         ("tests/test_core_chain.py",),
     ),
     # --- holes ----------------------------------------------------------------------
+    M(
+        "islands-copies-may-join",
+        "src/optri/holes/islands.py",
+        "allowed = ~(banned | (lo == hi))",
+        "allowed = ~banned",
+        (ISLANDS, "-k", "arbitrary or manifold"),
+        "a chord between two copies of a bridge vertex: a triangle repeating a vertex",
+    ),
+    M(
+        "islands-chords-onto-sides",
+        "src/optri/holes/islands.py",
+        "np.fromiter(loop_keys | set(skeys.tolist()) | forbid_keys, np.int64)",
+        "np.fromiter(forbid_keys | {-1}, np.int64)",
+        (ISLANDS, "-k", "arbitrary or manifold"),
+        "a chord onto a loop side or a bridge gives that edge three faces",
+    ),
+    M(
+        "islands-doubled-edges-kept",
+        "src/optri/holes/islands.py",
+        "        dup = _doubled(m.orig, node.tris, len(search.V))\n        if dup is None:",
+        "        dup = None\n        if dup is None:",
+        (ISLANDS, "-k", "arbitrary"),
+        "two chords onto one vertex pair: a doubled edge, below the true optimum",
+    ),
+    M(
+        "islands-bridge-dihedral-ignored",
+        "src/optri/holes/islands.py",
+        "thirds[s2] = m.P[_side_triangle_apex(tris, s1, N)]",
+        "pass",
+        (ISLANDS, "-k", "liepa"),
+        "Liepa's value of a surface misses the dihedral across its bridges",
+    ),
+    M(
+        "islands-forbidden-bridge",
+        "src/optri/holes/islands.py",
+        "if any(int(skeys[s1]) in forbid_keys for s1, _ in bridges):",
+        "if False:",
+        (ISLANDS, "-k", "forbidden"),
+        "a bridge along an edge the mesh already has",
+    ),
+    M(
+        "islands-never-inside",
+        "src/optri/holes/islands.py",
+        "if not (_winding(xy, flat) != 0).all():",
+        "if True:",
+        (ISLANDS, "-k", "fill_holes or flat_hole"),
+        "no hole ever holds an island: hole and island capped apart",
+    ),
+    M(
+        "islands-any-distance",
+        "src/optri/holes/islands.py",
+        "if np.abs(pts @ normal).max() > radius:",
+        "if False:",
+        (ISLANDS, "-k", "flat_hole"),
+        "a disk lifted above a hole is taken for its island",
+    ),
+    M(
+        "island-patch-wound-backwards",
+        "src/optri/holes/mesh.py",
+        "return rec, ring[tri.triangles]",
+        "return rec, ring[tri.triangles[:, ::-1]]",
+        (ISLANDS, "-k", "fill_holes_joins"),
+    ),
     M(
         "patch-wound-backwards",
         "src/optri/holes/mesh.py",

@@ -107,6 +107,13 @@ def _check_has_holes(mesh: Any, rtol: float | None) -> None:
     show_default="sqrt(2)",
     help="Refinement density: larger gives smaller triangles.",
 )
+@click.option(
+    "--no-islands",
+    "no_islands",
+    is_flag=True,
+    help="Fill every boundary loop on its own, even a loop of another piece lying "
+    "inside a hole (by default such islands are filled with the hole as one patch).",
+)
 @click.option("--strict", is_flag=True, help="Exit 1 if a hole is left open.")
 @click.option("--json", "as_json", is_flag=True, help="Print the report as one JSON object.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
@@ -120,6 +127,7 @@ def fill(
     refine: bool,
     fair: int | None,
     density: float,
+    no_islands: bool,
     strict: bool,
     as_json: bool,
     quiet: bool,
@@ -149,6 +157,7 @@ def fill(
                 refine=refine,
                 fair=fair,
                 density=density,
+                islands=not no_islands,
                 merge_rtol=merge_tolerance,
                 progress=progress,
             )

@@ -38,6 +38,7 @@ from ..weights import get_weight
 from .boundary import Loop, edge_keys, trace_loops
 from .fair import CONTINUITY, fair_vertices
 from .intersect import intersecting_pairs
+from .islands import ISLAND_METHODS, fill_polylines, group_chords, island_groups
 from .polyline import METHODS, fill_polyline
 from .refine import boundary_scales, refine_patch
 
@@ -92,6 +93,12 @@ class HoleRecord:
     self_intersections : int
         Pairs of a patch face and a face of the mesh or of the patch itself that cross,
         in the final patch.
+    islands : list of list of int
+        Boundary loops of other pieces of the mesh lying inside this hole, filled
+        with it as one patch (each in patch order; they get no record of their own).
+    optimality : str
+        ``"proven"`` or ``"heuristic"`` for a hole with islands (as
+        :func:`optri.fill_polylines` says), "" otherwise.
     """
 
     index: int
@@ -112,6 +119,8 @@ class HoleRecord:
     faired: bool = False
     fair_reason: str = ""
     self_intersections: int = 0
+    islands: list[list[int]] = field(default_factory=list)
+    optimality: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready fields (a tuple weight becomes a list)."""
@@ -123,6 +132,9 @@ class HoleRecord:
     def detail(self) -> str:
         """One line saying what was done beyond a plain fill ("" if nothing)."""
         notes = []
+        if self.islands:
+            sizes = ", ".join(str(len(lp)) for lp in self.islands)
+            notes.append(f"with {len(self.islands)} island(s) of {sizes} edges ({self.optimality})")
         if self.pinched:
             notes.append(f"split at pinched vertex {', '.join(map(str, self.pinched))}")
         if self.forbidden_chords:
@@ -152,6 +164,7 @@ def fill_holes(
     refine: bool = False,
     fair: int | None = None,
     density: float = math.sqrt(2.0),
+    islands: bool = True,
     merge_rtol: float | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> tuple[Any, list[HoleRecord]]:
@@ -179,6 +192,11 @@ def fill_holes(
         vertices to :func:`optri.fair_region`.
     density : float
         Liepa's density factor (> 0): larger gives smaller triangles.
+    islands : bool
+        Fill each hole together with its islands -- boundary loops of other
+        connected pieces of the mesh lying inside it
+        (:func:`optri.holes.islands.island_groups`) -- as one patch by
+        :func:`optri.fill_polylines` (default); False fills every loop on its own.
     merge_rtol : float, optional
         Vertices closer than this fraction of the bounding-box diagonal are one
         vertex for finding and filling holes; default ``config.MESH_MERGE_RTOL``
@@ -191,9 +209,9 @@ def fill_holes(
     (mesh, records)
         A new mesh of the input's kind (old vertices unchanged, refinement's new
         vertices appended after them, new faces appended) and one
-        :class:`HoleRecord` per hole. A ``trimesh.Trimesh`` keeps its texture
-        coordinates, material, vertex normals, colours and vertex and face
-        attributes (:func:`optri.meshdata.with_attributes`); a
+        :class:`HoleRecord` per hole (a hole's islands are named in its record). A
+        ``trimesh.Trimesh`` keeps its texture coordinates, material, vertex normals,
+        colours and vertex and face attributes (:func:`optri.meshdata.with_attributes`); a
         ``(vertices, faces)`` pair has none to keep.
 
     Raises
@@ -256,18 +274,24 @@ def fill_holes(
     new_faces = [faces]
     parents: list[tuple[int, int, int]] = []
     points = [vertices]
+    groups = island_groups(vertices, faces, [lp.vertices for lp in loops]) if islands else {}
+    inside = {j for members in groups.values() for j in members}
     for h, loop in enumerate(loops):
-        rec, patch = _fill_one(h, vertices, loop, joined, max_hole_edges, weight, method)
+        if h in inside:  # filled with the hole around it
+            continue
+        group = [loops[j] for j in groups.get(h, [])]
+        rec, patch = _fill_one(h, vertices, loop, joined, max_hole_edges, weight, method, group)
+        ring = np.concatenate([loop.vertices, *(lp.vertices for lp in group)])
         if patch is not None:
             allv = np.concatenate(points) if len(points) > 1 else vertices
             others = np.concatenate(new_faces)
             if refine:
-                scales = boundary_scales(vertices, faces, loop.vertices)
-                forbidden = joined.pairs_among(loop.vertices)
+                scales = boundary_scales(vertices, faces, ring)
+                forbidden = joined.pairs_among(ring)
                 added, patch = refine_patch(
                     allv,
                     patch,
-                    loop.vertices,
+                    ring,
                     scales,
                     density,
                     forbidden=forbidden,
@@ -370,7 +394,10 @@ def _fill_one(
     max_hole_edges: int | None,
     weight: Any,
     method: str,
+    islands: list[Loop],
 ) -> tuple[HoleRecord, Ints | None]:
+    if islands:
+        return _fill_group(h, vertices, [loop, *islands], joined, max_hole_edges, weight, method)
     n = len(loop.vertices)
     rec = HoleRecord(h, n, "filled", vertices=loop.vertices.tolist(), pinched=list(loop.pinched))
     if max_hole_edges is not None and n > max_hole_edges:
@@ -402,6 +429,48 @@ def _fill_one(
     rec.candidates = str(tri.stats.get("candidates", ""))
     # fill_polyline winds (i, k, j), i < k < j, in the loop's (patch) order
     return rec, loop.vertices[tri.triangles]
+
+
+def _fill_group(
+    h: int,
+    vertices: NDArray[np.float64],
+    members: list[Loop],
+    joined: _Edges,
+    max_hole_edges: int | None,
+    weight: Any,
+    method: str,
+) -> tuple[HoleRecord, Ints | None]:
+    """A hole and its islands as one patch (:func:`optri.fill_polylines`)."""
+    outer = members[0]
+    ring = np.concatenate([lp.vertices for lp in members])
+    n = len(ring)
+    rec = HoleRecord(
+        h,
+        n,
+        "filled",
+        vertices=outer.vertices.tolist(),
+        pinched=sorted({p for lp in members for p in lp.pinched}),
+        islands=[lp.vertices.tolist() for lp in members[1:]],
+    )
+    if max_hole_edges is not None and n > max_hole_edges:
+        reason = f"{n} edges with its islands > max_hole_edges={max_hole_edges}"
+        return _left_open(rec, "skipped", reason), None
+    forbidden = group_chords(joined.keys, joined.nv, [lp.vertices for lp in members])
+    rec.forbidden_chords = len(forbidden)
+    start = time.perf_counter()
+    points = [vertices[lp.vertices] for lp in members]
+    third = [vertices[lp.third] for lp in members]
+    mode = method if method in ISLAND_METHODS else "liepa"  # "delaunay": closest-pair bridges
+    try:
+        tri = fill_polylines(points, weight, mode, third, forbidden=forbidden, orient=False)
+    except (InvalidPolygonError, TableTooLargeError) as exc:  # NoTriangulationError too
+        return _left_open(rec, "failed", str(exc)), None
+    rec.seconds = time.perf_counter() - start
+    rec.weight, rec.method = tri.weight, tri.method
+    rec.optimality = tri.optimality or ""
+    rec.faces_added = len(tri.triangles)
+    rec.degenerate = int(tri.stats.get("degenerate", 0))
+    return rec, ring[tri.triangles]
 
 
 def _left_open(rec: HoleRecord, status: str, reason: str) -> HoleRecord:

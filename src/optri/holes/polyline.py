@@ -132,7 +132,7 @@ def fill_polyline(
        polyhedron", CAGD 12(2), 1995.
     .. [3] G. Barequet, M. Dickerson, D. Eppstein, "On triangulating
        three-dimensional polygons", SoCG 1996.
-    .. [4] W. Zou, J. Ye, H. Kuo, et al., "An algorithm for triangulating
+    .. [4] M. Zou, T. Ju, N. Carr, "An algorithm for triangulating
        multiple 3D polygons", Eurographics SGP 2013.
 
     Examples
