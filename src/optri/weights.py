@@ -471,7 +471,7 @@ def custom_weight(func: Callable[..., float], name: str = "custom") -> Weight:
             f"{getattr(target, '__name__', type(target).__name__)}{_signature(target)} "
             f"cannot take 3 or 4 positional arguments"
         )
-    wants_vertices = _positional_arity(target) >= 4
+    wants_vertices = positional_arity(target) >= 4
     compiled = func if wants_vertices and _is_numba_function(func) else None
     kind = "numba-compiled user callable" if compiled is not None else "user callable"
     return Weight(name, "any", WeightCode.CUSTOM, kind, func=func, compiled=compiled)
@@ -510,7 +510,7 @@ def _bind_custom(weight: Weight, polygon: Polygon) -> TriangleFn:
     func = weight.func
     assert func is not None
     orig = polygon.order.tolist()
-    lead = (polygon.vertices,) if _positional_arity(getattr(func, "py_func", func)) >= 4 else ()
+    lead = (polygon.vertices,) if positional_arity(getattr(func, "py_func", func)) >= 4 else ()
 
     def w(i: int, k: int, j: int) -> float:
         tri = (orig[i], orig[k], orig[j])
@@ -626,7 +626,8 @@ def _is_numba_function(func: object) -> bool:
     return type(func).__module__.startswith("numba.") and hasattr(func, "py_func")
 
 
-def _positional_arity(func: Callable[..., float]) -> int:
+def positional_arity(func: Callable[..., float]) -> int:
+    """How many positional arguments ``func`` takes (3: ``w(i, k, j)``; 4: with vertices)."""
     try:
         params = inspect.signature(func).parameters.values()
     except (TypeError, ValueError):

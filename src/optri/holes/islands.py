@@ -48,9 +48,9 @@ from ..errors import InvalidPolygonError, NoTriangulationError
 from ..objective import Cost, ObjectiveLike
 from ..result import Triangulation
 from ..solve import solve_problem
-from ..weights import _positional_arity
+from ..weights import positional_arity
 from .liepa import angle_of_key, as_points3d, liepa_keys, power_of_two_scale
-from .modes import Hole, _problem, _recompute, degenerate_count, fill_all
+from .modes import Hole, degenerate_count, fill_all, problem_of, recompute_of
 from .polyline import fill_polyline
 
 __all__ = ["ISLAND_METHODS", "fill_polylines", "group_chords", "island_groups"]
@@ -376,7 +376,7 @@ class _Search:
         if not callable(func):
             return func
         orig, V = m.orig.tolist(), self.V
-        if _positional_arity(getattr(func, "py_func", func)) >= 4:
+        if positional_arity(getattr(func, "py_func", func)) >= 4:
             return lambda _v, i, k, j: func(V, orig[i], orig[k], orig[j])
         return lambda i, k, j: func(orig[i], orig[k], orig[j])
 
@@ -389,7 +389,7 @@ class _Search:
         if self.liepa:
             return fill_all(hole, mode, {})[0]
         # triangle weights: the compiled engine at every size (many small searches)
-        problem = _problem(hole, allowed)
+        problem = problem_of(hole, allowed)
         engine = (
             "fast" if jit.unavailable() is None and jit.unsupported(problem) is None else "auto"
         )
@@ -405,7 +405,7 @@ class _Search:
             return liepa_keys(hole.Q, hole.n, True, tris)
         again = self._again.get(id(m))
         if again is None:
-            again = self._again[id(m)] = _recompute(hole)
+            again = self._again[id(m)] = recompute_of(hole)
         return again(tris)
 
     def glued_thirds(self, m: _Merged, tris: Ints) -> Floats:
@@ -722,7 +722,7 @@ def _result(
     if search.liepa:
         name, obj_name = ("liepa_dihedral", "area"), ("max", "sum")
     else:
-        problem = _problem(hole, None)
+        problem = problem_of(hole, None)
         names = tuple(w.name for w in problem.weights)
         name = names[0] if len(names) == 1 else names
         obj_name = problem.objective.name

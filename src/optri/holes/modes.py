@@ -45,7 +45,16 @@ from . import search
 from .candidates import candidate_sets
 from .liepa import angle_of_key, liepa_keys
 
-__all__ = ["METHODS", "Hole", "degenerate_count", "fill_all", "fill_delaunay", "result"]
+__all__ = [
+    "METHODS",
+    "Hole",
+    "degenerate_count",
+    "fill_all",
+    "fill_delaunay",
+    "problem_of",
+    "recompute_of",
+    "result",
+]
 
 #: Accepted ``method`` values.
 METHODS = ("auto", "exact", "liepa", "delaunay")
@@ -170,7 +179,14 @@ def degenerate_count(P: NDArray[np.float64], tris: Tris) -> int:
 # --- triangle weights: the normal engines -------------------------------------------
 
 
-def _problem(hole: Hole, allowed: NDArray[np.bool_] | None) -> Problem:
+def recompute_of(hole: Hole) -> Callable[[Tris], Cost]:
+    """The cost of a patch from scratch under the hole's triangle weights and objective."""
+    problem = problem_of(hole, None)
+    return recompute_cost(problem.evaluator(), problem.objective, problem.polygon.order)
+
+
+def problem_of(hole: Hole, allowed: NDArray[np.bool_] | None) -> Problem:
+    """The engines' problem for a triangle-weight hole, ``allowed`` as its chord mask."""
     # a 3-D polyline: every index triangulation is a surface, so every chord may be used
     P = hole.P
     polygon = Polygon(P, P, np.arange(hole.n, dtype=np.int64), None, True)
@@ -182,7 +198,7 @@ def _problem(hole: Hole, allowed: NDArray[np.bool_] | None) -> Problem:
 def _engine_dp(
     hole: Hole, allowed: NDArray[np.bool_], problem: Problem | None = None
 ) -> Tris | None:
-    problem = _problem(hole, allowed) if problem is None else problem
+    problem = problem_of(hole, allowed) if problem is None else problem
     try:
         with warnings.catch_warnings():  # the user's callable already runs in Python
             warnings.filterwarnings("ignore", "weight 'degenerate'", RuntimeWarning)
@@ -235,7 +251,7 @@ def _engine_fill(hole: Hole, allowed: NDArray[np.bool_], stats: dict[str, Any]) 
         return found[1]
     flag = _degenerate_weight(hole)
     if found[0] == 0:
-        problem = _problem(hole, allowed)
+        problem = problem_of(hole, allowed)
         problem.gates = (*problem.gates, (flag, 0.5))
     else:
         polygon = Polygon(hole.P, hole.P, np.arange(hole.n, dtype=np.int64), None, True)
@@ -271,7 +287,7 @@ def result(
         name: Any = ("liepa_dihedral", "area")
         obj_name: Any = ("max", "sum")
     else:
-        problem = _problem(hole, None)
+        problem = problem_of(hole, None)
         again = recompute_cost(problem.evaluator(), problem.objective, problem.polygon.order)
         names = tuple(w.name for w in problem.weights)
         name = names[0] if len(names) == 1 else names
