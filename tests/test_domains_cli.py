@@ -31,7 +31,7 @@ def test_solve_a_file_with_holes(files, name):
     ref = optri.triangulate(POLY, weight="diagonal")
     r = CliRunner().invoke(main, ["solve", str(files / name), "-w", "diagonal", "--json"])
     assert r.exit_code == 0, r.output
-    out = json.loads(r.output)
+    out = json.loads(r.stdout)
     assert out["n"] == 11 and out["rings"] == [4, 3, 4]
     assert len(out["triangles"]) == 11 + 2 * 2 - 2
     assert out["optimality"] == "proven" and out["gap"] == 0.0

@@ -183,5 +183,5 @@ def test_closing_vertices_dropped_by_batch_and_cli(tmp_path, closing):
     path.write_text(json.dumps({"type": "Polygon", "coordinates": [ring]}))
     res = CliRunner().invoke(main, ["solve", str(path), "--json"])
     assert res.exit_code == 0, res.output
-    assert json.loads(res.output)["n"] == 5
-    assert json.loads(res.output)["weight"] == pytest.approx(want.weight)
+    assert json.loads(res.stdout)["n"] == 5
+    assert json.loads(res.stdout)["weight"] == pytest.approx(want.weight)

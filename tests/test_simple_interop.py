@@ -88,7 +88,7 @@ def test_cli_solves_geojson(tmp_path):
     )
     res = CliRunner().invoke(main, ["solve", str(path), "--json", "-m", "memo"])
     assert res.exit_code == 0, res.output
-    out = json.loads(res.output)
+    out = json.loads(res.stdout)
     assert math.isclose(out["weight"], optri.triangulate(NOTCH, method="memo").weight)
 
 
