@@ -23,14 +23,15 @@ def _disc(rng: np.random.Generator, n: int, bump: float) -> tuple[np.ndarray, np
 @pytest.mark.parametrize("seed", range(6))
 def test_compiled_refinement_equals_the_python_reference(seed):
     rng = np.random.default_rng(seed)
+    blocked = 0
     for _ in range(12):
         n = int(rng.integers(3, 40))
         v, patch = _disc(rng, n, float(rng.choice([0.0, 0.05, 0.4])))
         loop = np.arange(n)
         scales = rng.uniform(0.05, 0.6, n)
         density = float(rng.choice([math.sqrt(2.0), 1.0, 3.0]))
-        # a chord the mesh already has: no swap may create it
-        forbidden = {frozenset((1, n // 2))} if n > 4 else None
+        # chords the mesh already has: no swap may create them
+        forbidden = {frozenset((i, i + 2)) for i in range(1, n - 2, 2)}
         p1: list[tuple[int, int, int]] = []
         p2: list[tuple[int, int, int]] = []
         rounds = int(rng.integers(1, 6))
@@ -42,6 +43,9 @@ def test_compiled_refinement_equals_the_python_reference(seed):
         )
         assert new1.tobytes() == new2.tobytes() and np.array_equal(f1, f2) and p1 == p2
         assert f1.dtype == np.int64 and new1.shape == (len(p1), 3)
+        free = refine.reference_refine_patch(v, patch, loop, scales, density, rounds)[1]
+        blocked += not np.array_equal(free, f2)
+    assert blocked > 0  # the forbidden chords did change some patch
 
 
 @pytest.mark.parametrize("seed", range(4))
