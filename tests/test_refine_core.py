@@ -68,15 +68,18 @@ def test_compiled_crossings_equal_the_numpy_reference(seed):
 
 
 def test_compiled_crossings_see_a_long_sliver_and_keep_the_callers_numbers():
-    # many small faces and one face far wider than them (tested outside the sorted window)
+    # many small faces and one face far longer than them (tested outside the grid), which
+    # a patch face pierces
     rng = np.random.default_rng(7)
-    small = rng.uniform(0, 10, (300, 3))
-    v = np.concatenate([small, [[-5.0, 5, 5], [15, 5, 5.1], [5, 5.2, 5], [5, 5, -5], [5, 5, 15]]])
-    far = len(small)
-    f = np.concatenate([[[0, 1, 2]], [[far, far + 1, far + 2]], rng.integers(0, 300, (50, 3))])
-    p = np.array([[far + 3, far + 4, 0]])
+    corners = rng.uniform(0, 10, (100, 1, 3)) + rng.uniform(0, 0.1, (100, 3, 3))
+    small = corners.reshape(-1, 3)
+    sliver = [[-5.0, 5, 5], [15, 5, 5.1], [5, 5.2, 5]]
+    v = np.concatenate([small, sliver, [[4, 0, 0], [6, 10, 0], [5, 5, 15]]])
+    s = len(small)
+    f = np.concatenate([np.arange(s).reshape(-1, 3)[:40], [[s, s + 1, s + 2]]])
+    p = np.array([[s + 3, s + 4, s + 5]])
     a = intersect.intersecting_pairs(v, f, p)
-    assert [0, 1] in a.tolist()
+    assert [0, 40] in a.tolist()
     assert np.array_equal(a, intersect.reference_intersecting_pairs(v, f, p))
 
 

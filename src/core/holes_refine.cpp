@@ -316,51 +316,95 @@ std::vector<int64_t> intersecting_pairs(const double* v, const int64_t* f, int64
     for (int64_t i = 0; i < nf; ++i)
         if (meets(fb[i], whole, pad)) near.push_back(i);
     if (near.empty()) return out;
-    // a face's candidates: the nearby faces sorted by low x whose low x lies in
-    // [its low x - the widest narrow face - pad, its high x + pad]; much wider faces
-    // would widen every run, so they are tested against every patch face directly
+    // candidates from a uniform grid over the patch's box: a nearby face is listed in
+    // every cell its padded box meets, a patch face looks in the cells its box meets
+    // (boxes that meet share a cell: the cell of a coordinate is monotone in it). Faces
+    // much larger than the rest would fill many cells: they are tested against every
+    // patch face directly
+    auto size = [&](const Box& b) {
+        return std::max(std::max(b.hi[0] - b.lo[0], b.hi[1] - b.lo[1]), b.hi[2] - b.lo[2]);
+    };
     std::vector<double> extent(near.size());
-    for (size_t j = 0; j < near.size(); ++j) extent[j] = fb[near[j]].hi[0] - fb[near[j]].lo[0];
+    for (size_t j = 0; j < near.size(); ++j) extent[j] = size(fb[near[j]]);
     std::vector<double> sorted_ext = extent;
     auto mid = sorted_ext.begin() + static_cast<std::ptrdiff_t>(sorted_ext.size() / 2);
     std::nth_element(sorted_ext.begin(), mid, sorted_ext.end());
-    double median = *mid;
-    if (sorted_ext.size() % 2 == 0) {
-        double below = *std::max_element(sorted_ext.begin(), mid);
-        median = (below + median) / 2;
-    }
+    const double median = *mid;
     const double cut = kWide * std::max(median, pad);
     std::vector<int64_t> narrow, wide;
-    double width = 0.0;
-    for (size_t j = 0; j < near.size(); ++j) {
-        if (extent[j] > cut) {
-            wide.push_back(near[j]);
-        } else {
-            narrow.push_back(near[j]);
-            width = std::max(width, extent[j]);
-        }
+    for (size_t j = 0; j < near.size(); ++j) (extent[j] > cut ? wide : narrow).push_back(near[j]);
+    // cells about a median face wide, at most a few per face
+    double cell = std::max(median, pad);
+    const double budget = 4.0 * static_cast<double>(narrow.size() + static_cast<size_t>(np_)) + 64;
+    auto cells_of = [&](double h) {
+        double total = 1;
+        for (int k = 0; k < 3; ++k) total *= std::floor((whole.hi[k] - whole.lo[k]) / h) + 1;
+        return total;
+    };
+    const bool finite = std::isfinite(cells_of(1.0)) && std::isfinite(cell) && cell > 0;
+    while (finite && !(cells_of(cell) <= budget)) cell *= 2;
+    int64_t dim[3] = {1, 1, 1};
+    for (int k = 0; finite && k < 3; ++k) {
+        dim[k] = static_cast<int64_t>(std::floor((whole.hi[k] - whole.lo[k]) / cell)) + 1;
     }
-    std::stable_sort(narrow.begin(), narrow.end(),
-                     [&](int64_t a, int64_t b) { return fb[a].lo[0] < fb[b].lo[0]; });
-    std::vector<double> lo_sorted(narrow.size());
-    for (size_t j = 0; j < narrow.size(); ++j) lo_sorted[j] = fb[narrow[j]].lo[0];
-    std::vector<int64_t> hits;
-    for (int64_t q = 0; q < np_; ++q) {
-        hits.clear();
-        const Box& b = pb[q];
-        for (int64_t w : wide)
-            if (meets(fb[w], b, pad)) hits.push_back(w);
-        auto s = std::lower_bound(lo_sorted.begin(), lo_sorted.end(), b.lo[0] - width - pad);
-        auto e = std::upper_bound(lo_sorted.begin(), lo_sorted.end(), b.hi[0] + pad);
-        for (auto it = s; it < e; ++it) {
-            int64_t c = narrow[static_cast<size_t>(it - lo_sorted.begin())];
-            if (meets(fb[c], b, pad)) hits.push_back(c);
+    auto index = [&](int k, double x) {
+        if (dim[k] == 1) return int64_t(0);
+        double c = std::floor((x - whole.lo[k]) / cell);
+        if (!(c > 0)) return int64_t(0);
+        return std::min(static_cast<int64_t>(std::min(c, 9.0e15)), dim[k] - 1);
+    };
+    auto range = [&](const Box& b, double grow, int64_t* lo_, int64_t* hi_) {
+        for (int k = 0; k < 3; ++k) lo_[k] = index(k, b.lo[k] - grow), hi_[k] = index(k, b.hi[k] + grow);
+    };
+    const int64_t ncell = dim[0] * dim[1] * dim[2];
+    std::vector<int64_t> start(static_cast<size_t>(ncell) + 1, 0);
+    int64_t a[3], z[3];
+    std::vector<int64_t> members, fill;
+    for (int pass = 0; pass < 2; ++pass) {  // count the members of each cell, then list them
+        if (pass == 1) {
+            for (int64_t c = 0; c < ncell; ++c) start[c + 1] += start[c];
+            fill.assign(start.begin(), start.end() - 1);
+            members.assign(static_cast<size_t>(start[ncell]), 0);
         }
-        std::sort(hits.begin(), hits.end());
-        for (int64_t c : hits) {
-            if (crosses(v, p + 3 * q, f + 3 * c)) {
-                out.push_back(q);
-                out.push_back(c);
+        for (int64_t fi : narrow) {
+            range(fb[fi], pad, a, z);
+            for (int64_t i = a[0]; i <= z[0]; ++i)
+                for (int64_t j = a[1]; j <= z[1]; ++j)
+                    for (int64_t k = a[2]; k <= z[2]; ++k) {
+                        const int64_t c = (i * dim[1] + j) * dim[2] + k;
+                        if (pass == 0) {
+                            ++start[c + 1];
+                        } else {
+                            members[static_cast<size_t>(fill[c]++)] = fi;
+                        }
+                    }
+        }
+        if (pass == 0) continue;
+        std::vector<int64_t> seen(static_cast<size_t>(nf), -1);
+        std::vector<int64_t> hits;
+        for (int64_t q = 0; q < np_; ++q) {
+            hits.clear();
+            const Box& b = pb[q];
+            for (int64_t w : wide)
+                if (meets(fb[w], b, pad)) hits.push_back(w);
+            range(b, 0.0, a, z);
+            for (int64_t i = a[0]; i <= z[0]; ++i)
+                for (int64_t j = a[1]; j <= z[1]; ++j)
+                    for (int64_t k = a[2]; k <= z[2]; ++k) {
+                        const int64_t c = (i * dim[1] + j) * dim[2] + k;
+                        for (int64_t s = start[c]; s < start[c + 1]; ++s) {
+                            const int64_t fi = members[static_cast<size_t>(s)];
+                            if (seen[fi] == q) continue;
+                            seen[fi] = q;
+                            if (meets(fb[fi], b, pad)) hits.push_back(fi);
+                        }
+                    }
+            std::sort(hits.begin(), hits.end());
+            for (int64_t c : hits) {
+                if (crosses(v, p + 3 * q, f + 3 * c)) {
+                    out.push_back(q);
+                    out.push_back(c);
+                }
             }
         }
     }

@@ -1483,12 +1483,12 @@ MUTATIONS: list[Mutation] = [
         "faces much wider than the rest are never tested against the patch",
     ),
     M(
-        "refine-core-window-ignores-face-width",
+        "refine-core-grid-keeps-only-the-first-cell",
         "src/core/holes_refine.cpp",
-        "b.lo[0] - width - pad);",
-        "b.lo[0] - pad);",
+        "hi_[k] = index(k, b.hi[k] + grow);",
+        "hi_[k] = index(k, b.lo[k] + grow);",
         ("tests/test_refine_core.py", "-k", "crossings"),
-        "a face that starts left of a patch face's box but reaches into it is never tested",
+        "a face is listed in, and a patch face looks in, only the cell of its box's low corner",
     ),
     M(
         "refine-core-skips-shared-vertex-pairs",
