@@ -13,6 +13,7 @@ void bind_all(nanobind::module_& m) {
     bind_minplus(m);
     bind_many(m);
     bind_simple(m);
+    bind_refine(m);
 }
 
 }  // namespace optri

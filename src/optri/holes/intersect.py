@@ -6,6 +6,9 @@ shared vertex crosses the other; two that share an edge are neighbours, never co
 Each test is a segment against a triangle (Moller and Trumbore 1997), with a small
 relative tolerance so that touching at a shared boundary is not a crossing. Only
 faces whose bounding boxes overlap a patch face's are tested.
+
+:func:`intersecting_pairs` runs in the compiled core; :func:`reference_intersecting_pairs`
+is the same test in numpy, which the tests hold the core equal to.
 """
 
 from __future__ import annotations
@@ -13,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["intersecting_pairs"]
+__all__ = ["intersecting_pairs", "reference_intersecting_pairs"]
 
 _EPS = 1e-9  # relative: a crossing closer than this to an end or a side is a touch
 _BLOCK = 1 << 20  # candidate pairs per block
@@ -26,12 +29,36 @@ def intersecting_pairs(
     """Pairs ``(p, f)``: patch face ``patch[p]`` crosses mesh face ``faces[f]``.
 
     ``faces`` may include the patch's own faces (pairs of a face with itself or a
-    neighbour are skipped). Returns an ``(k, 2)`` int array, empty when none cross.
+    neighbour are skipped). Returns an ``(k, 2)`` int array sorted by ``p`` then ``f``,
+    empty when none cross.
 
     >>> import numpy as np
     >>> v = np.array([[0., 0, 0], [2, 0, 0], [0, 2, 0],
     ...               [0.5, 0.5, -1], [0.5, 0.5, 1], [3, 3, 0]])
     >>> intersecting_pairs(v, np.array([[0, 1, 2]]), np.array([[3, 4, 5]])).tolist()
+    [[0, 0]]
+    """
+    from .. import _core
+
+    out: NDArray[np.int64] = _core.refine.intersecting_pairs(
+        np.ascontiguousarray(vertices, dtype=np.float64).reshape(-1, 3),
+        np.ascontiguousarray(faces, dtype=np.int64).reshape(-1, 3),
+        np.ascontiguousarray(patch, dtype=np.int64).reshape(-1, 3),
+    )
+    return out
+
+
+def reference_intersecting_pairs(
+    vertices: NDArray[np.float64], faces: NDArray[np.int64], patch: NDArray[np.int64]
+) -> NDArray[np.int64]:
+    """Pairs ``(p, f)``: patch face ``patch[p]`` crosses mesh face ``faces[f]``.
+
+    :func:`intersecting_pairs` in numpy: the reference the compiled core must equal.
+
+    >>> import numpy as np
+    >>> v = np.array([[0., 0, 0], [2, 0, 0], [0, 2, 0],
+    ...               [0.5, 0.5, -1], [0.5, 0.5, 1], [3, 3, 0]])
+    >>> reference_intersecting_pairs(v, np.array([[0, 1, 2]]), np.array([[3, 4, 5]])).tolist()
     [[0, 0]]
     """
     v = np.asarray(vertices, dtype=np.float64)

@@ -17,6 +17,9 @@ the mesh around it:
 
 A larger ``density`` splits more (smaller triangles); ``sqrt(2)``, Liepa's value, the
 default, gives triangles about as long as the mesh edges around the hole.
+
+:func:`refine_patch` runs in the compiled core; :func:`reference_refine_patch` is the
+same algorithm in Python, which the tests hold the core equal to, bit for bit.
 """
 
 from __future__ import annotations
@@ -30,7 +33,7 @@ from numpy.typing import NDArray
 
 from ..errors import InvalidPolygonError
 
-__all__ = ["boundary_scales", "refine_patch"]
+__all__ = ["boundary_scales", "reference_refine_patch", "refine_patch"]
 
 Point = tuple[float, float, float]
 
@@ -125,6 +128,50 @@ def refine_patch(
     ...                           np.full(4, 1.0))
     >>> len(new) > 0, len(faces) == 2 + 2 * len(new)
     (True, True)
+    """
+    if not (density > 0 and math.isfinite(density)):
+        raise InvalidPolygonError(f"density must be a positive number, got {density!r}")
+    from .. import _core
+
+    pairs = [sorted(int(i) for i in pair) for pair in (forbidden or ()) if len(pair) == 2]
+    new, faces, split = _core.refine.refine_patch(
+        np.ascontiguousarray(vertices, dtype=np.float64).reshape(-1, 3),
+        np.ascontiguousarray(patch, dtype=np.int64).reshape(-1, 3),
+        np.ascontiguousarray(loop, dtype=np.int64).reshape(-1),
+        np.ascontiguousarray(scales, dtype=np.float64).reshape(-1),
+        float(density),
+        int(max_rounds),
+        np.asarray(pairs, dtype=np.int64).reshape(-1, 2),
+        MAX_SWEEPS,
+        _FOLD_FREE_COS,
+    )
+    if parents is not None:
+        parents.extend((int(a), int(b), int(c)) for a, b, c in split.tolist())
+    return new, faces
+
+
+def reference_refine_patch(
+    vertices: NDArray[np.float64],
+    patch: NDArray[np.int64],
+    loop: NDArray[np.int64],
+    scales: NDArray[np.float64],
+    density: float = math.sqrt(2.0),
+    max_rounds: int = MAX_ROUNDS,
+    *,
+    forbidden: set[frozenset[int]] | None = None,
+    parents: list[tuple[int, int, int]] | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """:func:`refine_patch` in plain Python: the reference the compiled core must equal.
+
+    The same arguments and results, bit for bit (the tests compare the two); it states
+    the algorithm in readable form and is never used on the fill path.
+
+    >>> import numpy as np
+    >>> v = np.array([[0., 0, 0], [4, 0, 0], [4, 4, 0], [0, 4, 0]])
+    >>> args = (v, np.array([[0, 1, 2], [0, 2, 3]]), np.arange(4), np.full(4, 1.0))
+    >>> all(np.array_equal(x, y) for x, y in zip(reference_refine_patch(*args),
+    ...                                            refine_patch(*args)))
+    True
     """
     if not (density > 0 and math.isfinite(density)):
         raise InvalidPolygonError(f"density must be a positive number, got {density!r}")
