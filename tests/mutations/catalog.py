@@ -51,6 +51,7 @@ CONTOURS_MESH = "tests/test_contours_mesh.py"
 CONTOURS_CLI = "tests/test_contours_cli.py"
 TEXTURES = "tests/test_mesh_textures.py"
 DASK = "tests/test_batch_dask.py"
+EXPLODE = "tests/test_batch_explode.py"
 
 MUTATIONS: list[Mutation] = [
     # --- the list: two-phase rule, ties, check(), CLI errors, 3-D limit ---------
@@ -1883,6 +1884,79 @@ MUTATIONS: list[Mutation] = [
         "pass",
         ("tests/test_solve_geographic.py",),
         "optri solve gives costs in degrees without a word",
+    ),
+    # --- batch --explode: one Polygon row per triangle ----------------------------------
+    M(
+        "explode-numbers-triangles-across-the-chunk",
+        "src/optri/batch/tables.py",
+        "number = np.arange(len(row), dtype=np.int64) - (np.cumsum(counts) - counts)[row]",
+        "number = np.arange(len(row), dtype=np.int64)",
+        (EXPLODE, "-k", "round_trips and parquet-in.parquet"),
+        "a feature's triangles are numbered from the chunk's first, not from 0",
+    ),
+    M(
+        "explode-drops-error-rows",
+        "src/optri/batch/tables.py",
+        "lone = np.flatnonzero(counts == 0)",
+        "lone = np.flatnonzero(counts < 0)",
+        (EXPLODE, "-k", "round_trips and parquet-in.parquet"),
+        "error rows vanish from an exploded table output",
+    ),
+    M(
+        "explode-ogr-layer-says-collection",
+        "src/optri/batch/tables.py",
+        'kind = "Polygon" if is_exploded(schema) else "GeometryCollection"',
+        'kind = "GeometryCollection"',
+        (EXPLODE, "-k", "round_trips and gpkg-in.parquet"),
+        "a GeoPackage of triangles declares a GeometryCollection layer",
+    ),
+    M(
+        "explode-json-numbers-all-zero",
+        "src/optri/batch/writers.py",
+        "{**whole, \"geometry\": poly, \"properties\": {**fields, TRIANGLE: k}}",
+        "{**whole, \"geometry\": poly, \"properties\": {**fields, TRIANGLE: 0}}",
+        (EXPLODE, "-k", "round_trips and ndjson-in.ndjson"),
+        "every exploded GeoJSON feature says it is its feature's first triangle",
+    ),
+    M(
+        "explode-not-in-the-job",
+        "src/optri/batch/driver.py",
+        '"explode": s.explode,',
+        "",
+        (EXPLODE, "-k", "not_reused"),
+        "an output written without explode is reused by a run with it",
+    ),
+    M(
+        "explode-counts-triangles",
+        "src/optri/batch/driver.py",
+        "if s.explode:  # count features: the first row of each",
+        "if False:  # count features: the first row of each",
+        (EXPLODE, "-k", "round_trips and parquet-in.parquet"),
+        "the summary of an exploded columnar run counts triangles as features",
+    ),
+    M(
+        "explode-resume-counts-triangles",
+        "src/optri/batch/driver.py",
+        "return feature_rows(rows) if explode else rows\n\n\ndef _summary",
+        "return rows\n\n\ndef _summary",
+        (EXPLODE, "-k", "resumes"),
+        "parts adopted on resume are counted by triangle",
+    ),
+    M(
+        "explode-duplicates-are-triangles",
+        "src/optri/batch/driver.py",
+        "report_duplicates(duplicates, repeated, feature_rows(rows) if s.explode else rows)",
+        "report_duplicates(duplicates, repeated, rows)",
+        (EXPLODE, "-k", "duplicate"),
+        "the duplicate-id warning counts a feature's triangles as repeats",
+    ),
+    M(
+        "explode-dask-counts-triangles",
+        "src/optri/batch/dasklayer.py",
+        "features = part if first is None else part[first.to_numpy()]",
+        "features = part",
+        (EXPLODE, "-k", "dask_partition"),
+        "a Dask run's summary counts triangles as features",
     ),
     # --- batch: Arrow layers solved as columns, a chunk at a time ----------------------
     M(

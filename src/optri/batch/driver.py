@@ -31,6 +31,7 @@ from .runner import open_backend, run_tasks
 from .solver import check_options
 from .summary import BatchSummary, Counter, report_duplicates
 from .tablefiles import flavor_of, write_table
+from .tables import TRIANGLE, feature_rows
 from .writers import SINGLE_FILE_SUFFIXES, assemble, read_part, write_part
 
 __all__ = ["BatchSummary", "batch", "iter_records"]
@@ -54,6 +55,7 @@ class _Settings:
     out_fmt: str | None
     project: bool
     layer: str | None
+    explode: bool = False
 
 
 def batch(
@@ -74,6 +76,7 @@ def batch(
     out_fmt: str | None = None,
     project: bool = False,
     layer: str | None = None,
+    explode: bool = False,
 ) -> BatchSummary:
     r"""Triangulate every polygon of a layer, in parallel, into one record per feature.
 
@@ -116,6 +119,12 @@ def batch(
     layer : str, optional
         The layer to read from a file holding several (GeoPackage); such a
         file without ``layer`` is refused, its layers listed.
+    explode : bool
+        One output row per triangle (a Polygon) instead of one per feature: each
+        with the feature's id, attributes, ``status``, ``n``, ``cost``,
+        ``reason``, ``seconds`` and ``triangle`` (its number within the feature,
+        from 0); an error row stays one row without geometry. The summary still
+        counts features.
 
     Returns
     -------
@@ -171,6 +180,7 @@ def batch(
         out_fmt,
         project,
         layer,
+        explode,
     )
     with stop_signals_unwind():  # kill and hang-up also remove half-written parts
         if wants_dask_layer(scheduler, inp, out, fmt, out_fmt):  # workers read and write
@@ -186,6 +196,7 @@ def batch(
                 fmt=fmt,
                 overwrite=overwrite,
                 progress=progress,
+                explode=explode,
             )
         else:
             summary = _run(Path(inp), out, settings)
@@ -221,7 +232,7 @@ def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
                 raise BatchInputError(f"{layout.target} exists; pass --overwrite or --resume")
             if layout.single and layout.target.exists():
                 layout.check_receipt(job)
-                return _summary_of_existing(layout, start)
+                return _summary_of_existing(layout, start, s.explode)
         columnar = kind in ARROW_INPUTS and layout.part_fmt == "parquet" and config.BATCH_COLUMNAR
         if columnar:
             layer, source = open_arrow_batches(inp, kind, s.layer)
@@ -254,7 +265,8 @@ def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
             layout.write_receipt(manifest)
             shutil.rmtree(layout.parts_dir, ignore_errors=True)
         duplicates, repeated = counter.repeated_hashes()
-        report_duplicates(duplicates, repeated, iter_records(layout.target, layout.fmt))
+        rows = iter_records(layout.target, layout.fmt)
+        report_duplicates(duplicates, repeated, feature_rows(rows) if s.explode else rows)
         return counter.summary(layout.target, time.perf_counter() - start, duplicates)
 
 
@@ -275,12 +287,12 @@ def _solve_all(
     """Solve every pending chunk on the backend; the parent alone writes the parts."""
     in_flight: dict[int, list[Item]] = {}  # chunk index -> its Items (attributes included)
     layout = work.layout
-    tasks = _pending_tasks(items, work, {**s.options, "project": crs}, counter, in_flight)
+    tasks = _pending_tasks(items, work, {**s.options, "project": crs}, counter, in_flight, s)
 
     def done(task: Any, records: Any) -> None:
         chunk = in_flight.pop(task.index)
         part = layout.part(task.index)
-        write_part(part, layout.part_fmt, records, chunk, work.layer, layout.fmt)
+        write_part(part, layout.part_fmt, records, chunk, work.layer, layout.fmt, s.explode)
         layout.record(task.index, task.index * work.size, len(records), work.job)
         counter.add(records, reused=False)
 
@@ -304,16 +316,21 @@ def _solve_tables(
     def tasks() -> Iterator[TableTask]:
         for index, table in enumerate(chunks):
             if layout.adopted(index, work.recorded):
-                counter.add(read_part(layout.part(index), layout.part_fmt), reused=True)
+                counter.add(_adopted(layout, index, s.explode), reused=True)
                 continue
             first = index * work.size
             fid, table = _ids_of(table, source.fid, first)
             renames = work.layer.renames
-            yield TableTask(index, table, source.geometry, first, fid, renames, flavor, **options)
+            yield TableTask(
+                index, table, source.geometry, first, fid, renames, flavor, s.explode, **options
+            )
 
     def done(task: Any, table: Any) -> None:
         part = layout.part(task.index)
         write_table(part, table, layout.part_fmt, work.layer, layout.parts_dir, durable=False)
+        if s.explode:  # count features: the first row of each
+            pc = import_optional("pyarrow.compute")
+            table = table.filter(pc.fill_null(pc.equal(table.column(TRIANGLE), 0), True))
         layout.record(task.index, task.index * work.size, table.num_rows, work.job)
         counter.add_rows(table.column("id").to_pylist(), table.column("status").to_pylist())
 
@@ -421,6 +438,7 @@ def _pending_tasks(
     options: dict[str, Any],
     counter: Counter,
     in_flight: dict[int, list[Item]],
+    s: _Settings,
 ) -> Iterator[ChunkTask]:
     """Chunk tasks by input position, skipping (and counting) parts the ledger vouches for."""
     it = iter(items)
@@ -430,7 +448,7 @@ def _pending_tasks(
         if not chunk:
             return
         if layout.adopted(index, work.recorded):
-            counter.add(read_part(layout.part(index), layout.part_fmt), reused=True)
+            counter.add(_adopted(layout, index, s.explode), reused=True)
             continue
         in_flight[index] = chunk
         yield ChunkTask(index, [item.for_worker() for item in chunk], **options)
@@ -481,6 +499,7 @@ def _job(inp: Path, kind: str, layout: Layout, s: _Settings) -> dict[str, Any]:
         "objective": repr(s.options["objective"]),
         "method": s.options["method"],
         "project": s.project,
+        "explode": s.explode,
         "optri": __version__,
     }
 
@@ -492,7 +511,14 @@ def _manifest_value(layout: Layout, key: str) -> Any:
         return None
 
 
-def _summary_of_existing(layout: Layout, start: float) -> BatchSummary:
+def _adopted(layout: Layout, index: int, explode: bool) -> Iterator[dict]:
+    """The records of an earlier run's part ``index``: one per feature."""
+    rows = read_part(layout.part(index), layout.part_fmt)
+    return feature_rows(rows) if explode else rows
+
+
+def _summary_of_existing(layout: Layout, start: float, explode: bool) -> BatchSummary:
     counter = Counter(None, 0)
-    counter.add(read_part(layout.target, layout.fmt), reused=True)
+    rows = read_part(layout.target, layout.fmt)
+    counter.add(feature_rows(rows) if explode else rows, reused=True)
     return counter.summary(layout.target, time.perf_counter() - start)
