@@ -82,6 +82,9 @@ BATCH_CHUNK_SAMPLE = 256
 #: Arrow layers (GeoParquet, GeoPackage, FlatGeobuf, shapefile) into table outputs are
 #: solved as columns, a chunk at a time (optri.batch.chunks); False: feature by feature.
 BATCH_COLUMNAR = True
+#: On the local pool, workers read their chunk's rows from the layer, solve them and write
+#: the part themselves (optri.batch.partwork); False: the parent reads and writes.
+BATCH_WORKERS_READ = True
 #: Batch: chunks in flight per worker (keeps workers busy without reading ahead far).
 BATCH_IN_FLIGHT_PER_WORKER = 2
 #: Batch: rows per Parquet record batch / GeoPackage page while reading.

@@ -21,9 +21,10 @@ from ..errors import BatchFailedError, BatchInputError
 from ..io.atomic import write_json
 from .chunks import TableTask
 from .dasklayer import dask_layer, wants_dask_layer
-from .geo import ArrowSource, open_arrow_batches
-from .layer import Layer, renamed_columns, warn_geographic
+from .geo import ArrowSource, count_rows, open_arrow_batches
+from .layer import Layer, warn_geographic
 from .layout import Layout, file_sha256, job_key, output_lock, plan_layout
+from .partwork import LayerRows, PartWritten, ReadTask, ids_of
 from .project import local_projector
 from .readers import count_items, detect_input_format, open_layer
 from .records import ChunkTask, Item
@@ -253,7 +254,10 @@ def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
         total = (count_items(inp, kind, s.layer) or 0) if s.progress is not None else 0
         counter = Counter(s.progress, total)
         work = _Work(layout, layer, size, job_key(manifest), recorded)
-        if columnar:
+        reader = _rows_for_workers(inp, kind, source, s) if columnar else None
+        if reader is not None:
+            _solve_read_tasks(work, reader, source, s, crs, counter)
+        elif columnar:
             _solve_tables(work, chunks, source, s, crs, counter)
         else:
             _solve_all(work, items, s, crs, counter)
@@ -319,48 +323,94 @@ def _solve_tables(
                 counter.add(_adopted(layout, index, s.explode), reused=True)
                 continue
             first = index * work.size
-            fid, table = _ids_of(table, source.fid, first)
+            fid, table = ids_of(table, source.fid, first)
             renames = work.layer.renames
             yield TableTask(
                 index, table, source.geometry, first, fid, renames, flavor, s.explode, **options
             )
 
+    with open_backend(s.scheduler, s.workers) as backend:
+        run_tasks(backend, tasks(), _table_done(work, s, counter))
+
+
+def _table_done(work: _Work, s: _Settings, counter: Counter) -> Callable[[Any, Any], None]:
+    """What the parent does with a finished table chunk: a part a worker wrote, or a table."""
+    layout = work.layout
+
     def done(task: Any, table: Any) -> None:
+        first = task.index * work.size
+        if isinstance(table, PartWritten):  # the worker wrote the part and hashed it
+            layout.record(task.index, first, table.rows, work.job, table.sha256)
+            counter.add_counts(table.hashes, table.ok)
+            return
         part = layout.part(task.index)
         write_table(part, table, layout.part_fmt, work.layer, layout.parts_dir, durable=False)
         if s.explode:  # count features: the first row of each
             pc = import_optional("pyarrow.compute")
             table = table.filter(pc.fill_null(pc.equal(table.column(TRIANGLE), 0), True))
-        layout.record(task.index, task.index * work.size, table.num_rows, work.job)
+        layout.record(task.index, first, table.num_rows, work.job)
         counter.add_rows(table.column("id").to_pylist(), table.column("status").to_pylist())
 
-    with open_backend(s.scheduler, s.workers) as backend:
-        run_tasks(backend, tasks(), done)
+    return done
 
 
-def _ids_of(table: Any, fid: str | None, first: int) -> tuple[str | None, Any]:
-    """Where a chunk's ids are: its ``id`` column (nulls filled as positions), or the FID.
+def _rows_for_workers(inp: Path, kind: str, source: ArrowSource, s: _Settings) -> LayerRows | None:
+    """How workers read the layer's rows themselves; None when the parent must read them.
 
-    As for Items (:func:`~optri.batch.records.json_id`): an ``id`` attribute,
-    else the FID, else the position in the layer.
+    The parent reads when asked to (``config.BATCH_WORKERS_READ``), for Dask (its
+    workers need not share the parent's files) and when the row count is unknown.
     """
-    if "id" not in table.column_names:
-        return fid, table
-    pa = import_optional("pyarrow")
-    if fid is not None:
-        fallback = table.column(fid).to_pylist()
-        table = table.drop_columns([fid])
-    else:
-        fallback = list(range(first, first + table.num_rows))
-    col = table.column("id")
-    if col.null_count:  # the ids differ from the attribute: it stays, renamed (as for Items)
-        values = [v if v is not None else f for v, f in zip(col.to_pylist(), fallback)]
-        if pa.types.is_string(col.type):
-            values = [str(v) for v in values]
-        k = table.schema.get_field_index("id")
-        kept = renamed_columns(table.column_names, ("id",))["id"]
-        table = table.set_column(k, kept, col).append_column("id", pa.array(values, col.type))
-    return None, table
+    if not config.BATCH_WORKERS_READ or s.scheduler not in (None, "local", "processes"):
+        return None
+    if kind == "parquet":
+        pq = import_optional("pyarrow.parquet")
+        meta = pq.ParquetFile(inp).metadata
+        groups = tuple(meta.row_group(k).num_rows for k in range(meta.num_row_groups))
+        return LayerRows(str(inp), kind, sum(groups), row_groups=groups)
+    total = count_rows(inp, kind, s.layer)
+    if total is None:
+        return None
+    query = tuple(sorted(source.query.items()))
+    stamps = tuple(sorted(source.stamps.items()))
+    return LayerRows(str(inp), kind, total, query=query, stamps=stamps)
+
+
+def _solve_read_tasks(
+    work: _Work,
+    rows: LayerRows,
+    source: ArrowSource,
+    s: _Settings,
+    crs: str | None,
+    counter: Counter,
+) -> None:
+    """Every pending chunk as a :class:`~optri.batch.partwork.ReadTask`: workers read and write."""
+    layout = work.layout
+    options = {**s.options, "project": crs}
+    flavor = flavor_of(layout.fmt)
+    total = rows.rows
+
+    def tasks() -> Iterator[ReadTask]:
+        for index, first in enumerate(range(0, total, work.size)):
+            if layout.adopted(index, work.recorded):
+                counter.add(_adopted(layout, index, s.explode), reused=True)
+                continue
+            yield ReadTask(
+                index,
+                rows,
+                first,
+                min(work.size, total - first),
+                source.geometry,
+                source.fid,
+                work.layer.renames,
+                flavor,
+                s.explode,
+                str(layout.part(index)),
+                work.layer.crs,
+                **options,
+            )
+
+    with open_backend(s.scheduler, s.workers) as backend:
+        run_tasks(backend, tasks(), _table_done(work, s, counter))
 
 
 def _table_chunks(
