@@ -126,6 +126,12 @@ def test_explode_round_trips(tmp_path, source, out):
     assert (again.total, again.ok) == (9, 5)  # reused, still counted by feature
 
 
+def test_explode_when_the_parent_reads_the_chunks(tmp_path, monkeypatch):
+    monkeypatch.setattr(config, "BATCH_WORKERS_READ", False)
+    src = _layer(tmp_path / "in.parquet")
+    _check(tmp_path / "o.parquet", batch(src, tmp_path / "o.parquet", workers=1, explode=True))
+
+
 def test_columnar_and_record_paths_write_the_same_rows(tmp_path, monkeypatch):
     src = _layer(tmp_path / "in.parquet")
     batch(src, tmp_path / "a.parquet", workers=1, chunk_size=4, explode=True)

@@ -52,6 +52,7 @@ CONTOURS_CLI = "tests/test_contours_cli.py"
 TEXTURES = "tests/test_mesh_textures.py"
 DASK = "tests/test_batch_dask.py"
 EXPLODE = "tests/test_batch_explode.py"
+PARTWORK = "tests/test_batch_partwork.py"
 
 MUTATIONS: list[Mutation] = [
     # --- the list: two-phase rule, ties, check(), CLI errors, 3-D limit ---------
@@ -1931,7 +1932,7 @@ MUTATIONS: list[Mutation] = [
         "src/optri/batch/driver.py",
         "if s.explode:  # count features: the first row of each",
         "if False:  # count features: the first row of each",
-        (EXPLODE, "-k", "round_trips and parquet-in.parquet"),
+        (EXPLODE, "-k", "parent_reads"),
         "the summary of an exploded columnar run counts triangles as features",
     ),
     M(
@@ -1957,6 +1958,63 @@ MUTATIONS: list[Mutation] = [
         "features = part",
         (EXPLODE, "-k", "dask_partition"),
         "a Dask run's summary counts triangles as features",
+    ),
+    # --- batch: workers read, solve and write their own parts ---------------------------
+    M(
+        "partwork-split-rows-all-read-the-first",
+        "src/optri/batch/runner.py",
+        "dataclasses.replace(task, first=task.first + k, count=1, offset=k)",
+        "dataclasses.replace(task, first=task.first, count=1, offset=k)",
+        (PARTWORK, "-k", "kills"),
+        "each one-row task of a killing chunk reads the chunk's first row",
+    ),
+    M(
+        "partwork-parquet-rows-from-the-row-group-start",
+        "src/optri/batch/partwork.py",
+        "return table.slice(first - int(offsets[lo]), count)",
+        "return table.slice(0, count)",
+        (PARTWORK, "-k", "read_their_rows"),
+        "a chunk starting inside a row group reads the group's first rows",
+    ),
+    M(
+        "partwork-ledger-hash-wrong",
+        "src/optri/batch/partwork.py",
+        "written = PartWritten(part.name, features.num_rows, file_sha256(part), hashes, ok)",
+        'written = PartWritten(part.name, features.num_rows, "0" * 64, hashes, ok)',
+        (PARTWORK, "-k", "resume"),
+        "the ledger does not vouch for the parts workers wrote: a resume redoes them all",
+    ),
+    M(
+        "partwork-ok-count-inverted",
+        "src/optri/batch/partwork.py",
+        'ok = int(np.count_nonzero(np.asarray(features.column("status").to_pylist()) == "ok"))',
+        'ok = int(np.count_nonzero(np.asarray(features.column("status").to_pylist()) != "ok"))',
+        (PARTWORK, "-k", "read_their_rows"),
+        "the summary counts error rows as ok",
+    ),
+    M(
+        "partwork-explode-counts-triangles",
+        "src/optri/batch/partwork.py",
+        "if task.explode:  # count features: the first row of each",
+        "if False:  # count features: the first row of each",
+        (EXPLODE, "-k", "round_trips and parquet-in.parquet"),
+        "a worker's exploded part is counted by triangle",
+    ),
+    M(
+        "id-hash-differs-between-processes",
+        "src/optri/batch/summary.py",
+        'return int.from_bytes(digest.digest(), "little", signed=True)',
+        "return hash(str(value))",
+        (PARTWORK, "-k", "duplicate or id_hash"),
+        "ids hashed by workers and by the parent disagree: duplicates go unseen",
+    ),
+    M(
+        "partwork-off",
+        "src/optri/config.py",
+        "BATCH_WORKERS_READ = True",
+        "BATCH_WORKERS_READ = False",
+        (PARTWORK, "-k", "read_their_rows"),
+        "the parent reads every chunk and writes every part again",
     ),
     # --- batch: Arrow layers solved as columns, a chunk at a time ----------------------
     M(
@@ -1985,7 +2043,7 @@ MUTATIONS: list[Mutation] = [
     ),
     M(
         "columnar-null-ids-overwrite-the-attribute",
-        "src/optri/batch/driver.py",
+        "src/optri/batch/partwork.py",
         "table = table.set_column(k, kept, col).append_column(",
         "table = table.remove_column(k).append_column(",
         ("tests/test_batch_columnar.py", "-k", "feature_paths"),

@@ -2,7 +2,9 @@
 
 All three backends run the same :func:`solve_task` (records of a chunk of
 Items, or the output table of an Arrow chunk: :mod:`.chunks`) and hand results
-back to the calling process, which alone writes part files. At most
+back to the calling process, which writes their part files; a chunk of an Arrow
+layer on the local pool is read, solved and written by its worker, which hands
+back only what the ledger and the summary need (:mod:`.partwork`). At most
 ``config.BATCH_IN_FLIGHT_PER_WORKER * workers`` chunks are queued at once, so memory does not
 grow with the input.
 
