@@ -150,3 +150,15 @@ def test_id_hash_is_the_same_in_every_process():
     code = "from optri.batch.summary import id_hash; print(id_hash('bldg-7'), id_hash(12))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == [str(id_hash("bldg-7")), str(id_hash(12))]
+
+
+def _unit(vertices, i, k, j):
+    return 1.0
+
+
+def test_compiled_chunks_are_larger(tmp_path):
+    src = _write(tmp_path / "in.parquet")
+    batch(src, tmp_path / "a", workers=1, out_fmt="parquet")
+    batch(src, tmp_path / "b", workers=1, out_fmt="parquet", weight=_unit)  # per polygon
+    size = {d: json.loads((tmp_path / d / "_manifest.json").read_text())["chunk_size"] for d in "ab"}
+    assert size == {"a": config.BATCH_CHUNK_MAX, "b": 635}  # the per-polygon budget

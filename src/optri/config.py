@@ -73,6 +73,9 @@ HOLES_DEGENERATE_ASPECT = 1e12
 MESH_MERGE_RTOL = 0.0
 #: Batch: work per chunk, in units of one weight evaluation (about a microsecond in Python).
 BATCH_CHUNK_WORK = 400_000
+#: Batch: the same for chunks of an Arrow layer solved as columns by the compiled kernel,
+#: whose weight evaluations cost a few nanoseconds: larger chunks, fewer parts and tasks.
+BATCH_COMPILED_CHUNK_WORK = 20_000_000
 #: Batch: fixed per-polygon work (validation, result building) in the same units.
 BATCH_POLYGON_WORK = 600
 #: Batch: chunk size bounds, and how many polygons are sampled to pick a size.

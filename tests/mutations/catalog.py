@@ -2009,6 +2009,14 @@ MUTATIONS: list[Mutation] = [
         "ids hashed by workers and by the parent disagree: duplicates go unseen",
     ),
     M(
+        "compiled-chunks-as-small-as-python-ones",
+        "src/optri/batch/driver.py",
+        "return config.BATCH_COMPILED_CHUNK_WORK if compiled else config.BATCH_CHUNK_WORK",
+        "return config.BATCH_CHUNK_WORK",
+        (PARTWORK, "-k", "compiled_chunks"),
+        "columnar chunks sized for pure-Python work: many tiny tasks",
+    ),
+    M(
         "partwork-off",
         "src/optri/config.py",
         "BATCH_WORKERS_READ = True",

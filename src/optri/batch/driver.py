@@ -20,6 +20,7 @@ from ..engines.interrupts import stop_signals_unwind
 from ..errors import BatchFailedError, BatchInputError
 from ..io.atomic import write_json
 from .chunks import TableTask
+from .compiled import many_plan
 from .dasklayer import dask_layer, wants_dask_layer
 from .geo import ArrowSource, count_rows, open_arrow_batches
 from .layer import Layer, warn_geographic
@@ -29,7 +30,7 @@ from .project import local_projector
 from .readers import count_items, detect_input_format, open_layer
 from .records import ChunkTask, Item
 from .runner import open_backend, run_tasks
-from .solver import check_options
+from .solver import SolveOptions, check_options
 from .summary import BatchSummary, Counter, report_duplicates
 from .tablefiles import flavor_of, write_table
 from .tables import TRIANGLE, feature_rows
@@ -237,7 +238,10 @@ def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
         columnar = kind in ARROW_INPUTS and layout.part_fmt == "parquet" and config.BATCH_COLUMNAR
         if columnar:
             layer, source = open_arrow_batches(inp, kind, s.layer)
-            chunks, size = _table_chunks(source, s.chunk_size, None if s.overwrite else layout)
+            budget = _chunk_work(s.options)
+            chunks, size = _table_chunks(
+                source, s.chunk_size, None if s.overwrite else layout, budget
+            )
         else:
             layer, items = open_layer(inp, kind, s.layer)
             items, size = _choose_chunk_size(items, s.chunk_size, None if s.overwrite else layout)
@@ -413,8 +417,14 @@ def _solve_read_tasks(
         run_tasks(backend, tasks(), _table_done(work, s, counter))
 
 
+def _chunk_work(options: dict[str, Any]) -> int:
+    """Work per columnar chunk: larger when the compiled kernel solves it (see config)."""
+    compiled = many_plan(SolveOptions(**options, threads=1)) is not None
+    return config.BATCH_COMPILED_CHUNK_WORK if compiled else config.BATCH_CHUNK_WORK
+
+
 def _table_chunks(
-    source: ArrowSource, chunk_size: int | None, layout: Layout | None
+    source: ArrowSource, chunk_size: int | None, layout: Layout | None, work: int
 ) -> tuple[Iterator[Any], int]:
     """The layer's rows as tables of ``size`` rows (the last may be shorter), and ``size``."""
     pa = import_optional("pyarrow")
@@ -432,7 +442,7 @@ def _table_chunks(
         raw = column.slice(0, config.BATCH_CHUNK_SAMPLE).to_numpy(zero_copy_only=False)
         geoms = shapely.from_wkb(raw, on_invalid="ignore")
         n = shapely.get_num_coordinates(geoms) - shapely.get_num_interior_rings(geoms) - 1
-        size = auto_chunk_size([Item(0, [[0, 0]] * max(int(k), 0)) for k in n])
+        size = auto_chunk_size([Item(0, [[0, 0]] * max(int(k), 0)) for k in n], work)
 
     def chunks() -> Iterator[Any]:
         held: list[Any] = []
@@ -520,18 +530,23 @@ def _choose_chunk_size(
     return itertools.chain(sample, items), auto_chunk_size(sample)
 
 
-def auto_chunk_size(sample: list[Item]) -> int:
-    """Polygons per chunk so one chunk is about ``config.BATCH_CHUNK_WORK`` (O(n^3) per polygon).
+def auto_chunk_size(sample: list[Item], budget: int | None = None) -> int:
+    """Polygons per chunk so one chunk is about ``budget`` work (O(n^3) per polygon).
+
+    ``budget`` defaults to ``config.BATCH_CHUNK_WORK``.
 
     >>> auto_chunk_size([Item(0, [[0, 0]] * 64)]), auto_chunk_size([Item(0, [[0, 0]] * 8)])
     (9, 583)
+    >>> auto_chunk_size([Item(0, [[0, 0]] * 64)], config.BATCH_COMPILED_CHUNK_WORK)
+    451
     """
     lo, hi = config.BATCH_CHUNK_MIN, config.BATCH_CHUNK_MAX
     if not sample:
         return lo
     sizes = [len(it.coords) if it.reason is None and it.coords is not None else 0 for it in sample]
     work = sum(config.BATCH_POLYGON_WORK + n**3 / 6 for n in sizes) / len(sizes)
-    return int(min(hi, max(lo, config.BATCH_CHUNK_WORK // work)))
+    budget = config.BATCH_CHUNK_WORK if budget is None else budget
+    return int(min(hi, max(lo, budget // work)))
 
 
 def _job(inp: Path, kind: str, layout: Layout, s: _Settings) -> dict[str, Any]:
