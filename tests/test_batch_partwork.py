@@ -160,5 +160,6 @@ def test_compiled_chunks_are_larger(tmp_path):
     src = _write(tmp_path / "in.parquet")
     batch(src, tmp_path / "a", workers=1, out_fmt="parquet")
     batch(src, tmp_path / "b", workers=1, out_fmt="parquet", weight=_unit)  # per polygon
-    size = {d: json.loads((tmp_path / d / "_manifest.json").read_text())["chunk_size"] for d in "ab"}
+    manifests = {d: json.loads((tmp_path / d / "_manifest.json").read_text()) for d in "ab"}
+    size = {d: m["chunk_size"] for d, m in manifests.items()}
     assert size == {"a": config.BATCH_CHUNK_MAX, "b": 635}  # the per-polygon budget
