@@ -258,11 +258,9 @@ def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
         total = (count_items(inp, kind, s.layer) or 0) if s.progress is not None else 0
         counter = Counter(s.progress, total)
         work = _Work(layout, layer, size, job_key(manifest), recorded)
-        reader = _rows_for_workers(inp, kind, source, s) if columnar else None
-        if reader is not None:
-            _solve_read_tasks(work, reader, source, s, crs, counter)
-        elif columnar:
-            _solve_tables(work, chunks, source, s, crs, counter)
+        if columnar:
+            reader = _rows_for_workers(inp, kind, source, s)
+            _solve_tables(work, chunks, source, s, crs, counter, reader)
         else:
             _solve_all(work, items, s, crs, counter)
         if not layout.single:  # the parts are the product: on disk before _SUCCESS says so
@@ -315,23 +313,40 @@ def _solve_tables(
     s: _Settings,
     crs: str | None,
     counter: Counter,
+    reader: LayerRows | None = None,
 ) -> None:
-    """Solve every pending chunk of an Arrow layer as a table (:mod:`.chunks`); write its part."""
+    """Solve every pending chunk of an Arrow layer as a table (:mod:`.chunks`).
+
+    With ``reader`` each chunk goes to a worker as a :class:`~optri.batch.partwork.ReadTask`
+    (the worker reads its rows and writes its part); else the parent reads the
+    chunks (``chunks``) and writes their parts.
+    """
     layout = work.layout
     options = {**s.options, "project": crs}
     flavor = flavor_of(layout.fmt)
+    renames = work.layer.renames
 
-    def tasks() -> Iterator[TableTask]:
-        for index, table in enumerate(chunks):
+    def task(index: int, table: Any) -> TableTask | ReadTask:
+        first = index * work.size
+        if reader is not None:
+            count = min(work.size, reader.rows - first)
+            part = str(layout.part(index))
+            return ReadTask(
+                index, reader, first, count, source.geometry, source.fid, renames, flavor,
+                s.explode, part, work.layer.crs, **options,
+            )  # fmt: skip
+        fid, table = ids_of(table, source.fid, first)
+        return TableTask(
+            index, table, source.geometry, first, fid, renames, flavor, s.explode, **options
+        )
+
+    def tasks() -> Iterator[TableTask | ReadTask]:
+        count = -(-reader.rows // work.size) if reader is not None else 0
+        for index, table in enumerate(itertools.repeat(None, count) if count else chunks):
             if layout.adopted(index, work.recorded):
                 counter.add(_adopted(layout, index, s.explode), reused=True)
                 continue
-            first = index * work.size
-            fid, table = ids_of(table, source.fid, first)
-            renames = work.layer.renames
-            yield TableTask(
-                index, table, source.geometry, first, fid, renames, flavor, s.explode, **options
-            )
+            yield task(index, table)
 
     with open_backend(s.scheduler, s.workers) as backend:
         run_tasks(backend, tasks(), _table_done(work, s, counter))
@@ -377,44 +392,6 @@ def _rows_for_workers(inp: Path, kind: str, source: ArrowSource, s: _Settings) -
     query = tuple(sorted(source.query.items()))
     stamps = tuple(sorted(source.stamps.items()))
     return LayerRows(str(inp), kind, total, query=query, stamps=stamps)
-
-
-def _solve_read_tasks(
-    work: _Work,
-    rows: LayerRows,
-    source: ArrowSource,
-    s: _Settings,
-    crs: str | None,
-    counter: Counter,
-) -> None:
-    """Every pending chunk as a :class:`~optri.batch.partwork.ReadTask`: workers read and write."""
-    layout = work.layout
-    options = {**s.options, "project": crs}
-    flavor = flavor_of(layout.fmt)
-    total = rows.rows
-
-    def tasks() -> Iterator[ReadTask]:
-        for index, first in enumerate(range(0, total, work.size)):
-            if layout.adopted(index, work.recorded):
-                counter.add(_adopted(layout, index, s.explode), reused=True)
-                continue
-            yield ReadTask(
-                index,
-                rows,
-                first,
-                min(work.size, total - first),
-                source.geometry,
-                source.fid,
-                work.layer.renames,
-                flavor,
-                s.explode,
-                str(layout.part(index)),
-                work.layer.crs,
-                **options,
-            )
-
-    with open_backend(s.scheduler, s.workers) as backend:
-        run_tasks(backend, tasks(), _table_done(work, s, counter))
 
 
 def _chunk_work(options: dict[str, Any]) -> int:
