@@ -14,7 +14,7 @@ pyogrio = pytest.importorskip("pyogrio")
 shapely = pytest.importorskip("shapely")
 pytest.importorskip("scipy")
 
-from batch_polys import killer  # noqa: E402
+from batch_polys import killer, write_arrow_layer  # noqa: E402
 from optri import config  # noqa: E402
 from optri.batch import iter_records, partwork, strip_timing  # noqa: E402
 from optri.batch.driver import batch  # noqa: E402
@@ -46,24 +46,7 @@ def _write(path, ids=None):
     if ids is not None:
         cols["id"] = ids
     cols["geometry"] = pa.array(shapely.to_wkb(np.array(GEOMS, object)), pa.binary())
-    table = pa.table(cols)
-    if path.suffix == ".parquet":
-        column = {"encoding": "WKB", "geometry_types": [], "crs": "EPSG:32633"}
-        geo = {"version": "1.1.0", "primary_column": "geometry", "columns": {"geometry": column}}
-        meta = {b"geo": json.dumps(geo)}
-        pq.write_table(table.replace_schema_metadata(meta), path, row_group_size=3)
-    else:
-        driver = {".gpkg": "GPKG", ".fgb": "FlatGeobuf"}[path.suffix]
-        pyogrio.write_arrow(
-            table,
-            path,
-            driver=driver,
-            geometry_name="geometry",
-            geometry_type="Unknown",
-            crs="EPSG:32633",
-            layer_options={"SPATIAL_INDEX": "NO"} if driver == "FlatGeobuf" else None,
-        )
-    return path
+    return write_arrow_layer(path, pa.table(cols), row_group_size=3)
 
 
 def _records(out):
