@@ -65,3 +65,30 @@ def killer(vertices, i, k, j):
 
         os.kill(os.getpid(), signal.SIGKILL)
     return 1.0
+
+
+def write_arrow_layer(path: Path, table, row_group_size: int | None = None) -> Path:
+    """An Arrow table with a WKB ``geometry`` column as GeoParquet, GeoPackage or FlatGeobuf.
+
+    The CRS is EPSG:32633; FlatGeobuf is written without a spatial index (rows stay in order).
+    """
+    import pyarrow.parquet as pq
+    import pyogrio
+
+    if path.suffix == ".parquet":
+        column = {"encoding": "WKB", "geometry_types": [], "crs": "EPSG:32633"}
+        geo = {"version": "1.1.0", "primary_column": "geometry", "columns": {"geometry": column}}
+        meta = {b"geo": json.dumps(geo)}
+        pq.write_table(table.replace_schema_metadata(meta), path, row_group_size=row_group_size)
+        return path
+    driver = {".gpkg": "GPKG", ".fgb": "FlatGeobuf"}[path.suffix]
+    pyogrio.write_arrow(
+        table,
+        path,
+        driver=driver,
+        geometry_name="geometry",
+        geometry_type="Unknown",
+        crs="EPSG:32633",
+        layer_options={"SPATIAL_INDEX": "NO"} if driver == "FlatGeobuf" else None,
+    )
+    return path

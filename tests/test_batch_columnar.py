@@ -15,7 +15,7 @@ pytest.importorskip("scipy")
 
 from batch_polys import killer  # noqa: E402
 from optri import config  # noqa: E402
-from optri.batch import chunks, iter_records, runner, strip_timing  # noqa: E402
+from optri.batch import chunks, iter_records, partwork, runner, strip_timing  # noqa: E402
 from optri.batch.driver import batch  # noqa: E402
 
 HEPT = shapely.Polygon([(np.cos(a), np.sin(a)) for a in np.linspace(0, 6, 7)])
@@ -67,6 +67,7 @@ def test_columns_give_the_feature_paths_records(tmp_path, monkeypatch, source, i
     real = chunks.solve_table
     monkeypatch.setattr(chunks, "solve_table", lambda t: (calls.append(t), real(t))[1])
     monkeypatch.setattr(runner, "solve_table", chunks.solve_table)
+    monkeypatch.setattr(partwork, "solve_table", chunks.solve_table)  # the worker reads too
     fmt = "parquet" if out.endswith("/") else None  # a directory of Parquet parts
     batch(src, str(tmp_path / "a" / out), workers=1, chunk_size=4, out_fmt=fmt)
     assert len(calls) == 3  # nine rows, chunks of four: solved as tables

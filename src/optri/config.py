@@ -67,6 +67,9 @@ HOLES_CHUNK_WORK = 2e7
 MESH_MERGE_RTOL = 0.0
 #: Batch: work per chunk, in units of one weight evaluation (about a microsecond in Python).
 BATCH_CHUNK_WORK = 400_000
+#: Batch: the same for chunks of an Arrow layer solved as columns by the compiled kernel,
+#: whose weight evaluations cost a few nanoseconds: larger chunks, fewer parts and tasks.
+BATCH_COMPILED_CHUNK_WORK = 20_000_000
 #: Batch: fixed per-polygon work (validation, result building) in the same units.
 BATCH_POLYGON_WORK = 600
 #: Batch: chunk size bounds, and how many polygons are sampled to pick a size.
@@ -76,6 +79,9 @@ BATCH_CHUNK_SAMPLE = 256
 #: Arrow layers (GeoParquet, GeoPackage, FlatGeobuf, shapefile) into table outputs are
 #: solved as columns, a chunk at a time (optri.batch.chunks); False: feature by feature.
 BATCH_COLUMNAR = True
+#: On the local pool, workers read their chunk's rows from the layer, solve them and write
+#: the part themselves (optri.batch.partwork); False: the parent reads and writes.
+BATCH_WORKERS_READ = True
 #: Batch: chunks in flight per worker (keeps workers busy without reading ahead far).
 BATCH_IN_FLIGHT_PER_WORKER = 2
 #: Batch: rows per Parquet record batch / GeoPackage page while reading.

@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 from .._optional import import_optional
 from .columns import OK, Ragged, Solved, ragged_from_arrow, solve_ragged, triangle_wkb
 from .records import TaskOptions
-from .tables import GEOMETRY, OPTRI_META, ogr_column
+from .tables import GEOMETRY, OPTRI_META, explode_table, ogr_column
 
 __all__ = ["TableTask", "local_indices", "row_diagonals", "solve_table"]
 
@@ -49,6 +49,7 @@ class TableTask(TaskOptions):
     fid: str | None
     renames: dict[str, str]
     flavor: str
+    explode: bool = False
 
     @property
     def items(self) -> list[Any]:
@@ -65,7 +66,11 @@ class TableTask(TaskOptions):
 
 
 def solve_table(task: TableTask) -> tuple[int, Any]:
-    """Solve one chunk; returns ``(task.index, output table)``."""
+    """Solve one chunk; returns ``(task.index, output table)``.
+
+    With ``task.explode`` the table has one row per triangle
+    (:func:`~optri.batch.tables.explode_table`).
+    """
     pa = import_optional("pyarrow")
     table = task.table
     ragged = ragged_from_arrow(table.column(task.geometry))
@@ -99,7 +104,8 @@ def solve_table(task: TableTask) -> tuple[int, Any]:
     cols[GEOMETRY] = pa.array(wkb.tolist(), pa.binary())
     out = pa.table(cols)
     z = bool(ragged.has_z and ragged.row_z[ok].any())
-    return task.index, out.replace_schema_metadata({OPTRI_META: json.dumps({"has_z": z})})
+    out = out.replace_schema_metadata({OPTRI_META: json.dumps({"has_z": z})})
+    return task.index, explode_table(out) if task.explode else out
 
 
 def local_indices(ragged: Ragged, solved: Solved) -> NDArray[np.int64]:

@@ -20,6 +20,7 @@ output never exists half made.
 from __future__ import annotations
 
 import contextlib
+import functools
 import json
 import logging
 import os
@@ -100,6 +101,7 @@ def dask_layer(
     fmt: str | None = None,
     overwrite: bool = False,
     progress: Any = None,
+    explode: bool = False,
 ) -> BatchSummary:
     """Triangulate a layer on a Dask cluster: workers read, solve and write GeoParquet parts.
 
@@ -134,6 +136,9 @@ def dask_layer(
         Replace an existing output (otherwise an existing output is an error).
     progress : callable, optional
         ``progress(done, total)``, called once the run is complete.
+    explode : bool
+        One row per triangle (:func:`optri.triangulate_many` with ``explode=True``);
+        the summary still counts features.
 
     Returns
     -------
@@ -181,9 +186,10 @@ def dask_layer(
         staging.mkdir(parents=True)
         try:
             ddf = _read(src, kind, npartitions, chunksize, layer)
-            solved = triangulate_dask(ddf, triangulate_many, options, project)
+            solve = functools.partial(triangulate_many, explode=explode)
+            solved = triangulate_dask(ddf, solve, options, project)
             written = solved.map_partitions(
-                write_partition, str(staging), partition_info=True, meta=_counts_meta()
+                write_partition, str(staging), explode, partition_info=True, meta=_counts_meta()
             )
             with _client(scheduler, workers) as client:
                 counts = client.compute(written).result()
@@ -234,13 +240,16 @@ def _parquet_files(src: Path) -> list[Path]:
     return sorted(src.rglob("*.parquet")) if src.is_dir() else [src]
 
 
-def write_partition(part: Any, folder: str, partition_info: dict | None = None) -> Any:
+def write_partition(
+    part: Any, folder: str, explode: bool = False, partition_info: dict | None = None
+) -> Any:
     """Write one solved partition as ``part.NNNNN.parquet`` in ``folder``, atomically.
 
     The file is written under a temporary name, flushed to disk and renamed, so
     the part's name only ever holds a complete part, and a task Dask reruns
     (its worker died) replaces the part instead of adding rows. Returns one row
-    of counts (partition number, rows, ok rows) for the parent.
+    of counts (partition number, features, ok features) for the parent; the
+    rows of an ``explode``-d feature share its index, one after another.
     """
     pd = import_optional("pandas", "geo")
     number = 0 if partition_info is None else int(partition_info["number"])
@@ -253,8 +262,10 @@ def write_partition(part: Any, folder: str, partition_info: dict | None = None) 
     finally:
         with contextlib.suppress(FileNotFoundError):
             temp.unlink()
-    ok = int((part["status"] == "ok").sum())
-    return pd.DataFrame({"part": [number], "rows": [len(part)], "ok": [ok]})
+    first = part.index.to_series() != part.index.to_series().shift() if explode else None
+    features = part if first is None else part[first.to_numpy()]
+    ok = int((features["status"] == "ok").sum())
+    return pd.DataFrame({"part": [number], "rows": [len(features)], "ok": [ok]})
 
 
 def _fsync(path: Path) -> None:

@@ -20,17 +20,20 @@ from ..engines.interrupts import stop_signals_unwind
 from ..errors import BatchFailedError, BatchInputError
 from ..io.atomic import write_json
 from .chunks import TableTask
+from .compiled import many_plan
 from .dasklayer import dask_layer, wants_dask_layer
-from .geo import ArrowSource, open_arrow_batches
-from .layer import Layer, renamed_columns, warn_geographic
+from .geo import ArrowSource, count_rows, open_arrow_batches
+from .layer import Layer, warn_geographic
 from .layout import Layout, file_sha256, job_key, output_lock, plan_layout
+from .partwork import LayerRows, PartWritten, ReadTask, ids_of
 from .project import local_projector
 from .readers import count_items, detect_input_format, open_layer
 from .records import ChunkTask, Item
 from .runner import open_backend, run_tasks
-from .solver import check_options
+from .solver import SolveOptions, check_options
 from .summary import BatchSummary, Counter, report_duplicates
 from .tablefiles import flavor_of, write_table
+from .tables import TRIANGLE, feature_rows
 from .writers import SINGLE_FILE_SUFFIXES, assemble, read_part, write_part
 
 __all__ = ["BatchSummary", "batch", "iter_records"]
@@ -54,6 +57,7 @@ class _Settings:
     out_fmt: str | None
     project: bool
     layer: str | None
+    explode: bool = False
 
 
 def batch(
@@ -74,6 +78,7 @@ def batch(
     out_fmt: str | None = None,
     project: bool = False,
     layer: str | None = None,
+    explode: bool = False,
 ) -> BatchSummary:
     r"""Triangulate every polygon of a layer, in parallel, into one record per feature.
 
@@ -116,6 +121,12 @@ def batch(
     layer : str, optional
         The layer to read from a file holding several (GeoPackage); such a
         file without ``layer`` is refused, its layers listed.
+    explode : bool
+        One output row per triangle (a Polygon) instead of one per feature: each
+        with the feature's id, attributes, ``status``, ``n``, ``cost``,
+        ``reason``, ``seconds`` and ``triangle`` (its number within the feature,
+        from 0); an error row stays one row without geometry. The summary still
+        counts features.
 
     Returns
     -------
@@ -171,6 +182,7 @@ def batch(
         out_fmt,
         project,
         layer,
+        explode,
     )
     with stop_signals_unwind():  # kill and hang-up also remove half-written parts
         if wants_dask_layer(scheduler, inp, out, fmt, out_fmt):  # workers read and write
@@ -186,6 +198,7 @@ def batch(
                 fmt=fmt,
                 overwrite=overwrite,
                 progress=progress,
+                explode=explode,
             )
         else:
             summary = _run(Path(inp), out, settings)
@@ -221,11 +234,14 @@ def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
                 raise BatchInputError(f"{layout.target} exists; pass --overwrite or --resume")
             if layout.single and layout.target.exists():
                 layout.check_receipt(job)
-                return _summary_of_existing(layout, start)
+                return _summary_of_existing(layout, start, s.explode)
         columnar = kind in ARROW_INPUTS and layout.part_fmt == "parquet" and config.BATCH_COLUMNAR
         if columnar:
             layer, source = open_arrow_batches(inp, kind, s.layer)
-            chunks, size = _table_chunks(source, s.chunk_size, None if s.overwrite else layout)
+            budget = _chunk_work(s.options)
+            chunks, size = _table_chunks(
+                source, s.chunk_size, None if s.overwrite else layout, budget
+            )
         else:
             layer, items = open_layer(inp, kind, s.layer)
             items, size = _choose_chunk_size(items, s.chunk_size, None if s.overwrite else layout)
@@ -243,7 +259,8 @@ def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
         counter = Counter(s.progress, total)
         work = _Work(layout, layer, size, job_key(manifest), recorded)
         if columnar:
-            _solve_tables(work, chunks, source, s, crs, counter)
+            reader = _rows_for_workers(inp, kind, source, s)
+            _solve_tables(work, chunks, source, s, crs, counter, reader)
         else:
             _solve_all(work, items, s, crs, counter)
         if not layout.single:  # the parts are the product: on disk before _SUCCESS says so
@@ -254,7 +271,8 @@ def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
             layout.write_receipt(manifest)
             shutil.rmtree(layout.parts_dir, ignore_errors=True)
         duplicates, repeated = counter.repeated_hashes()
-        report_duplicates(duplicates, repeated, iter_records(layout.target, layout.fmt))
+        rows = iter_records(layout.target, layout.fmt)
+        report_duplicates(duplicates, repeated, feature_rows(rows) if s.explode else rows)
         return counter.summary(layout.target, time.perf_counter() - start, duplicates)
 
 
@@ -275,12 +293,12 @@ def _solve_all(
     """Solve every pending chunk on the backend; the parent alone writes the parts."""
     in_flight: dict[int, list[Item]] = {}  # chunk index -> its Items (attributes included)
     layout = work.layout
-    tasks = _pending_tasks(items, work, {**s.options, "project": crs}, counter, in_flight)
+    tasks = _pending_tasks(items, work, {**s.options, "project": crs}, counter, in_flight, s)
 
     def done(task: Any, records: Any) -> None:
         chunk = in_flight.pop(task.index)
         part = layout.part(task.index)
-        write_part(part, layout.part_fmt, records, chunk, work.layer, layout.fmt)
+        write_part(part, layout.part_fmt, records, chunk, work.layer, layout.fmt, s.explode)
         layout.record(task.index, task.index * work.size, len(records), work.job)
         counter.add(records, reused=False)
 
@@ -295,59 +313,95 @@ def _solve_tables(
     s: _Settings,
     crs: str | None,
     counter: Counter,
+    reader: LayerRows | None = None,
 ) -> None:
-    """Solve every pending chunk of an Arrow layer as a table (:mod:`.chunks`); write its part."""
+    """Solve every pending chunk of an Arrow layer as a table (:mod:`.chunks`).
+
+    With ``reader`` each chunk goes to a worker as a :class:`~optri.batch.partwork.ReadTask`
+    (the worker reads its rows and writes its part); else the parent reads the
+    chunks (``chunks``) and writes their parts.
+    """
     layout = work.layout
     options = {**s.options, "project": crs}
     flavor = flavor_of(layout.fmt)
+    renames = work.layer.renames
 
-    def tasks() -> Iterator[TableTask]:
-        for index, table in enumerate(chunks):
+    def task(index: int, table: Any) -> TableTask | ReadTask:
+        first = index * work.size
+        if reader is not None:
+            count = min(work.size, reader.rows - first)
+            part = str(layout.part(index))
+            return ReadTask(
+                index, reader, first, count, source.geometry, source.fid, renames, flavor,
+                s.explode, part, work.layer.crs, **options,
+            )  # fmt: skip
+        fid, table = ids_of(table, source.fid, first)
+        return TableTask(
+            index, table, source.geometry, first, fid, renames, flavor, s.explode, **options
+        )
+
+    def tasks() -> Iterator[TableTask | ReadTask]:
+        count = -(-reader.rows // work.size) if reader is not None else 0
+        for index, table in enumerate(itertools.repeat(None, count) if count else chunks):
             if layout.adopted(index, work.recorded):
-                counter.add(read_part(layout.part(index), layout.part_fmt), reused=True)
+                counter.add(_adopted(layout, index, s.explode), reused=True)
                 continue
-            first = index * work.size
-            fid, table = _ids_of(table, source.fid, first)
-            renames = work.layer.renames
-            yield TableTask(index, table, source.geometry, first, fid, renames, flavor, **options)
-
-    def done(task: Any, table: Any) -> None:
-        part = layout.part(task.index)
-        write_table(part, table, layout.part_fmt, work.layer, layout.parts_dir, durable=False)
-        layout.record(task.index, task.index * work.size, table.num_rows, work.job)
-        counter.add_rows(table.column("id").to_pylist(), table.column("status").to_pylist())
+            yield task(index, table)
 
     with open_backend(s.scheduler, s.workers) as backend:
-        run_tasks(backend, tasks(), done)
+        run_tasks(backend, tasks(), _table_done(work, s, counter))
 
 
-def _ids_of(table: Any, fid: str | None, first: int) -> tuple[str | None, Any]:
-    """Where a chunk's ids are: its ``id`` column (nulls filled as positions), or the FID.
+def _table_done(work: _Work, s: _Settings, counter: Counter) -> Callable[[Any, Any], None]:
+    """What the parent does with a finished table chunk: a part a worker wrote, or a table."""
+    layout = work.layout
 
-    As for Items (:func:`~optri.batch.records.json_id`): an ``id`` attribute,
-    else the FID, else the position in the layer.
+    def done(task: Any, table: Any) -> None:
+        first = task.index * work.size
+        if isinstance(table, PartWritten):  # the worker wrote the part and hashed it
+            layout.record(task.index, first, table.rows, work.job, table.sha256)
+            counter.add_counts(table.hashes, table.ok)
+            return
+        part = layout.part(task.index)
+        write_table(part, table, layout.part_fmt, work.layer, layout.parts_dir, durable=False)
+        if s.explode:  # count features: the first row of each
+            pc = import_optional("pyarrow.compute")
+            table = table.filter(pc.fill_null(pc.equal(table.column(TRIANGLE), 0), True))
+        layout.record(task.index, first, table.num_rows, work.job)
+        counter.add_rows(table.column("id").to_pylist(), table.column("status").to_pylist())
+
+    return done
+
+
+def _rows_for_workers(inp: Path, kind: str, source: ArrowSource, s: _Settings) -> LayerRows | None:
+    """How workers read the layer's rows themselves; None when the parent must read them.
+
+    The parent reads when asked to (``config.BATCH_WORKERS_READ``), for Dask (its
+    workers need not share the parent's files) and when the row count is unknown.
     """
-    if "id" not in table.column_names:
-        return fid, table
-    pa = import_optional("pyarrow")
-    if fid is not None:
-        fallback = table.column(fid).to_pylist()
-        table = table.drop_columns([fid])
-    else:
-        fallback = list(range(first, first + table.num_rows))
-    col = table.column("id")
-    if col.null_count:  # the ids differ from the attribute: it stays, renamed (as for Items)
-        values = [v if v is not None else f for v, f in zip(col.to_pylist(), fallback)]
-        if pa.types.is_string(col.type):
-            values = [str(v) for v in values]
-        k = table.schema.get_field_index("id")
-        kept = renamed_columns(table.column_names, ("id",))["id"]
-        table = table.set_column(k, kept, col).append_column("id", pa.array(values, col.type))
-    return None, table
+    if not config.BATCH_WORKERS_READ or s.scheduler not in (None, "local", "processes"):
+        return None
+    if kind == "parquet":
+        pq = import_optional("pyarrow.parquet")
+        meta = pq.ParquetFile(inp).metadata
+        groups = tuple(meta.row_group(k).num_rows for k in range(meta.num_row_groups))
+        return LayerRows(str(inp), kind, sum(groups), row_groups=groups)
+    total = count_rows(inp, kind, s.layer)
+    if total is None:
+        return None
+    query = tuple(sorted(source.query.items()))
+    stamps = tuple(sorted(source.stamps.items()))
+    return LayerRows(str(inp), kind, total, query=query, stamps=stamps)
+
+
+def _chunk_work(options: dict[str, Any]) -> int:
+    """Work per columnar chunk: larger when the compiled kernel solves it (see config)."""
+    compiled = many_plan(SolveOptions(**options, threads=1)) is not None
+    return config.BATCH_COMPILED_CHUNK_WORK if compiled else config.BATCH_CHUNK_WORK
 
 
 def _table_chunks(
-    source: ArrowSource, chunk_size: int | None, layout: Layout | None
+    source: ArrowSource, chunk_size: int | None, layout: Layout | None, work: int
 ) -> tuple[Iterator[Any], int]:
     """The layer's rows as tables of ``size`` rows (the last may be shorter), and ``size``."""
     pa = import_optional("pyarrow")
@@ -365,7 +419,7 @@ def _table_chunks(
         raw = column.slice(0, config.BATCH_CHUNK_SAMPLE).to_numpy(zero_copy_only=False)
         geoms = shapely.from_wkb(raw, on_invalid="ignore")
         n = shapely.get_num_coordinates(geoms) - shapely.get_num_interior_rings(geoms) - 1
-        size = auto_chunk_size([Item(0, [[0, 0]] * max(int(k), 0)) for k in n])
+        size = auto_chunk_size([Item(0, [[0, 0]] * max(int(k), 0)) for k in n], work)
 
     def chunks() -> Iterator[Any]:
         held: list[Any] = []
@@ -421,6 +475,7 @@ def _pending_tasks(
     options: dict[str, Any],
     counter: Counter,
     in_flight: dict[int, list[Item]],
+    s: _Settings,
 ) -> Iterator[ChunkTask]:
     """Chunk tasks by input position, skipping (and counting) parts the ledger vouches for."""
     it = iter(items)
@@ -430,7 +485,7 @@ def _pending_tasks(
         if not chunk:
             return
         if layout.adopted(index, work.recorded):
-            counter.add(read_part(layout.part(index), layout.part_fmt), reused=True)
+            counter.add(_adopted(layout, index, s.explode), reused=True)
             continue
         in_flight[index] = chunk
         yield ChunkTask(index, [item.for_worker() for item in chunk], **options)
@@ -452,18 +507,23 @@ def _choose_chunk_size(
     return itertools.chain(sample, items), auto_chunk_size(sample)
 
 
-def auto_chunk_size(sample: list[Item]) -> int:
-    """Polygons per chunk so one chunk is about ``config.BATCH_CHUNK_WORK`` (O(n^3) per polygon).
+def auto_chunk_size(sample: list[Item], budget: int | None = None) -> int:
+    """Polygons per chunk so one chunk is about ``budget`` work (O(n^3) per polygon).
+
+    ``budget`` defaults to ``config.BATCH_CHUNK_WORK``.
 
     >>> auto_chunk_size([Item(0, [[0, 0]] * 64)]), auto_chunk_size([Item(0, [[0, 0]] * 8)])
     (9, 583)
+    >>> auto_chunk_size([Item(0, [[0, 0]] * 64)], config.BATCH_COMPILED_CHUNK_WORK)
+    451
     """
     lo, hi = config.BATCH_CHUNK_MIN, config.BATCH_CHUNK_MAX
     if not sample:
         return lo
     sizes = [len(it.coords) if it.reason is None and it.coords is not None else 0 for it in sample]
     work = sum(config.BATCH_POLYGON_WORK + n**3 / 6 for n in sizes) / len(sizes)
-    return int(min(hi, max(lo, config.BATCH_CHUNK_WORK // work)))
+    budget = config.BATCH_CHUNK_WORK if budget is None else budget
+    return int(min(hi, max(lo, budget // work)))
 
 
 def _job(inp: Path, kind: str, layout: Layout, s: _Settings) -> dict[str, Any]:
@@ -481,6 +541,7 @@ def _job(inp: Path, kind: str, layout: Layout, s: _Settings) -> dict[str, Any]:
         "objective": repr(s.options["objective"]),
         "method": s.options["method"],
         "project": s.project,
+        "explode": s.explode,
         "optri": __version__,
     }
 
@@ -492,7 +553,14 @@ def _manifest_value(layout: Layout, key: str) -> Any:
         return None
 
 
-def _summary_of_existing(layout: Layout, start: float) -> BatchSummary:
+def _adopted(layout: Layout, index: int, explode: bool) -> Iterator[dict]:
+    """The records of an earlier run's part ``index``: one per feature."""
+    rows = read_part(layout.part(index), layout.part_fmt)
+    return feature_rows(rows) if explode else rows
+
+
+def _summary_of_existing(layout: Layout, start: float, explode: bool) -> BatchSummary:
     counter = Counter(None, 0)
-    counter.add(read_part(layout.target, layout.fmt), reused=True)
+    rows = read_part(layout.target, layout.fmt)
+    counter.add(feature_rows(rows) if explode else rows, reused=True)
     return counter.summary(layout.target, time.perf_counter() - start)

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -38,11 +38,18 @@ _OGR_DRIVERS = {"gpkg": "GeoPackage", "fgb": "FlatGeobuf", "shp": "shapefile"}
 
 @dataclass(frozen=True)
 class ArrowSource:
-    """An Arrow layer's record batches (date-times typed again), its geometry and FID columns."""
+    """An Arrow layer's record batches (date-times typed again), its geometry and FID columns.
+
+    ``query`` and ``stamps`` say how an OGR layer was read (the ``open_arrow``
+    arguments that pick the layer, the date-time columns' types: see
+    :func:`ogr_timestamps`), so a worker can read rows of it the same way.
+    """
 
     geometry: str
     fid: str | None
     batches: Iterator[Any]
+    query: dict = field(default_factory=dict)
+    stamps: dict = field(default_factory=dict)
 
 
 def open_arrow_layer(
@@ -113,7 +120,7 @@ def _open_ogr(path: Path, kind: str, name: str | None) -> tuple[Layer, ArrowSour
             for batch in reader:
                 yield parse_timestamps(batch, stamps)
 
-    return layer, ArrowSource(geom_col, fid_col, batches())
+    return layer, ArrowSource(geom_col, fid_col, batches(), query, stamps)
 
 
 def ogr_timestamps(path: Path, schema: Any, query: dict) -> dict[str, Any]:

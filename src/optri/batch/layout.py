@@ -200,14 +200,19 @@ class Layout:
             return False
         return file_sha256(part) == digest
 
-    def record(self, index: int, first: int, count: int, job: str) -> None:
-        """Ledger entry for part ``index`` (input polygons ``first`` to ``first + count - 1``)."""
+    def record(
+        self, index: int, first: int, count: int, job: str, sha256: str | None = None
+    ) -> None:
+        """Ledger entry for part ``index`` (input polygons ``first`` to ``first + count - 1``).
+
+        ``sha256`` is the part's hash when its writer computed it (else read here).
+        """
         part = self.part(index)
         entry = {
             "part": part.name,
             "first": first,
             "records": count,
-            "sha256": file_sha256(part),
+            "sha256": sha256 or file_sha256(part),
             "job": job,
         }
         fd = os.open(self.ledger, os.O_WRONLY | os.O_APPEND | os.O_CREAT | _NOFOLLOW, 0o666)

@@ -58,8 +58,9 @@ __all__ = [
 
 #: Record fields that vary from run to run; everything else is deterministic.
 TIMING_FIELDS = ("seconds",)
-#: The fields a batch adds to each input feature (besides its id).
-RESULT_FIELDS = ("status", "n", "cost", "triangles", "diagonals", "reason", "seconds")
+#: The fields a batch adds to each input feature (besides its id); ``triangle`` numbers
+#: the rows of an exploded feature.
+RESULT_FIELDS = ("status", "n", "cost", "triangles", "diagonals", "reason", "seconds", "triangle")
 
 
 @dataclass(frozen=True)

@@ -2,7 +2,9 @@
 
 All three backends run the same :func:`solve_task` (records of a chunk of
 Items, or the output table of an Arrow chunk: :mod:`.chunks`) and hand results
-back to the calling process, which alone writes part files. At most
+back to the calling process, which writes their part files; a chunk of an Arrow
+layer on the local pool is read, solved and written by its worker, which hands
+back only what the ledger and the summary need (:mod:`.partwork`). At most
 ``config.BATCH_IN_FLIGHT_PER_WORKER * workers`` chunks are queued at once, so memory does not
 grow with the input.
 
@@ -35,17 +37,24 @@ from .. import config
 from .._optional import import_optional
 from ..errors import BatchInputError
 from .chunks import TableTask, solve_table
+from .partwork import ReadTask, solve_read
 from .records import ChunkTask, error_record, solve_chunk
 
 __all__ = ["Backend", "default_workers", "open_backend", "run_tasks"]
 
 
 Result = tuple[int, Any]
-Task = ChunkTask | TableTask
+Task = ChunkTask | TableTask | ReadTask
 
 
 def solve_task(task: Task) -> Result:
-    """Solve one task: ``(index, records)`` of a ChunkTask, ``(index, table)`` of a TableTask."""
+    """Solve one task: ``(index, records)`` of a ChunkTask, ``(index, table)`` of a TableTask.
+
+    A ReadTask's worker reads and writes its part itself: ``(index, PartWritten)``
+    (:mod:`.partwork`).
+    """
+    if isinstance(task, ReadTask):
+        return solve_read(task)
     if isinstance(task, TableTask):
         return solve_table(task)
     return solve_chunk(task)
@@ -356,6 +365,11 @@ class _Run:
         """A task that killed its worker alone: its polygons one by one, or an error record."""
         if len(task.items) > 1 and task.offset is None:
             self.split[task.index] = (task, [None] * len(task.items))
+            if isinstance(task, ReadTask):  # each row read by its own worker, too
+                return [
+                    dataclasses.replace(task, first=task.first + k, count=1, offset=k)
+                    for k in task.items
+                ]
             if isinstance(task, TableTask):
                 return [
                     dataclasses.replace(task, table=row, first=task.first + k, offset=k)
@@ -365,6 +379,8 @@ class _Run:
                 dataclasses.replace(task, items=[item], offset=k)
                 for k, item in enumerate(task.items)
             ]
+        if isinstance(task, ReadTask):  # its row, read here: the worker that read it died
+            task = task.table_task()
         ident = task.ids()[0] if isinstance(task, TableTask) else task.items[0].id
         reason = (
             f"the worker process died while solving polygon {ident!r} (killed by the "
@@ -381,11 +397,11 @@ class _Run:
             self.on_done(task, result)
             return
         whole, got = self.split[task.index]
-        got[task.offset] = result if isinstance(task, TableTask) else result[0]
+        got[task.offset] = result if isinstance(task, (TableTask, ReadTask)) else result[0]
         if all(r is not None for r in got):
             del self.split[task.index]
             done = [r for r in got if r is not None]
-            if isinstance(whole, TableTask):
+            if isinstance(whole, (TableTask, ReadTask)):
                 pa = import_optional("pyarrow")
                 self.on_done(whole, pa.concat_tables(done, promote_options="permissive"))
             else:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import collections
+import hashlib
 import warnings
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
@@ -13,7 +14,7 @@ import numpy as np
 
 from ..errors import DuplicateIdWarning
 
-__all__ = ["BatchSummary", "Counter"]
+__all__ = ["BatchSummary", "Counter", "id_hash"]
 
 #: Duplicate ids named in the warning.
 _NAMED = 5
@@ -82,11 +83,17 @@ class Counter:
     def add(self, records: Iterable[dict], reused: bool) -> None:
         """Count one part's records."""
         ids = []
+        ok = 0
         for rec in records:
-            self.n += 1
-            self.ok += rec["status"] == "ok"
-            ids.append(_id_hash(rec["id"]))
-        self.hashes.append(np.array(ids, dtype=np.int64))
+            ok += rec["status"] == "ok"
+            ids.append(id_hash(rec["id"]))
+        self.add_counts(np.array(ids, dtype=np.int64), ok, reused)
+
+    def add_counts(self, hashes: np.ndarray, ok: int, reused: bool = False) -> None:
+        """Count one part given as its ids' hashes (:func:`id_hash`) and its ok records."""
+        self.n += len(hashes)
+        self.ok += ok
+        self.hashes.append(hashes)
         self.errors = self.n - self.ok
         self.parts += 1
         self.reused += reused
@@ -112,9 +119,16 @@ class Counter:
         )
 
 
-def _id_hash(value: Any) -> int:
-    # by text: table formats may store the ids of a file mixing numbers and text as text
-    return hash(str(value))
+def id_hash(value: Any) -> int:
+    """A 64-bit hash of an id, the same in every process (worker processes hash their parts).
+
+    By text: table formats may store the ids of a file mixing numbers and text as text.
+
+    >>> id_hash(7) == id_hash("7"), id_hash("a") == id_hash("b")
+    (True, False)
+    """
+    digest = hashlib.blake2b(str(value).encode("utf-8", "surrogatepass"), digest_size=8)
+    return int.from_bytes(digest.digest(), "little", signed=True)
 
 
 def report_duplicates(count: int, hashes: set[int], records: Iterator[dict]) -> None:
@@ -124,7 +138,7 @@ def report_duplicates(count: int, hashes: set[int], records: Iterator[dict]) -> 
     seen: collections.Counter[Any] = collections.Counter()
     for rec in records:
         rid = rec["id"]
-        if _id_hash(rid) in hashes:
+        if id_hash(rid) in hashes:
             seen[str(rid)] += 1
     named = [f"{k!r} x{v}" for k, v in seen.most_common() if v > 1][:_NAMED]
     warnings.warn(

@@ -29,7 +29,16 @@ from ..errors import BatchInputError
 from ..io.atomic import atomic_write, fsync_path, kept_mode
 from .geo import ogr_timestamps, parse_timestamps
 from .layer import Layer, crs_wkt
-from .tables import GEOMETRY, conform, geo_metadata, has_z, records_table, unify
+from .tables import (
+    GEOMETRY,
+    conform,
+    geo_metadata,
+    geometry_type,
+    has_z,
+    is_exploded,
+    records_table,
+    unify,
+)
 
 __all__ = ["OGR_DRIVERS", "assemble_tables", "read_table_records", "write_table"]
 
@@ -85,7 +94,7 @@ def assemble_tables(
 
 def _parquet_metadata(schema: Any, layer: Layer) -> dict:
     meta = dict(schema.metadata or {})
-    meta[b"geo"] = json.dumps(geo_metadata(layer, has_z(schema)))
+    meta[b"geo"] = json.dumps(geo_metadata(layer, has_z(schema), is_exploded(schema)))
     return meta
 
 
@@ -123,7 +132,7 @@ def _write_ogr(
                 driver=OGR_DRIVERS[fmt],
                 layer=path.stem or "triangles",
                 geometry_name=GEOMETRY,
-                geometry_type="GeometryCollection Z" if z else "GeometryCollection",
+                geometry_type=geometry_type(schema),
                 crs=_wkt(layer.crs),
                 layer_options=_LAYER_OPTIONS.get(fmt),
             )
@@ -142,7 +151,10 @@ def _write_ogr(
 
 
 def _force_3d(batch: Any) -> Any:
-    """``batch`` with its 2-D geometries made 3-D, z NaN ("no height"), 3-D ones untouched."""
+    """``batch`` with its 2-D geometries made 3-D, z NaN ("no height"), 3-D ones untouched.
+
+    The geometries are collections of triangles, or triangles (an exploded output).
+    """
     pa = import_optional("pyarrow")
     shapely = import_optional("shapely")
     k = batch.schema.get_field_index(GEOMETRY)
@@ -155,7 +167,8 @@ def _force_3d(batch: Any) -> Any:
     parts, index = shapely.get_parts(geoms[flat], return_index=True)
     rings = shapely.get_coordinates(shapely.get_exterior_ring(parts), include_z=True)
     polys = shapely.polygons(rings.reshape(-1, 4, 3)[:, :3])  # closed by shapely (NaN != NaN)
-    geoms[flat] = shapely.geometrycollections(polys, indices=index)
+    single = shapely.get_type_id(geoms[flat]) == 3  # a triangle of an exploded output
+    geoms[flat] = polys if single.all() else shapely.geometrycollections(polys, indices=index)
     wkb = pa.array(shapely.to_wkb(geoms, output_dimension=3).tolist(), batch.schema.field(k).type)
     return batch.set_column(k, batch.schema.field(k), wkb)
 

@@ -17,7 +17,7 @@ unified over all parts when a single file is assembled (:func:`unify`).
 from __future__ import annotations
 
 import json
-from collections.abc import Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from typing import Any
 
 import numpy as np
@@ -26,11 +26,32 @@ from .._optional import import_optional
 from .layer import Layer, projjson, renamed_columns
 from .records import Item
 
-__all__ = ["GEOMETRY", "conform", "geo_metadata", "records_table", "unify"]
+__all__ = [
+    "GEOMETRY",
+    "conform",
+    "explode_table",
+    "feature_rows",
+    "geo_metadata",
+    "is_exploded",
+    "records_table",
+    "unify",
+]
 
 GEOMETRY = "geometry"
 #: Columns a batch adds after the attributes, in order.
-TAIL = ("status", "n", "cost", "reason", "triangles", "diagonals", "seconds", GEOMETRY)
+TAIL = (
+    "status",
+    "n",
+    "cost",
+    "reason",
+    "triangles",
+    "diagonals",
+    "triangle",
+    "seconds",
+    GEOMETRY,
+)
+#: The column of an exploded row: the triangle's number within its feature (0, 1, ...).
+TRIANGLE = "triangle"
 #: Schema metadata key of optri's own notes on a part (3-D coordinates seen).
 OPTRI_META = b"optri"
 
@@ -160,9 +181,72 @@ def _wkb(records: Sequence[dict], items: Sequence[Item]) -> tuple[list[bytes | N
     return out, bool(rings_3d)
 
 
-def geo_metadata(layer: Layer, has_z: bool) -> dict:
+def explode_table(table: Any) -> Any:
+    """One row per triangle of a chunk's table: each a Polygon, with its feature's columns.
+
+    ``table`` is a chunk as :func:`records_table` (or the columnar path) makes it,
+    its geometry a GeometryCollection of triangles per row. Each triangle becomes
+    a row holding the feature's id, attributes, ``status``, ``n``, ``cost``,
+    ``reason`` and ``seconds``, ``triangle`` (its number within the feature,
+    from 0) and the triangle as a Polygon; ``triangles`` and ``diagonals`` are
+    left out. A row without triangles (an error row) stays one row, ``triangle``
+    and geometry null. Rows keep the input order.
+
+    >>> import pyarrow as pa, shapely
+    >>> two = shapely.GeometryCollection([shapely.box(0, 0, 1, 1), shapely.box(1, 0, 2, 1)])
+    >>> t = pa.table({"id": ["a", "b"], "geometry": [shapely.to_wkb(two), None]})
+    >>> out = explode_table(t)
+    >>> out.column("id").to_pylist(), out.column("triangle").to_pylist()
+    (['a', 'a', 'b'], [0, 1, None])
+    """
+    pa = import_optional("pyarrow")
+    shapely = import_optional("shapely")
+    rows = table.num_rows
+    geoms = shapely.from_wkb(table.column(GEOMETRY).to_numpy(zero_copy_only=False))
+    parts, row = shapely.get_parts(geoms, return_index=True)
+    counts = np.bincount(row, minlength=rows)
+    lone = np.flatnonzero(counts == 0)  # error rows (and rows with nothing to draw)
+    number = np.arange(len(row), dtype=np.int64) - (np.cumsum(counts) - counts)[row]
+    source = np.concatenate([row, lone]).astype(np.int64)
+    order = np.argsort(source, kind="stable")
+    wkb = np.concatenate([shapely.to_wkb(parts), np.full(len(lone), None, dtype=object)])
+    triangle = np.concatenate([number, np.zeros(len(lone), dtype=np.int64)])
+    null = np.concatenate([np.zeros(len(row), bool), np.ones(len(lone), bool)])
+    keep = [c for c in table.column_names if c not in ("triangles", "diagonals", GEOMETRY)]
+    out = table.select(keep).take(pa.array(source[order]))
+    k = out.schema.get_field_index("seconds")
+    column = pa.array(triangle[order], pa.int64(), mask=null[order])
+    out = out.add_column(k if k >= 0 else out.num_columns, TRIANGLE, column)
+    out = out.append_column(GEOMETRY, pa.array(wkb[order].tolist(), pa.binary()))
+    notes = json.loads((table.schema.metadata or {}).get(OPTRI_META, b"{}"))
+    notes["explode"] = True
+    return out.replace_schema_metadata({OPTRI_META: json.dumps(notes)})
+
+
+def is_exploded(schema: Any) -> bool:
+    """Whether a part's notes say it holds one row per triangle (:func:`explode_table`)."""
+    raw = (schema.metadata or {}).get(OPTRI_META)
+    return bool(raw and json.loads(raw).get("explode"))
+
+
+def feature_rows(records: Iterable[dict]) -> Iterator[dict]:
+    """The first row of each feature of an output: every row, unless it was exploded.
+
+    An exploded feature's rows after its first have ``triangle`` 1, 2, ...
+    """
+    return (r for r in records if not r.get(TRIANGLE))
+
+
+def geometry_type(schema: Any) -> str:
+    """The OGC type of a part's geometry column: GeometryCollection, or Polygon when exploded."""
+    kind = "Polygon" if is_exploded(schema) else "GeometryCollection"
+    return f"{kind} Z" if has_z(schema) else kind
+
+
+def geo_metadata(layer: Layer, has_z: bool, explode: bool = False) -> dict:
     """GeoParquet 1.1 metadata for the ``geometry`` column (``crs`` null when unknown)."""
-    kind = "GeometryCollection Z" if has_z else "GeometryCollection"
+    kind = "Polygon" if explode else "GeometryCollection"
+    kind = f"{kind} Z" if has_z else kind
     column = {"encoding": "WKB", "geometry_types": [kind], "crs": projjson(layer.crs)}
     return {"version": "1.1.0", "primary_column": GEOMETRY, "columns": {GEOMETRY: column}}
 
@@ -196,8 +280,10 @@ def unify(schemas: Sequence[Any]) -> Any:
         except (pa.ArrowInvalid, pa.ArrowTypeError):
             merged = pa.field(name, pa.string())
         fields.append(merged)
-    z = any(has_z(s) for s in schemas)
-    return pa.schema(fields, metadata={OPTRI_META: json.dumps({"has_z": z})})
+    notes = {"has_z": any(has_z(s) for s in schemas)}
+    if any(is_exploded(s) for s in schemas):
+        notes["explode"] = True
+    return pa.schema(fields, metadata={OPTRI_META: json.dumps(notes)})
 
 
 def conform(table: Any, schema: Any) -> Any:

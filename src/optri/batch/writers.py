@@ -28,13 +28,14 @@ from ..io.atomic import atomic_write
 from .layer import Layer, geojson_crs_member, renamed_columns
 from .records import Item, json_safe
 from .tablefiles import assemble_tables, flavor_of, read_table_records, write_table
-from .tables import records_table
+from .tables import TRIANGLE, explode_table, records_table
 
 __all__ = [
     "OUTPUT_FORMATS",
     "PART_FORMATS",
     "SINGLE_FILE_SUFFIXES",
     "assemble",
+    "exploded_features",
     "feature_of",
     "read_part",
     "write_part",
@@ -105,6 +106,28 @@ def feature_of(record: dict, coords: Any, props: dict | None = None) -> dict:
     return {"type": "Feature", "id": record["id"], "geometry": geometry, "properties": out}
 
 
+def exploded_features(record: dict, coords: Any, props: dict | None = None) -> list[dict]:
+    """One GeoJSON Feature per triangle of ``record`` (a Polygon each), or one for an error.
+
+    Each holds the feature's id, attributes and fields, ``triangle`` (the
+    triangle's number within the feature, from 0) instead of ``triangles`` and
+    ``diagonals``.
+
+    >>> rec = {"id": 1, "status": "ok", "triangles": [[0, 1, 2], [0, 2, 3]], "diagonals": [[0, 2]]}
+    >>> feats = exploded_features(rec, [[0, 0], [1, 0], [1, 1], [0, 1]])
+    >>> [(f["id"], f["properties"]["triangle"], f["geometry"]["type"]) for f in feats]
+    [(1, 0, 'Polygon'), (1, 1, 'Polygon')]
+    """
+    whole = feature_of(record, coords, props)
+    fields = {k: v for k, v in whole["properties"].items() if k not in ("triangles", "diagonals")}
+    if whole["geometry"] is None or not whole["geometry"]["geometries"]:
+        return [{**whole, "geometry": None, "properties": {**fields, TRIANGLE: None}}]
+    return [
+        {**whole, "geometry": poly, "properties": {**fields, TRIANGLE: k}}
+        for k, poly in enumerate(whole["geometry"]["geometries"])
+    ]
+
+
 def write_part(
     path: Path,
     fmt: str,
@@ -112,19 +135,30 @@ def write_part(
     items: Sequence[Item],
     layer: Layer,
     target_fmt: str | None = None,
+    explode: bool = False,
 ) -> None:
     """Write one partition's records as a ``fmt`` file, atomically.
 
     ``items`` are the chunk's input Items (coordinates and attributes);
     ``target_fmt`` is the format the part will be assembled into (it picks the
-    table flavour of a Parquet part), by default ``fmt`` itself.
+    table flavour of a Parquet part), by default ``fmt`` itself. ``explode``
+    writes one row per triangle (:func:`exploded_features`,
+    :func:`~optri.batch.tables.explode_table`).
     """
     if fmt in ("parquet", "gpkg", "fgb"):
         table = records_table(records, items, layer, flavor_of(target_fmt or fmt))
+        if explode:
+            table = explode_table(table)
         write_table(path, table, fmt, layer, path.parent, durable=False)
         return
     with atomic_write(path, "w", durable=False) as fh:
-        feats = (feature_of(r, it.coords, it.props) for r, it in zip(records, items))
+        if explode:
+            pairs = zip(records, items)
+            feats: Iterable[dict] = (
+                f for r, it in pairs for f in exploded_features(r, it.coords, it.props)
+            )
+        else:
+            feats = (feature_of(r, it.coords, it.props) for r, it in zip(records, items))
         if fmt == "ndjson":  # a GeoJSON text sequence: one Feature per line
             fh.writelines(dumps(feat) + "\n" for feat in feats)
         else:

@@ -45,6 +45,11 @@ __all__ = ["batch_command"]
     is_flag=True,
     help="Measure in metres: each polygon in its own local equidistant projection.",
 )
+@click.option(
+    "--explode",
+    is_flag=True,
+    help="One row per triangle (a Polygon) with its feature's id and attributes.",
+)
 @click.option("--workers", "-j", type=click.IntRange(min=1), help="Processes (default: all cores).")
 @click.option("--chunk-size", type=click.IntRange(min=1), help="Polygons per part (default: auto).")
 @click.option(
@@ -65,6 +70,7 @@ def batch_command(
     objective: str,
     method: str,
     project: bool,
+    explode: bool,
     workers: int | None,
     chunk_size: int | None,
     scheduler: str,
@@ -108,6 +114,7 @@ def batch_command(
                 out_fmt=out_format,
                 project=project,
                 layer=layer,
+                explode=explode,
             )
         except BatchFailedError as exc:
             _report(exc.summary, as_json, f"optri: {exc.summary}")
