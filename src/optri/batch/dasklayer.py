@@ -22,12 +22,10 @@ from __future__ import annotations
 import contextlib
 import functools
 import json
-import logging
 import os
 import shutil
 import time
 import uuid
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -37,7 +35,7 @@ from .daskframe import triangulate_dask
 from .layout import output_lock, plan_layout
 from .many import triangulate_many
 from .readers import detect_input_format
-from .runner import default_workers
+from .runner import dask_client
 from .solver import check_options
 from .summary import BatchSummary
 
@@ -191,7 +189,7 @@ def dask_layer(
             written = solved.map_partitions(
                 write_partition, str(staging), explode, partition_info=True, meta=_counts_meta()
             )
-            with _client(scheduler, workers) as client:
+            with dask_client(scheduler, workers, ALLOWED_FAILURES) as client:
                 counts = client.compute(written).result()
             _publish(staging, target, counts, layout.single)
         finally:
@@ -354,32 +352,3 @@ def _conform_part(path: Path, schema: Any) -> None:
     temp = path.with_name(f".{path.name}.cast.tmp")
     pq.write_table(pq.read_table(path).cast(schema), temp)
     os.replace(temp, path)
-
-
-@contextlib.contextmanager
-def _client(scheduler: Any, workers: int | None) -> Iterator[Any]:
-    """A ``distributed.Client``: on a LocalCluster made here, at an address, or the one given."""
-    distributed = import_optional("distributed")
-    if scheduler is not None and not isinstance(scheduler, str):
-        yield scheduler  # a Client the caller owns
-        return
-    if scheduler in (None, "dask"):
-        dask = import_optional("dask")
-        with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}):
-            cluster = distributed.LocalCluster(
-                n_workers=workers or default_workers(),
-                threads_per_worker=1,
-                processes=True,
-                dashboard_address=None,
-                silence_logs=logging.ERROR,
-            )
-        with cluster, distributed.Client(cluster) as client:
-            yield client
-        return
-    if scheduler.startswith(("dask://", "tcp://", "tls://", "inproc://")):
-        with distributed.Client(scheduler.replace("dask://", "tcp://", 1)) as client:
-            yield client
-        return
-    raise BatchInputError(
-        f"unknown scheduler {scheduler!r}; use 'local', 'dask' or 'tcp://host:port'"
-    )

@@ -250,22 +250,26 @@ def open_backend(scheduler: Any, workers: int | None) -> Iterator[Backend]:
         finally:
             pool.executor.shutdown(wait=True, cancel_futures=True)
         return
-    with _dask_client(scheduler, workers) as client:
+    with dask_client(scheduler, workers, config.BATCH_WORKER_RETRIES) as client:
         n = workers or max(1, len(client.scheduler_info().get("workers", {})))
         yield _Dask(client, n)
 
 
 @contextmanager
-def _dask_client(scheduler: Any, workers: int | None) -> Iterator[Any]:
-    if not isinstance(scheduler, str):  # a distributed.Client the caller owns
+def dask_client(scheduler: Any, workers: int | None, allowed_failures: int) -> Iterator[Any]:
+    """A ``distributed.Client``: the one given, at an address, or on a LocalCluster made here.
+
+    ``allowed_failures``: how often the LocalCluster's scheduler reruns a task whose
+    worker died before raising ``KilledWorker``.
+    """
+    if scheduler is not None and not isinstance(scheduler, str):  # a Client the caller owns
         yield scheduler
         return
     distributed = import_optional("distributed")
-    if scheduler == "dask":
+    if scheduler in (None, "dask"):
         n = workers or default_workers()
         dask = import_optional("dask")
-        # a task whose worker dies is retried this often by the scheduler, then KilledWorker
-        retries = {"distributed.scheduler.allowed-failures": config.BATCH_WORKER_RETRIES}
+        retries = {"distributed.scheduler.allowed-failures": allowed_failures}
         with dask.config.set(retries):
             cluster = distributed.LocalCluster(
                 n_workers=n,
@@ -283,7 +287,7 @@ def _dask_client(scheduler: Any, workers: int | None) -> Iterator[Any]:
             yield client
         return
     raise BatchInputError(
-        f"unknown scheduler {scheduler!r}; use 'local', 'dask' or 'dask://host:port'"
+        f"unknown scheduler {scheduler!r}; use 'local', 'dask' or 'tcp://host:port'"
     )
 
 
