@@ -144,10 +144,14 @@ bool inside_sphere(const P3& a, const P3& b, const P3& c, const P3& d) {
     return dx * dx + dy * dy + dz * dz < r2 * (1 - 1e-12);
 }
 
-bool folds(const P3& u, const P3& v, const P3& x, const P3& y, double fold_cos) {
+// refine.py's _folds: a swap may leave its faces nearly flat; otherwise it may not
+// sharpen their fold, nor cross a crease sharper than crease_cos
+bool folds(const P3& u, const P3& v, const P3& x, const P3& y, double fold_cos,
+           double crease_cos) {
     double old = cosine(normal(u, v, x), normal(v, u, y));
     double nw = cosine(normal(u, y, x), normal(v, x, y));
-    return nw < std::min(old, fold_cos);
+    if (nw >= fold_cos) return false;
+    return nw < old || old < crease_cos;
 }
 
 inline int64_t third(const Tri& f, int64_t u, int64_t v) {
@@ -169,7 +173,8 @@ struct Refiner {
 
 // refine.py's _relax: a work list of interior edges, popped from its end
 void relax(std::vector<Tri>& faces, const Refiner& R, const std::unordered_set<uint64_t>& fixed,
-           const std::unordered_set<uint64_t>& blocked, int64_t max_sweeps, double fold_cos) {
+           const std::unordered_set<uint64_t>& blocked, int64_t max_sweeps, double fold_cos,
+           double crease_cos) {
     std::unordered_map<uint64_t, int64_t> where;
     where.reserve(faces.size() * 6);
     std::vector<std::pair<int64_t, int64_t>> todo;
@@ -203,7 +208,7 @@ void relax(std::vector<Tri>& faces, const Refiner& R, const std::unordered_set<u
             continue;
         }
         const P3 pu = R.point(u), pv = R.point(v), px = R.point(x), py = R.point(y);
-        if (!inside_sphere(pu, pv, px, py) || folds(pu, pv, px, py, fold_cos)) continue;
+        if (!inside_sphere(pu, pv, px, py) || folds(pu, pv, px, py, fold_cos, crease_cos)) continue;
         faces[t1] = {u, y, x};
         faces[t2] = {v, x, y};
         where.erase(key(u, v));
@@ -444,7 +449,8 @@ void bind_refine(nb::module_& m) {
 
     r.def("refine_patch", [](In<double> V, In<int64_t> patch, In<int64_t> loop,
                              In<double> scales, double density, int64_t max_rounds,
-                             In<int64_t> forbidden, int64_t max_sweeps, double fold_cos) {
+                             In<int64_t> forbidden, int64_t max_sweeps, double fold_cos,
+                             double crease_cos) {
         need(V.ndim() == 2 && V.shape(1) == 3, "vertices must be (n, 3)");
         const int64_t n = static_cast<int64_t>(V.shape(0));
         need(n < (int64_t(1) << 31), "at most 2**31 vertices");
@@ -510,7 +516,7 @@ void bind_refine(nb::module_& m) {
                 }
                 faces.swap(next);
                 if (!split) break;
-                relax(faces, R, fixed, blocked, max_sweeps, fold_cos);
+                relax(faces, R, fixed, blocked, max_sweeps, fold_cos, crease_cos);
             }
         }
         std::vector<double> nv;
@@ -525,7 +531,7 @@ void bind_refine(nb::module_& m) {
                               from_vector(std::move(parents), na, 3));
     }, nb::arg("vertices"), nb::arg("patch"), nb::arg("loop"), nb::arg("scales"),
        nb::arg("density"), nb::arg("max_rounds"), nb::arg("forbidden"), nb::arg("max_sweeps"),
-       nb::arg("fold_cos"),
+       nb::arg("fold_cos"), nb::arg("crease_cos"),
        "(new_vertices, faces, parents) of optri.holes.refine's centroid splits and relaxation.");
 
     r.def("intersecting_pairs", [](In<double> V, In<int64_t> F, In<int64_t> P) {

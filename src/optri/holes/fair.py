@@ -11,6 +11,12 @@ Schroder and Barr 2003) and ``k`` is the continuity asked for at the fixed ring:
 Rows of ``L^(k+1)`` reach ``k + 1`` rings out from a free vertex, so the fixed
 vertices within that many rings act as the boundary condition: a whole mesh may be
 passed; only the free vertices' neighbourhood enters the system.
+
+``L`` depends on the positions it acts on. One solve takes it from the positions
+given (for a hole, the flat refined patch, as CGAL does); ``passes=2`` solves again
+with ``L`` taken from the first solution, whose cotangents and areas are those of the
+curved surface: ``fill_holes`` fairs so (over a large hole the flat patch's areas and
+angles are far from the surface's, and ``L^3`` taken there overshoots).
 """
 
 from __future__ import annotations
@@ -29,6 +35,8 @@ __all__ = ["FairResult", "fair_region", "fair_vertices", "laplacian"]
 
 #: Continuity orders :func:`fair_region` accepts.
 CONTINUITY = (0, 1, 2)
+#: Solves ``fill_holes`` fairs a patch with (``passes`` of :func:`fair_vertices`).
+PATCH_PASSES = 2
 # a corner whose sine is below this (relative to its sides) counts as degenerate: its
 # cotangent is clamped there, so a zero-area face never puts an infinity in the system
 _SINE_FLOOR = 1e-12
@@ -117,6 +125,8 @@ def fair_vertices(
     faces: NDArray[np.int64],
     free: NDArray[np.int64],
     continuity: int = 1,
+    *,
+    passes: int = 1,
 ) -> FairResult:
     """Solve ``L^(continuity+1) x = 0`` for the ``free`` vertices, the rest fixed.
 
@@ -129,11 +139,13 @@ def fair_vertices(
         Indices of the vertices to move.
     continuity : {0, 1, 2}
         Smoothness across the fixed ring: position, tangent plane, curvature.
+    passes : int
+        Solves (>= 1), each with ``L`` taken from the positions the one before gave.
 
     Returns
     -------
     FairResult
-        The vertices (moved when the solve succeeded) and whether it did.
+        The vertices (moved when every solve succeeded) and whether they did.
 
     Examples
     --------
@@ -149,7 +161,8 @@ def fair_vertices(
     """
     if continuity not in CONTINUITY:
         raise InvalidPolygonError(f"continuity must be 0, 1 or 2, got {continuity!r}")
-    linalg = import_optional("scipy.sparse.linalg", "mesh")
+    if not (isinstance(passes, (int, np.integer)) and passes >= 1):
+        raise InvalidPolygonError(f"passes must be a positive integer, got {passes!r}")
     v = np.asarray(vertices, dtype=np.float64)
     free = np.unique(np.asarray(free, dtype=np.int64))
     if len(free) == 0:
@@ -157,6 +170,19 @@ def fair_vertices(
     if free.min() < 0 or free.max() >= len(v):
         raise InvalidPolygonError("a vertex to fair does not exist")
     f = np.asarray(faces, dtype=np.int64)
+    res = FairResult(v.copy(), True)
+    for _ in range(int(passes)):
+        res = _solve(res.vertices, f, free, continuity)
+        if not res.ok:
+            return FairResult(v.copy(), False, res.reason)
+    return res
+
+
+def _solve(
+    v: NDArray[np.float64], f: NDArray[np.int64], free: NDArray[np.int64], continuity: int
+) -> FairResult:
+    """One solve of :func:`fair_vertices`, ``L`` taken at ``v``."""
+    linalg = import_optional("scipy.sparse.linalg", "mesh")
     # only faces within continuity + 1 rings of the free vertices enter the operator
     near = np.zeros(len(v), dtype=bool)
     near[free] = True

@@ -36,7 +36,7 @@ from ..meshdata import copies_at_border, mesh_arrays, same_kind, weld, with_attr
 from ..objective import Cost
 from ..weights import get_weight
 from .boundary import Loop, edge_keys, trace_loops
-from .fair import CONTINUITY, fair_vertices
+from .fair import CONTINUITY, PATCH_PASSES, fair_vertices
 from .intersect import intersecting_pairs
 from .islands import ISLAND_METHODS, fill_polylines, group_chords, island_groups
 from .polyline import METHODS, fill_polyline
@@ -331,23 +331,33 @@ def _fair_patch(
     free: Ints,
     continuity: int,
 ) -> NDArray[np.float64]:
-    """``allv`` with ``free`` faired; as given when it fails or adds crossings (said in rec)."""
+    """``allv`` with ``free`` faired; as given when it fails or adds crossings (said in rec).
+
+    ``PATCH_PASSES`` solves, each with ``L`` taken where the one before left the patch;
+    when the last adds crossings the earlier ones are tried, from the latest back.
+    """
     around = np.concatenate([others, patch])
-    res = fair_vertices(allv, around, free, continuity)
-    if not res.ok:
+    tried = [allv]
+    for _ in range(PATCH_PASSES):
+        res = fair_vertices(tried[-1], around, free, continuity)
+        if not res.ok:
+            break
+        tried.append(res.vertices)
+    if len(tried) == 1:
         rec.fair_reason = res.reason
         return allv
     # the patch against the mesh and against itself (a fold within the patch counts too)
     before = len(intersecting_pairs(allv, around, patch))
-    after = len(intersecting_pairs(res.vertices, around, patch))
-    if after > before:
-        rec.fair_reason = (
-            f"the faired patch would cross the mesh ({after} crossings, {before} before); "
-            f"the refined patch is kept"
-        )
-        return allv
-    rec.faired = True
-    return res.vertices
+    for faired in tried[:0:-1]:
+        after = len(intersecting_pairs(faired, around, patch))
+        if after <= before:
+            rec.faired = True
+            return faired
+    rec.fair_reason = (
+        f"the faired patch would cross the mesh ({after} crossings, {before} before); "
+        f"the refined patch is kept"
+    )
+    return allv
 
 
 class _Edges:

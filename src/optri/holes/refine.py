@@ -12,7 +12,11 @@ the mesh around it:
   vertex across it lies inside the diametral sphere of the triangle on its other
   side (the sphere through its three vertices centred in its plane) -- Delaunay in
   3-D, as Liepa does; boundary edges and swaps to an edge that already exists are
-  never made, so the patch stays manifold;
+  never made, so the patch stays manifold; nor are swaps that fold the patch more
+  sharply, or any swap across a crease sharper than ``CREASE`` degrees unless it
+  leaves the two faces nearly flat: a swap replaces two faces by the other two faces
+  of their tetrahedron, and across a crease that tetrahedron is wide enough to hold
+  faces of the mesh or of the patch, which the new faces would then cross;
 * rounds repeat until no triangle splits, or ``max_rounds``.
 
 A larger ``density`` splits more (smaller triangles); ``sqrt(2)``, Liepa's value, the
@@ -40,6 +44,10 @@ Point = tuple[float, float, float]
 #: Dihedral angle (degrees) under which an edge swap may sharpen the fold between its faces.
 FOLD_FREE = 10.0
 _FOLD_FREE_COS = math.cos(math.radians(FOLD_FREE))
+#: Dihedral angle (degrees) between two faces above which their edge is swapped only
+#: when the swap leaves them within ``FOLD_FREE`` of flat.
+CREASE = 60.0
+_CREASE_COS = math.cos(math.radians(CREASE))
 
 #: Rounds of splitting and relaxation at most (each round at most triples the faces).
 MAX_ROUNDS = 40
@@ -144,6 +152,7 @@ def refine_patch(
         np.asarray(pairs, dtype=np.int64).reshape(-1, 2),
         MAX_SWEEPS,
         _FOLD_FREE_COS,
+        _CREASE_COS,
     )
     if parents is not None:
         parents.extend((int(a), int(b), int(c)) for a, b, c in split.tolist())
@@ -306,15 +315,19 @@ def _inside_sphere(a: Point, b: Point, c: Point, d: Point) -> bool:
 
 
 def _folds(u: Point, v: Point, x: Point, y: Point) -> bool:
-    """Whether swapping ``u-v`` for ``x-y`` in ``(u, v, x), (v, u, y)`` folds the patch more.
+    """Whether swapping ``u-v`` for ``x-y`` in ``(u, v, x), (v, u, y)`` may fold the patch.
 
-    The new pair ``(u, y, x), (v, x, y)`` must meet at a dihedral angle no sharper than
-    the old pair's, or below ``FOLD_FREE`` degrees: on a curved patch a swap across a
-    crease would otherwise lay faces over their neighbours (a self-intersecting patch).
+    The new pair ``(u, y, x), (v, x, y)`` may meet at a dihedral angle under
+    ``FOLD_FREE`` degrees; otherwise no sharper than the old pair's, and the old pair
+    must meet at under ``CREASE`` degrees. On a curved patch a swap that sharpens a
+    fold, or one across a crease, would lay faces over their neighbours or through the
+    mesh (a self-intersecting patch).
     """
     old = _cosine(_normal(u, v, x), _normal(v, u, y))
     new = _cosine(_normal(u, y, x), _normal(v, x, y))
-    return new < min(old, _FOLD_FREE_COS)
+    if new >= _FOLD_FREE_COS:
+        return False
+    return new < old or old < _CREASE_COS
 
 
 def _cosine(a: Point, b: Point) -> float:
