@@ -138,3 +138,26 @@ def _refined(hole):
         warnings.simplefilter("ignore")
         (v, f), _ = fill_holes((hole.vertices, hole.faces), max_hole_edges=hole.edges, refine=True)
     return bench.Refill("refined", v, f, len(hole.faces), 0.0)
+
+
+def test_a_hole_across_the_hemisphere_rim_is_refilled_without_crossings():
+    # pmp-library's hemisphere, its own hole capped flat: the cut runs across the
+    # 90-degree rim between the two. Edge swaps across that crease laid the patch
+    # through the mesh (23 crossings, refined and faired alike)
+    from optri import fill_holes
+    from optri.holes.intersect import intersecting_pairs
+
+    s = bench.real_mesh(bench.REAL / "pmp_hemisphere.off", 1)
+    centre = np.array([0.53995099665, 0.56698799135, 0.62090447545])
+    order = np.argsort(np.linalg.norm(s.vertices[s.faces].mean(axis=1) - centre, axis=1))
+    keep = np.ones(len(s.faces), dtype=bool)
+    keep[order[:3647]] = False
+    for fair in (None, 1, 2):
+        (v, f), records = fill_holes(
+            (s.vertices, s.faces[keep]), refine=True, fair=fair, max_hole_edges=200
+        )
+        (rec,) = [r for r in records if r.status == "filled"]
+        assert rec.edges == 165 and rec.vertices_added > 20
+        assert rec.faired == (fair is not None) and rec.self_intersections == 0
+        new = f[int(keep.sum()) :]
+        assert len(intersecting_pairs(v, f, new)) == 0

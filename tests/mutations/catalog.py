@@ -1479,9 +1479,9 @@ MUTATIONS: list[Mutation] = [
     M(
         "fill-fair-check-ignores-patch-self-crossings",
         "src/optri/holes/mesh.py",
-        "    after = len(intersecting_pairs(res.vertices, around, patch))",
-        "    after = len(intersecting_pairs(res.vertices, others, patch))",
-        ("tests/test_bench_refill.py", "-k", "torus_holes"),
+        "        after = len(intersecting_pairs(faired, around, patch))",
+        "        after = len(intersecting_pairs(faired, others, patch))",
+        ("tests/test_mesh_refine.py", "-k", "folds_the_patch"),
         "a fairing that folds the patch onto itself is kept (only crossings with the old "
         "mesh are counted)",
     ),
@@ -1508,6 +1508,40 @@ MUTATIONS: list[Mutation] = [
         "    keep = shared == 0",
         ("tests/test_refine_core.py",),
         "two faces that share a vertex are never tested: a fold through a corner goes unseen",
+    ),
+    M(
+        "refine-relax-swaps-across-creases",
+        "src/optri/holes/refine.py",
+        "    return new < old or old < _CREASE_COS",
+        "    return new < old",
+        ("tests/test_refine_core.py",),
+        "an edge across a sharp crease is swapped when the fold does not sharpen: the "
+        "swap's tetrahedron holds mesh faces, which the new faces cross",
+    ),
+    M(
+        "refine-core-swaps-across-creases",
+        "src/core/holes_refine.cpp",
+        "    return nw < old || old < crease_cos;",
+        "    return nw < old;",
+        ("tests/test_bench_refill.py", "-k", "rim"),
+        "the compiled relaxation swaps across a crease: a hole across the hemisphere's rim "
+        "is refilled through the mesh",
+    ),
+    M(
+        "fill-fairs-in-one-pass",
+        "src/optri/holes/fair.py",
+        "PATCH_PASSES = 2",
+        "PATCH_PASSES = 1",
+        ("tests/test_mesh_refine.py", "-k", "passes"),
+        "fill_holes takes L on the flat refined patch only: L^3 overshoots on large holes",
+    ),
+    M(
+        "fair-passes-restart-from-the-input",
+        "src/optri/holes/fair.py",
+        "        res = _solve(res.vertices, f, free, continuity)",
+        "        res = _solve(v, f, free, continuity)",
+        ("tests/test_mesh_refine.py", "-k", "passes"),
+        "every fairing pass takes L where the input was: the second pass changes nothing",
     ),
     M(
         "refine-core-ignores-the-corner-scales",

@@ -8,9 +8,10 @@ edges added by the holes filled before it; new faces are wound so that every
 boundary edge ``(a, b)`` of an existing face appears as ``(b, a)`` in its new
 neighbour. With ``refine=True`` each patch is then refined to the density of the
 mesh around it (:mod:`optri.holes.refine`), and with ``fair=k`` its new vertices are
-faired (:mod:`optri.holes.fair`); a fairing that would make the patch cross the mesh
-is undone (the refined patch is kept) and the record says why. trimesh is imported only
-when a ``trimesh.Trimesh`` is passed in.
+faired (:mod:`optri.holes.fair`, two solves: the second takes the Laplacian on the
+first's surface); a fairing that would make the patch cross the mesh is undone (the
+first solve is tried, then the refined patch is kept) and the record says why.
+trimesh is imported only when a ``trimesh.Trimesh`` is passed in.
 """
 
 from __future__ import annotations
@@ -235,10 +236,12 @@ def fill_holes(
     the mesh with that face's texture coordinates and normals. Records name each
     loop vertex by its lowest-numbered copy.
 
-    A fairing whose patch would cross the mesh where the refined patch did not is
-    undone (the refined patch stays, ``fair_reason`` says so); a system that cannot
-    be solved is reported the same way. ``self_intersections`` counts the crossings
-    left in each final patch.
+    Fairing solves twice (``fair_vertices(..., passes=2)``): the Laplacian is taken on
+    the flat refined patch, then on the surface the first solve gave. A fairing whose
+    patch would cross the mesh where the refined patch did not is undone: the first
+    solve is tried, then the refined patch stays (``fair_reason`` says so); a system
+    that cannot be solved is reported the same way. ``self_intersections`` counts the
+    crossings left in each final patch.
 
     References
     ----------
