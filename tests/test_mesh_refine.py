@@ -209,6 +209,8 @@ def test_fairing_passes_each_take_l_where_the_last_left_the_vertices():
     again = fair_vertices(once.vertices, f1, free, 2)
     assert twice.ok and np.array_equal(twice.vertices, again.vertices)
     assert not np.allclose(twice.vertices, once.vertices)
+    v3, _ = optri.fair_region((v1, f1), free, 2, passes=2)
+    assert np.array_equal(v3, twice.vertices)
     with pytest.raises(InvalidPolygonError, match="passes"):
         fair_vertices(v1, f1, free, 2, passes=0)
 

@@ -1544,6 +1544,14 @@ MUTATIONS: list[Mutation] = [
         "every fairing pass takes L where the input was: the second pass changes nothing",
     ),
     M(
+        "fair-region-ignores-passes",
+        "src/optri/holes/fair.py",
+        "continuity, passes=passes",
+        "continuity",
+        ("tests/test_mesh_refine.py", "-k", "passes"),
+        "fair_region(passes=2) solves once",
+    ),
+    M(
         "refine-core-ignores-the-corner-scales",
         "src/core/holes_refine.cpp",
         "std::max(sm, sig(corners[k].first));",

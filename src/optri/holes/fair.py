@@ -216,7 +216,7 @@ def _solve(
     return FairResult(out, True)
 
 
-def fair_region(mesh: Any, vertices: Any, continuity: int = 1) -> Any:
+def fair_region(mesh: Any, vertices: Any, continuity: int = 1, *, passes: int = 1) -> Any:
     """Fair any set of vertices of a mesh: the rest of the mesh stays where it is.
 
     Parameters
@@ -227,6 +227,9 @@ def fair_region(mesh: Any, vertices: Any, continuity: int = 1) -> Any:
     continuity : {0, 1, 2}
         0: membrane (``L x = 0``), 1: thin plate (``L^2 x = 0``, the default),
         2: minimal curvature variation (``L^3 x = 0``); cotangent weights, Voronoi areas.
+    passes : int
+        Solves, each with ``L`` taken where the one before left the vertices
+        (``fill_holes`` fairs its patches with ``PATCH_PASSES`` = 2).
 
     Returns
     -------
@@ -260,7 +263,9 @@ def fair_region(mesh: Any, vertices: Any, continuity: int = 1) -> Any:
     True
     """
     v, f, is_trimesh = mesh_arrays(mesh)
-    res = fair_vertices(v, f, np.asarray(vertices, dtype=np.int64).ravel(), continuity)
+    res = fair_vertices(
+        v, f, np.asarray(vertices, dtype=np.int64).ravel(), continuity, passes=passes
+    )
     if not res.ok:
         raise InvalidPolygonError(f"fairing failed: {res.reason}")
     return same_kind(res.vertices, f, is_trimesh)
