@@ -8,8 +8,7 @@ the README's two pictures are the gallery scripts' figures (examples/plot_*.py, 
 that ``make docs`` runs), which need the compare and mesh extras.
 ``mesh_refill_peers.png`` (docs/mesh.md) refills one hole with optri, CGAL and MeshLib
 through ``benchmarks/bench_refill.py``; it needs the bench extra (the peers' wheels) and is
-skipped with a message without them. ``mesh_islands.png`` (docs/mesh.md) fills a hole with
-an island loop by loop and as one patch (trimesh and matplotlib).
+skipped with a message without them.
 Every PNG is reduced to a small palette so the repository stays light.
 """
 
@@ -191,66 +190,6 @@ def refill_pictures() -> None:
     _shrink(OUT / "mesh_refill_peers.png", colours=64)
 
 
-def island_pictures() -> None:
-    """A cap cut off a sphere with its top left floating: loop by loop, one patch, refined."""
-    import warnings
-
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import numpy as np
-    import trimesh
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
-
-    from optri import fill_holes
-
-    sphere = trimesh.creation.icosphere(subdivisions=3)
-    z = sphere.triangles_center[:, 2]
-    v, f = np.asarray(sphere.vertices), np.asarray(sphere.faces)[(z < 0.6) | (z > 0.93)]
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        apart = fill_holes((v, f), islands=False)
-        one = fill_holes((v, f))
-        faired = fill_holes((v, f), refine=True, fair=1)
-    panels = [
-        ("a hole with an island\n(the cap's top, floating)", (v, f), None),
-        ("loop by loop (islands=False):\ntwo surfaces, the island capped apart", *apart),
-        ("fill_holes: one patch\nthrough every loop", *one),
-        ("one patch, refine + fair=1", *faired),
-    ]
-    fig = plt.figure(figsize=(12, 3.6))
-    for i, (title, (pv, pf), records) in enumerate(panels):
-        ax = fig.add_subplot(1, 4, i + 1, projection="3d")
-        new = np.arange(len(pf)) >= len(f)
-        if records is not None and len(records) > 1:  # the island's own cap in another colour
-            island = np.zeros(len(pf), dtype=bool)
-            smallest = min(rec.edges for rec in records)
-            start = len(f)
-            for rec in records:
-                if rec.edges == smallest:
-                    island[start : start + rec.faces_added] = True
-                start += rec.faces_added
-            colours = np.where(island, "#59a14f", np.where(new, "#f28e2b", "#c9d6ea"))
-        else:
-            colours = np.where(new, "#f28e2b", "#c9d6ea")
-        near = pv[pf].mean(axis=1)[:, 2] > 0.2
-        ax.add_collection3d(
-            Poly3DCollection(
-                pv[pf[near]], facecolors=colours[near], edgecolors="#4a4a4a", linewidths=0.25
-            )
-        )
-        ax.set_title(title, fontsize=11)
-        ax.set(xlim=(-0.8, 0.8), ylim=(-0.8, 0.8), zlim=(0.2, 1.05))
-        ax.set_box_aspect((1.6, 1.6, 0.85))
-        ax.view_init(elev=32, azim=-60)
-        ax.set_axis_off()
-    fig.subplots_adjust(left=0, right=1, bottom=0, top=0.88, wspace=0)
-    fig.savefig(OUT / "mesh_islands.png", dpi=80, bbox_inches="tight")
-    plt.close(fig)
-    _shrink(OUT / "mesh_islands.png", colours=64)
-
-
 def main() -> None:
     """Write every picture and list the sizes."""
     OUT.mkdir(exist_ok=True)
@@ -258,7 +197,6 @@ def main() -> None:
     screenshots()
     readme_pictures()
     refill_pictures()
-    island_pictures()
     for f in sorted(OUT.iterdir()):
         print(f"{f.name}: {f.stat().st_size // 1024} KiB")
 
