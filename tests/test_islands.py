@@ -6,6 +6,7 @@ import functools
 import itertools
 import json
 import math
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -289,6 +290,83 @@ def test_two_islands_exact_no_worse_than_heuristic_and_proven():
     check_surface(heuristic, (5, 3, 3))
     assert exact.optimality == "proven" and heuristic.optimality == "heuristic"
     assert exact.weight <= heuristic.weight and len(exact.stats["bridges"]) == 2
+
+
+def exactly_collinear(P, tri):
+    """Exact (rational) collinearity of three points with float coordinates."""
+    a, b, c = ([Fraction(float(x)) for x in P[v]] for v in tri)
+    u = [b[i] - a[i] for i in range(3)]
+    v = [c[i] - a[i] for i in range(3)]
+    cross = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+    return all(x == 0 for x in cross)
+
+
+@pytest.mark.parametrize("kind", ["area", "perimeter"])
+def test_fewest_zero_area_triangles_first_then_the_objective(kind):
+    # a straight run 0-1-2 on the outer loop: its ear is a zero-area triangle that the
+    # objective alone may take (it adds no area); the search minimises the count first
+    rng = np.random.default_rng(0)
+    S = surfaces((5, 3))
+    took_fewer = 0
+    for _ in range(8):
+        z = rng.integers(-2, 3, 2).astype(float)
+        outer = np.array([[0, 0, 0], [2, 0, 0], [4, 0, 0], [4, 4, z[0]], [0, 4, z[1]]], float)
+        top = float(rng.integers(-1, 2))
+        island = np.array([[2.0, 2.5, top], [2.5, 1.0, 0.5], [1.5, 1.0, 0.5]])
+        P = np.concatenate((outer, island))
+        keyed = [(sum(exactly_collinear(P, t) for t in s), sum_weight(P, s, kind)) for s in S]
+        count, best = min(keyed)
+        res = fill_polylines([outer, island], weight=kind, method="exact", orient=False)
+        got = sum(exactly_collinear(P, t) for t in res.triangles.tolist())
+        assert got == count == res.stats["degenerate"] == 0
+        assert res.weight == pytest.approx(best, rel=1e-12) and res.optimality == "proven"
+        assert res.stats["degenerate_unavoidable"] is False
+        plain = min(keyed, key=lambda k: k[1])
+        took_fewer += plain[0] > 0  # the objective alone had a zero-area optimum
+    assert took_fewer > 0 or kind == "perimeter"  # perimeter never prefers them here
+
+
+def test_fewest_zero_area_triangles_with_a_user_weight():
+    # the straight run's ear costs nothing: most weight tables' plain optimum takes it
+    outer = np.array([[0, 0, 0], [2, 0, 0], [4, 0, 0], [4, 4, 1.0], [0, 4, -1.0]], float)
+    island = np.array([[2.0, 2.5, 1.0], [2.5, 1.0, 0.5], [1.5, 1.0, 0.5]])
+    P = np.concatenate((outer, island))
+    rng = np.random.default_rng(4)
+    for _ in range(6):
+        triples = itertools.combinations(range(8), 3)
+        table = {frozenset(t): float(rng.integers(1, 1000)) for t in triples}
+        table[frozenset((0, 1, 2))] = 0.0
+        w = table_weight(table)
+        keyed = [
+            (sum(exactly_collinear(P, t) for t in s), sum(w(*t) for t in s))
+            for s in surfaces((5, 3))
+        ]
+        res = fill_polylines([outer, island], weight=w, method="exact", orient=False)
+        assert (res.stats["degenerate"], res.weight) == min(keyed)
+        assert res.optimality == "proven"
+
+
+def test_unavoidable_zero_area_triangles_are_reported():
+    # the pairs forbidden around point 0 leave side (0, 1) only the apex 2, on the
+    # straight run: one zero-area triangle is forced, and the search says so
+    outer = np.array([[0, 0, 0], [2, 0, 0], [4, 0, 0], [4, 4, 0], [0, 4, 0]], float)
+    island = np.array([[2.0, 2.5, 1.0], [2.5, 1.0, 0.5], [1.5, 1.0, 0.5]])
+    P = np.concatenate((outer, island))
+    forbidden = [(0, 3), (0, 5), (0, 6), (0, 7), (1, 4)]
+    banned = {frozenset(e) for e in forbidden}
+    allowed = [
+        s
+        for s in surfaces((5, 3))
+        if not any(frozenset(e) in banned for t in s for e in itertools.combinations(t, 2))
+    ]
+    keyed = [(sum(exactly_collinear(P, t) for t in s), sum_weight(P, s, "area")) for s in allowed]
+    count, best = min(keyed)
+    assert count == 1
+    res = fill_polylines(
+        [outer, island], weight="area", method="exact", orient=False, forbidden=forbidden
+    )
+    assert res.stats["degenerate"] == count and res.stats["degenerate_unavoidable"] is True
+    assert res.weight == pytest.approx(best, rel=1e-12) and res.optimality == "proven"
 
 
 def test_islands_given_either_way_round():

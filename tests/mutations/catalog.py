@@ -509,6 +509,22 @@ MUTATIONS: list[Mutation] = [
         "a bridge along an edge the mesh already has",
     ),
     M(
+        "islands-zero-area-polygon-fill",
+        "src/optri/holes/islands.py",
+        "count, objective) instead\n            return fill_all(hole, mode, {})[0]",
+        "count, objective) instead\n            return tris",
+        (ISLANDS, "-k", "zero_area"),
+        "a merged polygon's patch keeps zero-area triangles: the bound misses the fewest",
+    ),
+    M(
+        "islands-unavoidable-not-said",
+        "src/optri/holes/islands.py",
+        "not search.liepa and found.proven and stats[\"degenerate\"] > 0",
+        "False",
+        (ISLANDS, "-k", "unavoidable"),
+        "a forced zero-area triangle is not reported as unavoidable",
+    ),
+    M(
         "islands-never-inside",
         "src/optri/holes/islands.py",
         "if not (_winding(xy, flat) != 0).all():",

@@ -394,19 +394,26 @@ class _Search:
             "fast" if jit.unavailable() is None and jit.unsupported(problem) is None else "auto"
         )
         try:
-            return solve_problem(problem, engine)[1].triangles  # type: ignore[no-any-return]
+            tris: Ints = solve_problem(problem, engine)[1].triangles
         except NoTriangulationError:
             return None
+        if degenerate_count(hole.P, tris):  # the least (zero-area count, objective) instead
+            return fill_all(hole, mode, {})[0]
+        return tris
 
     def value(self, m: _Merged, tris: Ints, thirds: Floats) -> Any:
-        """The polygon search's own objective of ``tris`` (Liepa: the key, not the angle)."""
+        """The polygon search's own value of ``tris``.
+
+        Liepa: the key, not the angle. Triangle weights: the pair (zero-area triangles,
+        objective), so that the search minimises the count first, as every fill does.
+        """
         hole = self.hole(m, m.allowed, thirds)
         if self.liepa:
             return liepa_keys(hole.Q, hole.n, True, tris)
         again = self._again.get(id(m))
         if again is None:
             again = self._again[id(m)] = recompute_of(hole)
-        return again(tris)
+        return (degenerate_count(hole.P, tris), again(tris))
 
     def glued_thirds(self, m: _Merged, tris: Ints) -> Floats:
         """Third points that make the search's value the glued surface's value."""
@@ -479,7 +486,10 @@ def fill_polylines(
         (proven lower bound and relative gap; ``-inf`` and ``inf`` when unknown),
         ``stats``: ``loops`` (sizes), ``bridges`` (point pairs the surface was cut
         along), ``configurations`` and ``searches`` (polygon searches run),
-        ``degenerate`` (zero-area triangles).
+        ``degenerate`` (zero-area triangles) and ``degenerate_unavoidable``
+        (triangle weights, ``"proven"``: no surface has fewer). For triangle
+        weights the search minimises the zero-area count first, then the
+        objective, as :func:`optri.fill_polyline` does.
 
     Raises
     ------
@@ -687,11 +697,14 @@ def _heuristic(search: _Search, candidates: list[_Merged]) -> _Found | None:
 
 
 def _public(search: _Search, value: Cost) -> Cost:
-    """A search value as reported: Liepa's key becomes the angle, the area is unscaled."""
+    """A search value as reported (Liepa's key as the angle, the area unscaled).
+
+    For triangle weights the zero-area count is dropped: the objective alone.
+    """
     if search.liepa:
         key, area = value  # type: ignore[misc]
         return (angle_of_key(key), math.ldexp(area, 2 * search.exponent))
-    return value
+    return value[1]  # type: ignore[index,no-any-return]
 
 
 def _gap(value: Cost, bound: Cost) -> float:
@@ -727,9 +740,14 @@ def _result(
         name = names[0] if len(names) == 1 else names
         obj_name = problem.objective.name
     bound: Cost
+    stats["degenerate_unavoidable"] = (
+        not search.liepa and found.proven and stats["degenerate"] > 0
+    )  # the count is minimised first and the search proved it
     if found.proven:
         bound, gap = weight, 0.0
-    elif found.bound is None:
+    elif found.bound is None or (
+        not search.liepa and found.bound[0] < found.value[0]  # type: ignore[index]
+    ):  # a surface with fewer zero-area triangles may exist: its objective is unbounded
         bound, gap = -math.inf, math.inf
     else:
         bound = _public(search, found.bound)
