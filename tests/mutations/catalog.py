@@ -55,6 +55,7 @@ DASK = "tests/test_batch_dask.py"
 DEGENERACY = "tests/test_degeneracy.py"
 EXPLODE = "tests/test_batch_explode.py"
 PARTWORK = "tests/test_batch_partwork.py"
+GEOARROW = "tests/test_batch_geoarrow.py"
 
 MUTATIONS: list[Mutation] = [
     # --- the list: two-phase rule, ties, check(), CLI errors, 3-D limit ---------
@@ -523,6 +524,38 @@ MUTATIONS: list[Mutation] = [
         "False",
         (ISLANDS, "-k", "unavoidable"),
         "a forced zero-area triangle is not reported as unavoidable",
+    ),
+    M(
+        "geoarrow-workers-read-native",
+        "src/optri/batch/partwork.py",
+        "rows = wkb_geometry(rows, self.geometry, self.source.encoding)",
+        "pass",
+        (GEOARROW, "-k", "records_of_wkb and workers-2"),
+        "a worker that reads its rows hands native GeoArrow coordinates to the WKB reader",
+    ),
+    M(
+        "geoarrow-parent-reads-native",
+        "src/optri/batch/geo.py",
+        "batches = (wkb_geometry(b, geom_col, encoding) for b in batches)",
+        "pass",
+        (GEOARROW, "-k", "records_of_wkb and parent"),
+        "the parent's batches keep native GeoArrow coordinates",
+    ),
+    M(
+        "geoarrow-slice-offsets",
+        "src/optri/batch/geo.py",
+        "offsets.append(off - off[0])",
+        "offsets.append(off)",
+        (GEOARROW, "-k", "equals_the_geometries"),
+        "a sliced GeoArrow column: offsets taken as if they began at 0",
+    ),
+    M(
+        "geoarrow-interleaved-z",
+        "src/optri/batch/geo.py",
+        "return xyz[:, : 3 if has_z else 2]",
+        "return xyz[:, :2]",
+        (GEOARROW, "-k", "equals_the_geometries"),
+        "interleaved xyz coordinates lose their Z",
     ),
     M(
         "islands-never-inside",
