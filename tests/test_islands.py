@@ -17,7 +17,9 @@ from hypothesis import strategies as st
 from optri import fill_holes, fill_polylines
 from optri.cli import main
 from optri.errors import InvalidPolygonError, NoTriangulationError
+from optri.holes import islands
 from optri.holes.boundary import edge_summary
+from optri.holes.candidates import delaunay_faces
 from optri.holes.islands import island_groups
 
 # --- the oracle: every surface, enumerated -------------------------------------------------
@@ -263,7 +265,7 @@ def check_surface(res, sizes):
     st.integers(3, 8),
     st.lists(st.integers(3, 5), min_size=1, max_size=2),
     st.sampled_from(["liepa", "area"]),
-    st.sampled_from(["auto", "liepa"]),
+    st.sampled_from(["auto", "liepa", "delaunay"]),
     st.integers(0, 2**32 - 1),
 )
 def test_every_result_is_one_manifold_surface(n0, islands, weight, method, seed):
@@ -369,6 +371,46 @@ def test_unavoidable_zero_area_triangles_are_reported():
     assert res.weight == pytest.approx(best, rel=1e-12) and res.optimality == "proven"
 
 
+@pytest.mark.parametrize("sizes", [(24, 8, 8), (40, 12)])
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_delaunay_searches_the_tetrahedralization_faces(sizes, seed):
+    # Zou, Ju and Carr's candidates: faces of the loops' 3-D Delaunay tetrahedralization
+    loops = config(np.random.default_rng(seed), sizes, bumpy=0.3)
+    faces = {tuple(f) for f in delaunay_faces(np.concatenate(loops)).tolist()}
+    res = fill_polylines(loops, method="delaunay", orient=False)
+    check_surface(res, sizes)
+    assert res.method == "delaunay" and res.optimality == "heuristic"
+    assert all(tuple(sorted(t)) in faces for t in res.triangles.tolist())
+    assert set(res.stats["candidates"]) == {"delaunay"}  # never widened here
+
+
+def test_merged_candidates_are_every_copy_of_every_face():
+    # a bridge vertex appears twice in the merged polygon: each Delaunay face of the
+    # loops' points is a candidate with every choice of copies, and nothing else is
+    loops = config(np.random.default_rng(4), (9, 4, 3))
+    V = np.concatenate(loops)
+    ids = [np.arange(0, 9), np.arange(9, 13), np.arange(13, 16)]
+    m = islands._merge(islands._heuristic_config(V, ids, 0, set()), V, {}, set(), set())
+    got = islands._Search(V, None, "liepa", "sum").merged_faces(m)
+    copies = np.bincount(m.orig, minlength=len(V))
+    faces = delaunay_faces(V)
+    assert len(got) == int(np.prod(copies[faces], axis=1).sum()) and copies.max() == 2
+    assert {tuple(sorted(t)) for t in m.orig[got].tolist()} == {tuple(f) for f in faces.tolist()}
+
+
+def test_auto_beyond_exact_keeps_the_better_heuristic():
+    better = []
+    for seed in range(3):
+        loops = config(np.random.default_rng(seed), (120, 30, 20), bumpy=0.3)
+        got = {
+            m: fill_polylines(loops, method=m, orient=False) for m in ("auto", "liepa", "delaunay")
+        }
+        check_surface(got["auto"], (120, 30, 20))
+        assert got["auto"].weight == min(got["liepa"].weight, got["delaunay"].weight)
+        better.append(got["delaunay"].weight < got["liepa"].weight)
+    assert any(better)  # the tetrahedralization's candidates find a better surface here
+
+
 def test_islands_given_either_way_round():
     rng = np.random.default_rng(3)
     loops = config(rng, (6, 4))
@@ -422,7 +464,7 @@ def test_one_loop_is_fill_polyline():
     [
         ([], {}, "non-empty"),
         ([ring(4, 2), ring(3, 2)], {}, "share a point"),
-        ([ring(4, 2), ring(3, 1)], {"method": "delaunay"}, "unknown method"),
+        ([ring(4, 2), ring(3, 1)], {"method": "greedy"}, "unknown method"),
         ([ring(4, 2), ring(3, 1)], {"third_points": [ring(4, 2)]}, "one"),
         ([ring(4, 2), ring(3, 1)], {"forbidden": [[0, 1]]}, "loop side"),
         ([ring(4, 2), ring(3, 1)], {"forbidden": [[0, 9]]}, "different vertices"),
