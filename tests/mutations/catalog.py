@@ -520,7 +520,7 @@ MUTATIONS: list[Mutation] = [
     M(
         "islands-unavoidable-not-said",
         "src/optri/holes/islands.py",
-        "not search.liepa and found.proven and stats[\"degenerate\"] > 0",
+        'not search.liepa and found.proven and stats["degenerate"] > 0',
         "False",
         (ISLANDS, "-k", "unavoidable"),
         "a forced zero-area triangle is not reported as unavoidable",
@@ -1443,10 +1443,10 @@ MUTATIONS: list[Mutation] = [
     M(
         "explorer-slots-replaced-inside-user-text",
         "src/optri/teaching/explorer.py",
-        "    return _SLOT.sub(lambda m: slots[m.group(1)], _asset(\"explorer.html\"))",
-        "    page = _asset(\"explorer.html\")\n"
+        '    return _SLOT.sub(lambda m: slots[m.group(1)], _asset("explorer.html"))',
+        '    page = _asset("explorer.html")\n'
         "    for k, v in slots.items():\n"
-        "        page = page.replace(\"{{\" + k + \"}}\", v)\n"
+        '        page = page.replace("{{" + k + "}}", v)\n'
         "    return page",
         ("tests/test_teaching_explorer.py", "-k", "user_text"),
         "a title or weight name holding {{js}} gets the script pasted into it",
@@ -1455,7 +1455,7 @@ MUTATIONS: list[Mutation] = [
         "explorer-data-not-escaped",
         "src/optri/teaching/explorer.py",
         '    for ch, code in (("<", "\\\\u003c"), (">", "\\\\u003e"), ("&", "\\\\u0026")):',
-        '    for ch, code in ():',
+        "    for ch, code in ():",
         ("tests/test_teaching_explorer.py", "-k", "user_text"),
         "a weight name holding </script> ends the data block and runs as markup",
     ),
@@ -1569,8 +1569,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "intersect-window-ignores-face-width",
         "src/optri/holes/intersect.py",
-        "    start = np.searchsorted(lo_sorted, plo[:, 0] - width - pad, side=\"left\")",
-        "    start = np.searchsorted(lo_sorted, plo[:, 0] - pad, side=\"left\")",
+        '    start = np.searchsorted(lo_sorted, plo[:, 0] - width - pad, side="left")',
+        '    start = np.searchsorted(lo_sorted, plo[:, 0] - pad, side="left")',
         ("tests/test_refine_core.py",),
         "a face that starts left of a patch face's box but reaches into it is never tested",
     ),
@@ -2411,8 +2411,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "explode-json-numbers-all-zero",
         "src/optri/batch/writers.py",
-        "{**whole, \"geometry\": poly, \"properties\": {**fields, TRIANGLE: k}}",
-        "{**whole, \"geometry\": poly, \"properties\": {**fields, TRIANGLE: 0}}",
+        '{**whole, "geometry": poly, "properties": {**fields, TRIANGLE: k}}',
+        '{**whole, "geometry": poly, "properties": {**fields, TRIANGLE: 0}}',
         (EXPLODE, "-k", "round_trips and ndjson-in.ndjson"),
         "every exploded GeoJSON feature says it is its feature's first triangle",
     ),
