@@ -35,7 +35,7 @@ from ..errors import (
 from ..meshdata import copies_at_border, mesh_arrays, same_kind, weld, with_attributes
 from ..objective import Cost
 from ..weights import get_weight
-from .boundary import Loop, edge_keys, trace_loops
+from .boundary import Loop, trace_loops
 from .fair import CONTINUITY, fair_vertices
 from .intersect import intersecting_pairs
 from .islands import ISLAND_METHODS, fill_polylines, group_chords, island_groups
@@ -285,6 +285,7 @@ def fill_holes(
         if patch is not None:
             allv = np.concatenate(points) if len(points) > 1 else vertices
             others = np.concatenate(new_faces)
+            crossings = None  # of the final patch, once a check has counted them
             if refine:
                 scales = boundary_scales(vertices, faces, ring)
                 forbidden = joined.pairs_among(ring)
@@ -303,13 +304,13 @@ def fill_holes(
                     rec.vertices_added = len(added)
                     rec.faces_added = len(patch)
                     if fair is not None:
-                        allv = _fair_patch(rec, allv, others, patch, free, fair)
+                        allv, crossings = _fair_patch(rec, allv, others, patch, free, fair)
                     points.append(allv[free])
             joined.add(patch)
             new_faces.append(patch)
-            rec.self_intersections = len(
-                intersecting_pairs(allv, np.concatenate([others, patch]), patch)
-            )
+            if crossings is None:
+                crossings = len(intersecting_pairs(allv, np.concatenate([others, patch]), patch))
+            rec.self_intersections = crossings
         records.append(rec)
         if progress is not None:
             progress(h + 1, len(loops))
@@ -330,13 +331,16 @@ def _fair_patch(
     patch: Ints,
     free: Ints,
     continuity: int,
-) -> NDArray[np.float64]:
-    """``allv`` with ``free`` faired; as given when it fails or adds crossings (said in rec)."""
+) -> tuple[NDArray[np.float64], int | None]:
+    """``allv`` with ``free`` faired; as given when it fails or adds crossings (said in rec).
+
+    Also the crossings of the patch so returned, when they were counted (else None).
+    """
     around = np.concatenate([others, patch])
     res = fair_vertices(allv, around, free, continuity)
     if not res.ok:
         rec.fair_reason = res.reason
-        return allv
+        return allv, None
     # the patch against the mesh and against itself (a fold within the patch counts too)
     before = len(intersecting_pairs(allv, around, patch))
     after = len(intersecting_pairs(res.vertices, around, patch))
@@ -345,9 +349,9 @@ def _fair_patch(
             f"the faired patch would cross the mesh ({after} crossings, {before} before); "
             f"the refined patch is kept"
         )
-        return allv
+        return allv, before
     rec.faired = True
-    return res.vertices
+    return res.vertices, after
 
 
 class _Edges:
@@ -358,9 +362,10 @@ class _Edges:
         on_loop = np.zeros(nv, dtype=np.bool_)
         for lp in loops:
             on_loop[lp.vertices] = True
-        keys = edge_keys(faces, nv)
-        a, b = np.divmod(keys, nv)
-        self.keys = np.unique(keys[on_loop[a] & on_loop[b]])  # a few, not every edge
+        from .._core import topology
+
+        # a few, not every edge
+        self.keys = topology.edges_among(np.ascontiguousarray(faces), nv, on_loop)
 
     def add(self, patch: Ints) -> None:
         a = patch.ravel()
