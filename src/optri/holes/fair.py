@@ -179,7 +179,9 @@ def fair_vertices(
     lhs = rows[:, free].tocsc()
     rhs = -(rows[:, fixed] @ v[fixed])
     try:
-        lu = linalg.splu(lhs)
+        # the system is symmetric up to rounding (C A^-1 C ...): a symmetric fill-reducing
+        # order with diagonal pivots first factors it several times faster than COLAMD
+        lu = linalg.splu(lhs, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
         x = lu.solve(rhs)
     except (RuntimeError, ValueError) as exc:  # singular: keep the input
         return FairResult(v.copy(), False, f"the fairing system could not be solved ({exc})")
