@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from optri._core import topology
 
 from optri import fill_holes
-from optri._core import topology
 from optri.holes.boundary import edge_keys
 from optri.meshdata import weld
 
@@ -63,9 +63,7 @@ def soups(draw):
 def test_passes_equal_their_oracles(soup):
     faces, points, flag, nv = soup
     np.testing.assert_array_equal(topology.weld_first(points), oracle_weld_first(points))
-    np.testing.assert_array_equal(
-        topology.single_edges(faces, nv), oracle_single_edges(faces, nv)
-    )
+    np.testing.assert_array_equal(topology.single_edges(faces, nv), oracle_single_edges(faces, nv))
     np.testing.assert_array_equal(topology.components(faces, nv), oracle_components(faces, nv))
     np.testing.assert_array_equal(
         topology.edges_among(faces, nv, flag), oracle_edges_among(faces, nv, flag)
@@ -115,8 +113,11 @@ def test_fill_holes_reports_the_crossings_left(fair):
     g = np.arange(-4.0, 5.0)
     x, y = np.meshgrid(g, g, indexing="ij")
     v = np.column_stack([x.ravel(), y.ravel(), np.zeros(81)])
-    quads = [(i * 9 + j, (i + 1) * 9 + j, (i + 1) * 9 + j + 1, i * 9 + j + 1)
-             for i in range(8) for j in range(8)]
+    quads = [
+        (i * 9 + j, (i + 1) * 9 + j, (i + 1) * 9 + j + 1, i * 9 + j + 1)
+        for i in range(8)
+        for j in range(8)
+    ]
     f = np.array([t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))])
     f = f[np.linalg.norm(v[f].mean(axis=1)[:, :2], axis=1) > 2.3]
     tip = len(v)

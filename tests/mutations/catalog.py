@@ -2504,4 +2504,28 @@ MUTATIONS: list[Mutation] = [
         ("tests/test_mesh_topology.py", "-k", "crossings_left"),
         "a faired patch reports no crossings whatever it crosses",
     ),
+    M(
+        "refine-start-ignores-refine",
+        "src/optri/holes/mesh.py",
+        'if refine and big and method == "auto" and not group:',
+        'if big and method == "auto" and not group:',
+        ("tests/test_mesh_refine_start.py",),
+        "holes filled without refinement lose their exact patch",
+    ),
+    M(
+        "refine-start-liepa",
+        "src/optri/holes/mesh.py",
+        'mode = "delaunay"  # the coarse patch is only where refinement starts',
+        'mode = "liepa"',
+        ("tests/test_mesh_refine_start.py",),
+        "large refined holes start from Liepa's O(n^3) recurrence, not the Delaunay candidates",
+    ),
+    M(
+        "refine-start-overrides-explicit-method",
+        "src/optri/holes/mesh.py",
+        'if refine and big and method == "auto" and not group:',
+        "if refine and big and not group:",
+        ("tests/test_mesh_refine_start.py",),
+        "an explicit method is replaced on large refined holes",
+    ),
 ]

@@ -180,7 +180,10 @@ def fill_holes(
     weight, method
         As in :func:`optri.fill_polyline`; default ``method="auto"`` runs the
         exact search on holes up to ``config.HOLES_EXACT_MAX_N`` edges and
-        Liepa's O(n^3) recurrence above (each record names the mode used).
+        Liepa's O(n^3) recurrence above (each record names the mode used). With
+        ``refine=True``, ``"auto"`` runs the exact search up to
+        ``config.HOLES_REFINE_EXACT_MAX_N`` edges and ``"delaunay"`` above: the
+        patch is then only where refinement starts.
     refine : bool
         Refine each patch to the density of the mesh around its hole: Liepa's
         centroid splits and edge relaxation (:func:`optri.holes.refine_patch`).
@@ -280,7 +283,11 @@ def fill_holes(
         if h in inside:  # filled with the hole around it
             continue
         group = [loops[j] for j in groups.get(h, [])]
-        rec, patch = _fill_one(h, vertices, loop, joined, max_hole_edges, weight, method, group)
+        mode = method
+        big = len(loop.vertices) > config.HOLES_REFINE_EXACT_MAX_N
+        if refine and big and method == "auto" and not group:
+            mode = "delaunay"  # the coarse patch is only where refinement starts
+        rec, patch = _fill_one(h, vertices, loop, joined, max_hole_edges, weight, mode, group)
         ring = np.concatenate([loop.vertices, *(lp.vertices for lp in group)])
         if patch is not None:
             allv = np.concatenate(points) if len(points) > 1 else vertices
@@ -317,7 +324,8 @@ def fill_holes(
     out_vertices = np.concatenate(points) if len(points) > 1 else vertices.copy()
     patches = np.concatenate([np.zeros((0, 3), np.int64), *new_faces[1:]]).astype(np.int64)
     split = np.asarray(parents, dtype=np.int64).reshape(-1, 3)
-    patches, split, source = copies_at_border(own_faces, faces, patches, len(vertices), split)
+    if is_trimesh or faces is not own_faces:  # some vertex has copies (or attributes)
+        patches, split, source = copies_at_border(own_faces, faces, patches, len(vertices), split)
     out_faces = np.concatenate([own_faces, patches])
     if is_trimesh:
         return with_attributes(mesh, out_vertices, out_faces, split, source), records
