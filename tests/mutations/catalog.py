@@ -2528,4 +2528,12 @@ MUTATIONS: list[Mutation] = [
         ("tests/test_mesh_refine_start.py",),
         "an explicit method is replaced on large refined holes",
     ),
+    M(
+        "fair-check-skips-refined-count",
+        "src/optri/holes/mesh.py",
+        "before = len(intersecting_pairs(allv, around, patch)) if after else 0",
+        "before = 0",
+        ("tests/test_mesh_topology.py", "-k", "crossings_left"),
+        "a fairing is undone whenever its patch crosses anything, even where the refined one did",
+    ),
 ]

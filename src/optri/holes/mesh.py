@@ -349,9 +349,10 @@ def _fair_patch(
     if not res.ok:
         rec.fair_reason = res.reason
         return allv, None
-    # the patch against the mesh and against itself (a fold within the patch counts too)
-    before = len(intersecting_pairs(allv, around, patch))
+    # the patch against the mesh and against itself (a fold within the patch counts too);
+    # the refined patch's count matters only when the faired one has crossings
     after = len(intersecting_pairs(res.vertices, around, patch))
+    before = len(intersecting_pairs(allv, around, patch)) if after else 0
     if after > before:
         rec.fair_reason = (
             f"the faired patch would cross the mesh ({after} crossings, {before} before); "
