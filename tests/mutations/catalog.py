@@ -2536,4 +2536,12 @@ MUTATIONS: list[Mutation] = [
         ("tests/test_mesh_topology.py", "-k", "crossings_left"),
         "a fairing is undone whenever its patch crosses anything, even where the refined one did",
     ),
+    M(
+        "fair-solve-wrong-rows",
+        "src/optri/holes/fair.py",
+        "    return lu.solve(rhs)  # type: ignore[no-any-return]",
+        "    return lu.solve(rhs[::-1])  # type: ignore[no-any-return]",
+        ("tests/test_fair_solve.py",),
+        "the right-hand side taken in another vertex order",
+    ),
 ]

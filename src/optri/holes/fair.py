@@ -179,10 +179,7 @@ def fair_vertices(
     lhs = rows[:, free].tocsc()
     rhs = -(rows[:, fixed] @ v[fixed])
     try:
-        # the system is symmetric up to rounding (C A^-1 C ...): a symmetric fill-reducing
-        # order with diagonal pivots first factors it several times faster than COLAMD
-        lu = linalg.splu(lhs, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
-        x = lu.solve(rhs)
+        x = _solve(linalg, lhs, rhs)
     except (RuntimeError, ValueError) as exc:  # singular: keep the input
         return FairResult(v.copy(), False, f"the fairing system could not be solved ({exc})")
     if not np.all(np.isfinite(x)):
@@ -190,6 +187,20 @@ def fair_vertices(
     out = v.copy()
     out[free] = x
     return FairResult(out, True)
+
+
+def _solve(linalg: Any, lhs: Any, rhs: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``lhs^-1 rhs``; ``lhs`` is symmetric positive definite up to rounding.
+
+    ``(C A^-1)^k C`` restricted to the free vertices, ``C`` the stiffness matrix: a
+    symmetric fill-reducing order taking the diagonal as pivots (SuperLU still pivots
+    where a diagonal entry is zero) factors it several times faster than COLAMD with
+    partial pivoting.
+    """
+    lu = linalg.splu(
+        lhs, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True}
+    )
+    return lu.solve(rhs)  # type: ignore[no-any-return]
 
 
 def fair_region(mesh: Any, vertices: Any, continuity: int = 1) -> Any:
