@@ -14,6 +14,7 @@ void bind_all(nanobind::module_& m) {
     bind_many(m);
     bind_simple(m);
     bind_refine(m);
+    bind_topology(m);
 }
 
 }  // namespace optri

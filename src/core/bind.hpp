@@ -15,5 +15,6 @@ void bind_minplus(nanobind::module_& m);
 void bind_many(nanobind::module_& m);
 void bind_simple(nanobind::module_& m);
 void bind_refine(nanobind::module_& m);
+void bind_topology(nanobind::module_& m);
 
 }  // namespace optri

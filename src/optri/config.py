@@ -59,6 +59,12 @@ KBEST_ENUMERATION_LIMIT = 2_000_000
 #: (O(n^4) time at worst, pruned by Liepa's patch; about 8 n^3 / 3 bytes), Liepa's O(n^3)
 #: recurrence above. Measured by benchmarks/bench_mesh.py: see docs/mesh.md.
 HOLES_EXACT_MAX_N = 400
+#: 3-D holes, ``fill_holes(refine=True)``: ``method="auto"`` starts the refinement from the
+#: exact patch up to this many boundary edges, and above it from Liepa's recurrence over
+#: Delaunay candidates (as CGAL does): refinement and fairing then decide the surface, and
+#: the refined patches were as close to the true surface either way, at a small part of the
+#: exact search's time. Measured by benchmarks/bench_refill.py: see docs/mesh.md.
+HOLES_REFINE_EXACT_MAX_N = 128
 #: 3-D holes: work (about apex evaluations) per compiled-kernel call of the Liepa and
 #: exact searches; between calls Ctrl-C takes effect.
 HOLES_CHUNK_WORK = 2e7

@@ -78,9 +78,12 @@ def weld(vertices: NDArray[np.float64], faces: Ints, rtol: float = 0.0) -> Ints:
     >>> weld(v, np.array([[0, 1, 2], [3, 4, 2]])).tolist()
     [[0, 1, 2], [1, 4, 2]]
     """
+    from ._core import topology
+
     keys = position_keys(vertices, rtol)
-    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
-    rep = first[inverse.reshape(-1)].astype(np.int64)
+    rep = topology.weld_first(np.ascontiguousarray(keys, dtype=np.float64).reshape(-1, 3))
+    if (rep == np.arange(len(rep))).all():
+        return faces  # no two vertices share a position
     return rep[faces]  # type: ignore[no-any-return]
 
 

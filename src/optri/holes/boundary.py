@@ -76,14 +76,11 @@ def trace_loops(faces: NDArray[np.integer]) -> list[Loop]:
     ]  # no zero-length edges
     if len(f) == 0:
         return []
+    from .._core import topology
+
     nv = int(f.max()) + 1
-    key = edge_keys(f, nv)
-    order = np.argsort(key, kind="stable")
-    sk = key[order]
-    single = np.ones(len(sk), dtype=np.bool_)
-    single[1:] &= sk[1:] != sk[:-1]
-    single[:-1] &= sk[:-1] != sk[1:]
-    bnd = np.sort(order[single])  # boundary face edges, as rows of the stacked edge list
+    f = np.ascontiguousarray(f)
+    bnd = topology.single_edges(f, nv)  # boundary face edges, as rows 3 * face + corner
     if len(bnd) == 0:
         return []
     face, corner = bnd // 3, bnd % 3

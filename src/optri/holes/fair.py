@@ -205,8 +205,7 @@ def _solve(
     lhs = rows[:, free].tocsc()
     rhs = -(rows[:, fixed] @ v[fixed])
     try:
-        lu = linalg.splu(lhs)
-        x = lu.solve(rhs)
+        x = _factor_solve(linalg, lhs, rhs)
     except (RuntimeError, ValueError) as exc:  # singular: keep the input
         return FairResult(v.copy(), False, f"the fairing system could not be solved ({exc})")
     if not np.all(np.isfinite(x)):
@@ -214,6 +213,20 @@ def _solve(
     out = v.copy()
     out[free] = x
     return FairResult(out, True)
+
+
+def _factor_solve(linalg: Any, lhs: Any, rhs: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``lhs^-1 rhs``; ``lhs`` is symmetric positive definite up to rounding.
+
+    ``(C A^-1)^k C`` restricted to the free vertices, ``C`` the stiffness matrix: a
+    symmetric fill-reducing order taking the diagonal as pivots (SuperLU still pivots
+    where a diagonal entry is zero) factors it several times faster than COLAMD with
+    partial pivoting.
+    """
+    lu = linalg.splu(
+        lhs, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True}
+    )
+    return lu.solve(rhs)  # type: ignore[no-any-return]
 
 
 def fair_region(mesh: Any, vertices: Any, continuity: int = 1, *, passes: int = 1) -> Any:

@@ -875,20 +875,10 @@ def island_groups(vertices: Floats, faces: Ints, loops: Sequence[Ints]) -> dict[
 
 
 def _components(faces: Ints, nv: int) -> Ints:
-    """Connected-component label of every vertex (through the faces' edges)."""
-    parent = np.arange(nv)
-    f = np.asarray(faces, dtype=np.int64)
-    a = np.concatenate([f[:, 0], f[:, 1]])
-    b = np.concatenate([f[:, 1], f[:, 2]])
-    while True:  # label propagation: every vertex takes the smallest label around it
-        low = np.minimum(parent[a], parent[b])
-        new = parent.copy()
-        np.minimum.at(new, a, low)
-        np.minimum.at(new, b, low)
-        new = new[new]
-        if np.array_equal(new, parent):
-            return parent
-        parent = new
+    """Connected-component label of every vertex (through the faces' edges): its lowest id."""
+    from .._core import topology
+
+    return topology.components(np.ascontiguousarray(faces, dtype=np.int64), nv)  # type: ignore[no-any-return]
 
 
 def _shape(points: Floats) -> tuple[Floats, Floats, Floats, float, float]:

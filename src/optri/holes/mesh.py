@@ -36,7 +36,7 @@ from ..errors import (
 from ..meshdata import copies_at_border, mesh_arrays, same_kind, weld, with_attributes
 from ..objective import Cost
 from ..weights import get_weight
-from .boundary import Loop, edge_keys, trace_loops
+from .boundary import Loop, trace_loops
 from .fair import CONTINUITY, PATCH_PASSES, fair_vertices
 from .intersect import intersecting_pairs
 from .islands import ISLAND_METHODS, fill_polylines, group_chords, island_groups
@@ -181,7 +181,10 @@ def fill_holes(
     weight, method
         As in :func:`optri.fill_polyline`; default ``method="auto"`` runs the
         exact search on holes up to ``config.HOLES_EXACT_MAX_N`` edges and
-        Liepa's O(n^3) recurrence above (each record names the mode used).
+        Liepa's O(n^3) recurrence above (each record names the mode used). With
+        ``refine=True``, ``"auto"`` runs the exact search up to
+        ``config.HOLES_REFINE_EXACT_MAX_N`` edges and ``"delaunay"`` above: the
+        patch is then only where refinement starts.
     refine : bool
         Refine each patch to the density of the mesh around its hole: Liepa's
         centroid splits and edge relaxation (:func:`optri.holes.refine_patch`).
@@ -283,11 +286,16 @@ def fill_holes(
         if h in inside:  # filled with the hole around it
             continue
         group = [loops[j] for j in groups.get(h, [])]
-        rec, patch = _fill_one(h, vertices, loop, joined, max_hole_edges, weight, method, group)
+        mode = method
+        big = len(loop.vertices) > config.HOLES_REFINE_EXACT_MAX_N
+        if refine and big and method == "auto" and not group:
+            mode = "delaunay"  # the coarse patch is only where refinement starts
+        rec, patch = _fill_one(h, vertices, loop, joined, max_hole_edges, weight, mode, group)
         ring = np.concatenate([loop.vertices, *(lp.vertices for lp in group)])
         if patch is not None:
             allv = np.concatenate(points) if len(points) > 1 else vertices
             others = np.concatenate(new_faces)
+            crossings = None  # of the final patch, once a check has counted them
             if refine:
                 scales = boundary_scales(vertices, faces, ring)
                 forbidden = joined.pairs_among(ring)
@@ -306,20 +314,21 @@ def fill_holes(
                     rec.vertices_added = len(added)
                     rec.faces_added = len(patch)
                     if fair is not None:
-                        allv = _fair_patch(rec, allv, others, patch, free, fair)
+                        allv, crossings = _fair_patch(rec, allv, others, patch, free, fair)
                     points.append(allv[free])
             joined.add(patch)
             new_faces.append(patch)
-            rec.self_intersections = len(
-                intersecting_pairs(allv, np.concatenate([others, patch]), patch)
-            )
+            if crossings is None:
+                crossings = len(intersecting_pairs(allv, np.concatenate([others, patch]), patch))
+            rec.self_intersections = crossings
         records.append(rec)
         if progress is not None:
             progress(h + 1, len(loops))
     out_vertices = np.concatenate(points) if len(points) > 1 else vertices.copy()
     patches = np.concatenate([np.zeros((0, 3), np.int64), *new_faces[1:]]).astype(np.int64)
     split = np.asarray(parents, dtype=np.int64).reshape(-1, 3)
-    patches, split, source = copies_at_border(own_faces, faces, patches, len(vertices), split)
+    if is_trimesh or faces is not own_faces:  # some vertex has copies (or attributes)
+        patches, split, source = copies_at_border(own_faces, faces, patches, len(vertices), split)
     out_faces = np.concatenate([own_faces, patches])
     if is_trimesh:
         return with_attributes(mesh, out_vertices, out_faces, split, source), records
@@ -333,11 +342,12 @@ def _fair_patch(
     patch: Ints,
     free: Ints,
     continuity: int,
-) -> NDArray[np.float64]:
+) -> tuple[NDArray[np.float64], int | None]:
     """``allv`` with ``free`` faired; as given when it fails or adds crossings (said in rec).
 
     ``PATCH_PASSES`` solves, each with ``L`` taken where the one before left the patch;
-    when the last adds crossings the earlier ones are tried, from the latest back.
+    when the last adds crossings the earlier ones are tried, from the latest back. Also
+    the crossings of the patch so returned, when they were counted (else None).
     """
     around = np.concatenate([others, patch])
     tried = [allv]
@@ -348,19 +358,23 @@ def _fair_patch(
         tried.append(res.vertices)
     if len(tried) == 1:
         rec.fair_reason = res.reason
-        return allv
-    # the patch against the mesh and against itself (a fold within the patch counts too)
-    before = len(intersecting_pairs(allv, around, patch))
+        return allv, None
+    # the patch against the mesh and against itself (a fold within the patch counts too);
+    # the refined patch's count matters only when a faired one has crossings
+    before: int | None = None
+    after = 0
     for faired in tried[:0:-1]:
         after = len(intersecting_pairs(faired, around, patch))
-        if after <= before:
+        if after and before is None:
+            before = len(intersecting_pairs(allv, around, patch))
+        if not after or (before is not None and after <= before):
             rec.faired = True
-            return faired
+            return faired, after
     rec.fair_reason = (
         f"the faired patch would cross the mesh ({after} crossings, {before} before); "
         f"the refined patch is kept"
     )
-    return allv
+    return allv, before
 
 
 class _Edges:
@@ -371,9 +385,10 @@ class _Edges:
         on_loop = np.zeros(nv, dtype=np.bool_)
         for lp in loops:
             on_loop[lp.vertices] = True
-        keys = edge_keys(faces, nv)
-        a, b = np.divmod(keys, nv)
-        self.keys = np.unique(keys[on_loop[a] & on_loop[b]])  # a few, not every edge
+        from .._core import topology
+
+        # a few, not every edge
+        self.keys = topology.edges_among(np.ascontiguousarray(faces), nv, on_loop)
 
     def add(self, patch: Ints) -> None:
         a = patch.ravel()

@@ -85,7 +85,9 @@ def fill_all(hole: Hole, method: str, stats: dict[str, Any]) -> tuple[Tris | Non
     if not hole.liepa:  # a sum or max of triangle weights: the normal engines
         return _engine_fill(hole, hole.allowed, stats), "exact"
     n = hole.n
-    fits = search.exact_bytes(n) <= available_memory_bytes()
+    need = search.exact_bytes(n)
+    small = need < config.MEMORY_CHECK_MIN_BYTES and config.MEMORY_LIMIT_BYTES is None
+    fits = small or need <= available_memory_bytes()  # as require_memory decides
     exact = method == "exact" or (method == "auto" and n <= config.HOLES_EXACT_MAX_N and fits)
     if exact:
         search.require_exact_memory(n)  # refuse before Liepa's bound is computed

@@ -70,8 +70,9 @@ def boundary_scales(
     on_loop = np.zeros(len(vertices), dtype=bool)
     on_loop[loop] = True
     f = f[on_loop[f].any(axis=1)]  # only the faces at the loop hold its edges
-    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
-    e = np.unique(np.sort(e, axis=1), axis=0)
+    e = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
+    nv = len(vertices)  # distinct edges in (low, high) order, by one key each
+    e = np.column_stack(np.divmod(np.unique(e[:, 0] * nv + e[:, 1]), nv))
     length = np.linalg.norm(vertices[e[:, 0]] - vertices[e[:, 1]], axis=1)
     total = np.zeros(len(vertices))
     count = np.zeros(len(vertices))
