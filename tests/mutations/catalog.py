@@ -55,6 +55,7 @@ DASK = "tests/test_batch_dask.py"
 DEGENERACY = "tests/test_degeneracy.py"
 EXPLODE = "tests/test_batch_explode.py"
 PARTWORK = "tests/test_batch_partwork.py"
+STARTUP = "tests/test_batch_startup.py"
 
 MUTATIONS: list[Mutation] = [
     # --- the list: two-phase rule, ties, check(), CLI errors, 3-D limit ---------
@@ -2446,5 +2447,37 @@ MUTATIONS: list[Mutation] = [
         "BATCH_WORKERS_READ = False",
         (PARTWORK, "-k", "read_their_rows"),
         "the parent reads every chunk and writes every part again",
+    ),
+    M(
+        "forkserver-preloads-nothing",
+        "src/optri/batch/runner.py",
+        "ctx.set_forkserver_preload(list(FORKSERVER_PRELOAD))",
+        "pass",
+        (STARTUP, "-k", "preloaded"),
+        "every pool worker imports pyarrow, shapely and pandas itself",
+    ),
+    M(
+        "worker-ignores-the-parents-crs-json",
+        "src/optri/batch/partwork.py",
+        "crs=task.crs, crs_json=task.crs_json)",
+        "crs=task.crs)",
+        (STARTUP, "-k", "parent_parsed"),
+        "every worker imports pyproj and parses the layer's CRS again",
+    ),
+    M(
+        "layer-projjson-ignores-its-text",
+        "src/optri/batch/layer.py",
+        "        if self.crs_json is not None:\n            return json.loads(self.crs_json)\n",
+        "",
+        (STARTUP, "-k", "prefers or parent_parsed"),
+        "a part's GeoParquet CRS parsed again instead of the parent's",
+    ),
+    M(
+        "parent-hands-no-crs-json",
+        "src/optri/batch/driver.py",
+        "crs_json = _crs_json(work.layer.crs) if reader is not None else None",
+        "crs_json = None",
+        (STARTUP, "-k", "hands_every_task"),
+        "the workers parse the CRS themselves",
     ),
 ]

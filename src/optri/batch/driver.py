@@ -13,6 +13,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from .. import config
 from .._optional import import_optional
 from .._version import __version__
@@ -23,13 +25,13 @@ from .chunks import TableTask
 from .compiled import many_plan
 from .dasklayer import dask_layer, wants_dask_layer
 from .geo import ArrowSource, count_rows, open_arrow_batches
-from .layer import Layer, warn_geographic
+from .layer import Layer, projjson_text, warn_geographic
 from .layout import Layout, file_sha256, job_key, output_lock, plan_layout
 from .partwork import LayerRows, PartWritten, ReadTask, ids_of
 from .project import local_projector
 from .readers import count_items, detect_input_format, open_layer
 from .records import ChunkTask, Item
-from .runner import open_backend, run_tasks
+from .runner import open_backend, run_tasks, start_pool_server
 from .solver import SolveOptions, check_options
 from .summary import BatchSummary, Counter, report_duplicates
 from .tablefiles import flavor_of, write_table
@@ -220,6 +222,7 @@ def _require_picklable(options: dict[str, Any]) -> None:
 
 def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
     start = time.perf_counter()
+    start_pool_server(s.scheduler, s.workers)
     kind = detect_input_format(inp, s.fmt)
     if not inp.is_file():
         what = "is a directory, not a layer file" if inp.is_dir() else "no such file"
@@ -325,6 +328,7 @@ def _solve_tables(
     options = {**s.options, "project": crs}
     flavor = flavor_of(layout.fmt)
     renames = work.layer.renames
+    crs_json = _crs_json(work.layer.crs) if reader is not None else None
 
     def task(index: int, table: Any) -> TableTask | ReadTask:
         first = index * work.size
@@ -333,7 +337,7 @@ def _solve_tables(
             part = str(layout.part(index))
             return ReadTask(
                 index, reader, first, count, source.geometry, source.fid, renames, flavor,
-                s.explode, part, work.layer.crs, **options,
+                s.explode, part, work.layer.crs, crs_json, **options,
             )  # fmt: skip
         fid, table = ids_of(table, source.fid, first)
         return TableTask(
@@ -350,6 +354,14 @@ def _solve_tables(
 
     with open_backend(s.scheduler, s.workers) as backend:
         run_tasks(backend, tasks(), _table_done(work, s, counter))
+
+
+def _crs_json(crs: str | None) -> str | None:
+    """``crs`` as PROJJSON for the workers; None (each worker derives it) when unparsable."""
+    try:
+        return projjson_text(crs)
+    except Exception:  # pyproj's CRSError: the part writer raises it as before
+        return None
 
 
 def _table_done(work: _Work, s: _Settings, counter: Counter) -> Callable[[Any, Any], None]:
@@ -416,8 +428,9 @@ def _table_chunks(
         size = previous
     if size is None:
         column = head[0].column(source.geometry) if head else pa.array([], pa.binary())
-        raw = column.slice(0, config.BATCH_CHUNK_SAMPLE).to_numpy(zero_copy_only=False)
-        geoms = shapely.from_wkb(raw, on_invalid="ignore")
+        # to_pylist, not to_numpy: pyarrow's numpy conversion imports pandas
+        raw = column.slice(0, config.BATCH_CHUNK_SAMPLE).to_pylist()
+        geoms = shapely.from_wkb(np.array(raw, dtype=object), on_invalid="ignore")
         n = shapely.get_num_coordinates(geoms) - shapely.get_num_interior_rings(geoms) - 1
         size = auto_chunk_size([Item(0, [[0, 0]] * max(int(k), 0)) for k in n], work)
 

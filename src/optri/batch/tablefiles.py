@@ -81,7 +81,10 @@ def assemble_tables(
 
     def batches() -> Iterator[Any]:
         for part in parts:
-            yield from conform(pq.read_table(part), schema).to_batches()
+            # ParquetFile, not read_table: that one imports pyarrow.dataset (and pandas)
+            with pq.ParquetFile(part) as pf:
+                table = pf.read()
+            yield from conform(table, schema).to_batches()
 
     if fmt == "parquet":
         schema = schema.with_metadata(_parquet_metadata(schema, layer))
