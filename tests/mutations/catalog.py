@@ -2480,4 +2480,28 @@ MUTATIONS: list[Mutation] = [
         (STARTUP, "-k", "hands_every_task"),
         "the workers parse the CRS themselves",
     ),
+    M(
+        "many-edge-fill-ties-to-the-largest-k",
+        "src/core/many.cpp",
+        "        if (!skip && v < b) b = v, at = k;",
+        "        if (!skip && v <= b) b = v, at = k;",
+        ("tests/test_batch_compiled.py",),
+        "the kernel's edge-weight fill breaks ties unlike the Python engines",
+    ),
+    M(
+        "many-edge-fill-ignores-the-mask",
+        "src/core/many.cpp",
+        "            if (mask == nullptr || mask[i * n + j]) edge_split(T, E, n, i, j, c, k, nan);",
+        "            edge_split(T, E, n, i, j, c, k, nan);",
+        ("tests/test_batch_compiled.py",),
+        "chords outside a concave polygon get a cost: triangles outside it",
+    ),
+    M(
+        "many-edge-fill-walks-the-wrong-split",
+        "src/core/many.cpp",
+        "            K[i * n + j] = static_cast<int32_t>(k);",
+        "            K[i * n + j] = static_cast<int32_t>(k == i + 1 ? k : k - 1);",
+        ("tests/test_batch_compiled.py",),
+        "the triangles traced from the kept splits are not the optimum's",
+    ),
 ]
