@@ -2596,7 +2596,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "joiner-writes-on-after-the-schema-changed",
         "src/optri/batch/tablefiles.py",
-        "            self.broken = True  # the first parts were written with other columns or types\n"
+        "            self.broken = True  # the first parts were written"
+        " with other columns or types\n"
         "            return\n",
         "            pass\n",
         (STARTUP, "-k", "cannot_be_kept"),
