@@ -13,8 +13,10 @@
 //    (counter-clockwise) order;
 // 3. the recurrence by the engines' own fills: MODE_PYTHON (the Python engines' values,
 //    cost(i, k) + cost(k, j) + w(i, k, j), ties to the smallest k) is the generic fill and
-//    trace (generic.hpp); MODE_FAST is the compiled engine: the min-plus E-table
-//    (minplus.hpp) for a sum of an edge-decomposable weight, else the generic fill.
+//    trace (generic.hpp), or for a sum of an edge-decomposable weight the same recurrence
+//    with each edge's weight computed once and read inline (edge_fill); MODE_FAST is the
+//    compiled engine: the min-plus E-table (minplus.hpp) for a sum of an edge-decomposable
+//    weight, else the generic fill.
 //
 // A polygon that fails a check, or whose DP ends in NaN, an infinite cost or an
 // inconsistent walk, gets a non-zero status and no result: the caller solves it with
@@ -71,18 +73,67 @@ struct Settings {
 // One thread's buffers, reused from polygon to polygon.
 struct Scratch {
     std::vector<double> x, y, pts, table, edges;
-    std::vector<int64_t> order, tris, identity;
+    std::vector<int64_t> order, tris;
+    std::vector<int32_t> splits;
     std::vector<uint8_t> mask;
 };
 
-// The triangle weight of an edge-decomposable weight from its n x n edge table (shape
-// {n, n}): (e(i, k) + e(k, j)) + e(i, j), triangle_weight's sum of the same edge weights,
-// each computed once per polygon instead of once per split. Given to the generic fill as
-// a weight of its own (the fill and its rules stay the engines').
-double edge_table_weight(const double* e, const int64_t* shape, int64_t i, int64_t k,
-                         int64_t j, int64_t* /*error*/) {
-    const int64_t n = shape[1];
-    return e[i * n + k] + e[k * n + j] + e[i * n + j];
+// The best split of chord (i, j) for a sum of edge weights, from the symmetric n x n cost
+// table T and edge table E: generic::best_split's rules and arithmetic with the triangle
+// weight (e(i, k) + e(k, j)) + e(i, j) (triangle_weight's sum of the same edge weights,
+// each computed once per polygon) read inline from rows i and j of E. A half of cost +inf
+// is skipped; a NaN weight of a split not skipped sets nan; ties go to the smallest k.
+inline void edge_split(const double* T, const double* E, int64_t n, int64_t i, int64_t j,
+                       double& best, int64_t& arg, bool& nan) {
+    const double* ti = T + i * n;
+    const double* tj = T + j * n;
+    const double* ei = E + i * n;
+    const double* ej = E + j * n;  // e(k, j) = e(j, k): the table is symmetric
+    const double eij = ei[j];
+    double b = kInf;
+    int64_t at = -1;
+    bool bad = false;
+    for (int64_t k = i + 1; k < j; ++k) {
+        const double x = ti[k], y = tj[k];
+        const bool skip = x == kInf || y == kInf;
+        const double w = (ei[k] + ej[k]) + eij;
+        const double v = x + y + w;
+        bad = bad || (!skip && w != w);
+        if (!skip && v < b) b = v, at = k;
+    }
+    best = b, arg = at, nan = nan || bad;
+}
+
+// The Python engines' recurrence for a sum of edge weights (generic::fill and trace with
+// the same values and ties), each split's k kept from the fill for the walk. False when a
+// weight was NaN (the generic fill flags it and the polygon is declined alike).
+bool edge_fill(const Points& pts, int code, const uint8_t* mask, int64_t n, Scratch& sc,
+               double& cost) {
+    double* T = sc.table.data();
+    sc.edges.resize(static_cast<size_t>(n * n));
+    sc.splits.resize(static_cast<size_t>(n * n));
+    double* E = sc.edges.data();
+    int32_t* K = sc.splits.data();
+    for (int64_t a = 0; a < n; ++a) {
+        for (int64_t b = a + 1; b < n; ++b) {
+            const bool chord = mask == nullptr || mask[a * n + b];
+            const double e = chord ? edge_weight(code, pts, a, b) : 0.0;
+            E[a * n + b] = E[b * n + a] = e;  // unused when no chord
+        }
+    }
+    for (int64_t i = 0; i + 1 < n; ++i) T[i * n + i + 1] = T[(i + 1) * n + i] = 0.0;
+    bool nan = false;
+    for (int64_t i = n - 1; i >= 0; --i) {
+        for (int64_t j = i + 2; j < n; ++j) {
+            double c = kInf;
+            int64_t k = -1;
+            if (mask == nullptr || mask[i * n + j]) edge_split(T, E, n, i, j, c, k, nan);
+            T[i * n + j] = T[j * n + i] = c;
+            K[i * n + j] = static_cast<int32_t>(k);
+        }
+    }
+    cost = T[n - 1];
+    return !nan;
 }
 
 // normalize_vertices' checks on rows s .. s + count - 1: the status, n without closing rows.
@@ -185,6 +236,14 @@ bool optimum(const Settings& st, bool minplus, const uint8_t* mask, int64_t n, S
             n, [&](int64_t i, int64_t j) { return minplus::split<double>(T, n, i, j, false); },
             sc.tris.data(), bad);
         ok = bad[0] < 0 && m == n - 2;
+    } else if (st.edge) {  // a sum of edge weights: each edge's weight taken once
+        ok = edge_fill(pts, st.code, mask, n, sc, cost);
+        const int32_t* K = sc.splits.data();
+        int64_t bad[2];
+        const int64_t m = generic::walk(
+            n, [&](int64_t i, int64_t j) { return static_cast<int64_t>(K[i * n + j]); },
+            sc.tris.data(), bad);
+        ok = ok && bad[0] < 0 && m == n - 2;
     } else {
         generic::Problem pr;
         pr.pts = pts;
@@ -192,24 +251,6 @@ bool optimum(const Settings& st, bool minplus, const uint8_t* mask, int64_t n, S
         pr.code[2] = generic::NO_GATE;
         pr.is_max[0] = pr.is_max[1] = st.is_max;
         pr.mask = mask;
-        const int64_t shape[2] = {n, n};
-        if (st.edge) {  // a sum of edge weights: each edge's weight taken once
-            sc.edges.resize(static_cast<size_t>(n * n));
-            sc.identity.resize(static_cast<size_t>(n));
-            for (int64_t a = 0; a < n; ++a) {
-                sc.identity[a] = a;
-                for (int64_t b = a + 1; b < n; ++b) {
-                    const bool chord = mask == nullptr || mask[a * n + b];
-                    const double e = chord ? edge_weight(st.code, pts, a, b) : 0.0;
-                    sc.edges[a * n + b] = sc.edges[b * n + a] = e;  // unused when no chord
-                }
-            }
-            pr.code[0] = pr.code[1] = static_cast<int>(WeightCode::custom);
-            pr.user[0] = pr.user[1] = &edge_table_weight;
-            pr.vertices = sc.edges.data();
-            pr.shape = shape;
-            pr.order = sc.identity.data();
-        }
         const generic::Tables<double> tb{T, nullptr, n};
         generic::Flags flags;
         generic::set_sides(tb, pr);

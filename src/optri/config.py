@@ -88,6 +88,9 @@ BATCH_COLUMNAR = True
 #: On the local pool, workers read their chunk's rows from the layer, solve them and write
 #: the part themselves (optri.batch.partwork); False: the parent reads and writes.
 BATCH_WORKERS_READ = True
+#: A single GeoParquet output is joined from its parts while later parts are still solved
+#: (optri.batch.tablefiles.PartJoiner); False: all at once after the last part.
+BATCH_JOIN_WHILE_SOLVING = True
 #: Batch: chunks in flight per worker (keeps workers busy without reading ahead far).
 BATCH_IN_FLIGHT_PER_WORKER = 2
 #: Batch: rows per Parquet record batch / GeoPackage page while reading.

@@ -56,6 +56,7 @@ DEGENERACY = "tests/test_degeneracy.py"
 EXPLODE = "tests/test_batch_explode.py"
 PARTWORK = "tests/test_batch_partwork.py"
 GEOARROW = "tests/test_batch_geoarrow.py"
+STARTUP = "tests/test_batch_startup.py"
 
 MUTATIONS: list[Mutation] = [
     # --- the list: two-phase rule, ties, check(), CLI errors, 3-D limit ---------
@@ -2658,5 +2659,103 @@ MUTATIONS: list[Mutation] = [
         "    return lu.solve(rhs[::-1])  # type: ignore[no-any-return]",
         ("tests/test_fair_solve.py",),
         "the right-hand side taken in another vertex order",
+    ),
+    M(
+        "forkserver-preloads-nothing",
+        "src/optri/batch/runner.py",
+        "ctx.set_forkserver_preload(list(FORKSERVER_PRELOAD))",
+        "pass",
+        (STARTUP, "-k", "preloaded"),
+        "every pool worker imports pyarrow, shapely and pandas itself",
+    ),
+    M(
+        "worker-ignores-the-parents-crs-json",
+        "src/optri/batch/partwork.py",
+        "crs=task.crs, crs_json=task.crs_json)",
+        "crs=task.crs)",
+        (STARTUP, "-k", "parent_parsed"),
+        "every worker imports pyproj and parses the layer's CRS again",
+    ),
+    M(
+        "layer-projjson-ignores-its-text",
+        "src/optri/batch/layer.py",
+        "        if self.crs_json is not None:\n            return json.loads(self.crs_json)\n",
+        "",
+        (STARTUP, "-k", "prefers or parent_parsed"),
+        "a part's GeoParquet CRS parsed again instead of the parent's",
+    ),
+    M(
+        "parent-hands-no-crs-json",
+        "src/optri/batch/driver.py",
+        "crs_json = _crs_json(work.layer.crs) if reader is not None else None",
+        "crs_json = None",
+        (STARTUP, "-k", "hands_every_task"),
+        "the workers parse the CRS themselves",
+    ),
+    M(
+        "many-edge-fill-ties-to-the-largest-k",
+        "src/core/many.cpp",
+        "        if (!skip && v < b) b = v, at = k;",
+        "        if (!skip && v <= b) b = v, at = k;",
+        ("tests/test_batch_compiled.py",),
+        "the kernel's edge-weight fill breaks ties unlike the Python engines",
+    ),
+    M(
+        "many-edge-fill-ignores-the-mask",
+        "src/core/many.cpp",
+        "            if (mask == nullptr || mask[i * n + j]) edge_split(T, E, n, i, j, c, k, nan);",
+        "            edge_split(T, E, n, i, j, c, k, nan);",
+        ("tests/test_batch_compiled.py",),
+        "chords outside a concave polygon get a cost: triangles outside it",
+    ),
+    M(
+        "many-edge-fill-walks-the-wrong-split",
+        "src/core/many.cpp",
+        "            K[i * n + j] = static_cast<int32_t>(k);",
+        "            K[i * n + j] = static_cast<int32_t>(k == i + 1 ? k : k - 1);",
+        ("tests/test_batch_compiled.py",),
+        "the triangles traced from the kept splits are not the optimum's",
+    ),
+    M(
+        "joiner-appends-as-parts-come",
+        "src/optri/batch/tablefiles.py",
+        "            self._append(self.part(len(self.joined)))",
+        "            self._append(self.part(index))",
+        (STARTUP, "-k", "byte_for_byte"),
+        "a single output's parts joined in the order workers finish them",
+    ),
+    M(
+        "joiner-keeps-a-file-with-parts-missing",
+        "src/optri/batch/tablefiles.py",
+        "            and [Path(p) for p in parts] == self.joined\n",
+        "",
+        (STARTUP, "-k", "cannot_be_kept"),
+        "a joined file missing parts is renamed into place",
+    ),
+    M(
+        "joiner-writes-on-after-the-schema-changed",
+        "src/optri/batch/tablefiles.py",
+        "            self.broken = True  # the first parts were written"
+        " with other columns or types\n"
+        "            return\n",
+        "            pass\n",
+        (STARTUP, "-k", "cannot_be_kept"),
+        "parts of another schema written under the first part's",
+    ),
+    M(
+        "joiner-not-told-of-kept-parts",
+        "src/optri/batch/driver.py",
+        "                joiner.ready(index)\n",
+        "",
+        (STARTUP, "-k", "resumed"),
+        "a resumed single output is assembled again after the run",
+    ),
+    M(
+        "joiner-unused",
+        "src/optri/config.py",
+        "BATCH_JOIN_WHILE_SOLVING = True",
+        "BATCH_JOIN_WHILE_SOLVING = False",
+        (STARTUP, "-k", "without_assembling"),
+        "a single GeoParquet output is assembled after the last part, not while solving",
     ),
 ]

@@ -13,6 +13,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from .. import config
 from .._optional import import_optional
 from .._version import __version__
@@ -23,16 +25,16 @@ from .chunks import TableTask
 from .compiled import many_plan
 from .dasklayer import dask_layer, wants_dask_layer
 from .geo import ArrowSource, count_rows, open_arrow_batches
-from .layer import Layer, warn_geographic
+from .layer import Layer, projjson_text, warn_geographic
 from .layout import Layout, file_sha256, job_key, output_lock, plan_layout
 from .partwork import LayerRows, PartWritten, ReadTask, ids_of
 from .project import local_projector
 from .readers import count_items, detect_input_format, open_layer
 from .records import ChunkTask, Item
-from .runner import open_backend, run_tasks
+from .runner import open_backend, run_tasks, start_pool_server
 from .solver import SolveOptions, check_options
 from .summary import BatchSummary, Counter, report_duplicates
-from .tablefiles import flavor_of, write_table
+from .tablefiles import PartJoiner, flavor_of, write_table
 from .tables import TRIANGLE, feature_rows
 from .writers import SINGLE_FILE_SUFFIXES, assemble, read_part, write_part
 
@@ -220,6 +222,7 @@ def _require_picklable(options: dict[str, Any]) -> None:
 
 def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
     start = time.perf_counter()
+    start_pool_server(s.scheduler, s.workers)
     kind = detect_input_format(inp, s.fmt)
     if not inp.is_file():
         what = "is a directory, not a layer file" if inp.is_dir() else "no such file"
@@ -258,22 +261,48 @@ def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
         total = (count_items(inp, kind, s.layer) or 0) if s.progress is not None else 0
         counter = Counter(s.progress, total)
         work = _Work(layout, layer, size, job_key(manifest), recorded)
-        if columnar:
-            reader = _rows_for_workers(inp, kind, source, s)
-            _solve_tables(work, chunks, source, s, crs, counter, reader)
-        else:
-            _solve_all(work, items, s, crs, counter)
-        if not layout.single:  # the parts are the product: on disk before _SUCCESS says so
-            layout.sync()
-        write_json(layout.success, {"ok": counter.ok, "errors": counter.errors, "total": counter.n})
-        if layout.single:
-            assemble(layout.parts(), layout.fmt, layout.target, layer, layout.parts_dir)
-            layout.write_receipt(manifest)
-            shutil.rmtree(layout.parts_dir, ignore_errors=True)
+        join = (
+            columnar
+            and layout.single
+            and layout.fmt == "parquet"
+            and config.BATCH_JOIN_WHILE_SOLVING
+        )
+        with PartJoiner(layout.target, layer, layout.part) if join else _NoJoiner() as joiner:
+            if columnar:
+                reader = _rows_for_workers(inp, kind, source, s)
+                _solve_tables(work, chunks, source, s, crs, counter, reader, joiner)
+            else:
+                _solve_all(work, items, s, crs, counter)
+            if not layout.single:  # the parts are the product: on disk before _SUCCESS says so
+                layout.sync()
+            done = {"ok": counter.ok, "errors": counter.errors, "total": counter.n}
+            write_json(layout.success, done)
+            if layout.single:
+                if not joiner.finish(layout.parts()):
+                    assemble(layout.parts(), layout.fmt, layout.target, layer, layout.parts_dir)
+                layout.write_receipt(manifest)
+                shutil.rmtree(layout.parts_dir, ignore_errors=True)
         duplicates, repeated = counter.repeated_hashes()
         rows = iter_records(layout.target, layout.fmt)
         report_duplicates(duplicates, repeated, feature_rows(rows) if s.explode else rows)
         return counter.summary(layout.target, time.perf_counter() - start, duplicates)
+
+
+class _NoJoiner:
+    """Stands for a :class:`~optri.batch.tablefiles.PartJoiner` where parts are not joined early."""
+
+    def __enter__(self) -> _NoJoiner:
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        return None
+
+    def ready(self, index: int) -> None:
+        """Nothing to do: the parts are assembled at the end."""
+
+    def finish(self, parts: Any) -> bool:
+        """False: the caller assembles the parts."""
+        return False
 
 
 @dataclass(frozen=True)
@@ -314,17 +343,21 @@ def _solve_tables(
     crs: str | None,
     counter: Counter,
     reader: LayerRows | None = None,
+    joiner: PartJoiner | _NoJoiner | None = None,
 ) -> None:
     """Solve every pending chunk of an Arrow layer as a table (:mod:`.chunks`).
 
     With ``reader`` each chunk goes to a worker as a :class:`~optri.batch.partwork.ReadTask`
     (the worker reads its rows and writes its part); else the parent reads the
-    chunks (``chunks``) and writes their parts.
+    chunks (``chunks``) and writes their parts. ``joiner`` hears of each part
+    complete on disk, made now or kept from an earlier run.
     """
+    joiner = joiner or _NoJoiner()
     layout = work.layout
     options = {**s.options, "project": crs}
     flavor = flavor_of(layout.fmt)
     renames = work.layer.renames
+    crs_json = _crs_json(work.layer.crs) if reader is not None else None
 
     def task(index: int, table: Any) -> TableTask | ReadTask:
         first = index * work.size
@@ -333,7 +366,7 @@ def _solve_tables(
             part = str(layout.part(index))
             return ReadTask(
                 index, reader, first, count, source.geometry, source.fid, renames, flavor,
-                s.explode, part, work.layer.crs, **options,
+                s.explode, part, work.layer.crs, crs_json, **options,
             )  # fmt: skip
         fid, table = ids_of(table, source.fid, first)
         return TableTask(
@@ -345,11 +378,26 @@ def _solve_tables(
         for index, table in enumerate(itertools.repeat(None, count) if count else chunks):
             if layout.adopted(index, work.recorded):
                 counter.add(_adopted(layout, index, s.explode), reused=True)
+                joiner.ready(index)
                 continue
             yield task(index, table)
 
+    finished = _table_done(work, s, counter)
+
+    def done(task: Any, table: Any) -> None:
+        finished(task, table)
+        joiner.ready(task.index)
+
     with open_backend(s.scheduler, s.workers) as backend:
-        run_tasks(backend, tasks(), _table_done(work, s, counter))
+        run_tasks(backend, tasks(), done)
+
+
+def _crs_json(crs: str | None) -> str | None:
+    """``crs`` as PROJJSON for the workers; None (each worker derives it) when unparsable."""
+    try:
+        return projjson_text(crs)
+    except Exception:  # pyproj's CRSError: the part writer raises it as before
+        return None
 
 
 def _table_done(work: _Work, s: _Settings, counter: Counter) -> Callable[[Any, Any], None]:
@@ -416,8 +464,9 @@ def _table_chunks(
         size = previous
     if size is None:
         column = head[0].column(source.geometry) if head else pa.array([], pa.binary())
-        raw = column.slice(0, config.BATCH_CHUNK_SAMPLE).to_numpy(zero_copy_only=False)
-        geoms = shapely.from_wkb(raw, on_invalid="ignore")
+        # to_pylist, not to_numpy: pyarrow's numpy conversion imports pandas
+        raw = column.slice(0, config.BATCH_CHUNK_SAMPLE).to_pylist()
+        geoms = shapely.from_wkb(np.array(raw, dtype=object), on_invalid="ignore")
         n = shapely.get_num_coordinates(geoms) - shapely.get_num_interior_rings(geoms) - 1
         size = auto_chunk_size([Item(0, [[0, 0]] * max(int(k), 0)) for k in n], work)
 

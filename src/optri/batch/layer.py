@@ -29,6 +29,8 @@ __all__ = [
     "crs_name",
     "geojson_crs_member",
     "is_geographic",
+    "projjson",
+    "projjson_text",
     "renamed_columns",
     "warn_geographic",
 ]
@@ -62,6 +64,10 @@ class Layer:
         whose attribute types are inferred chunk by chunk.
     renames : dict
         Attribute columns renamed because a batch field has their name.
+    crs_json : str or None
+        ``crs`` as PROJJSON text when already known (a worker gets the parent's,
+        so it never parses the CRS, nor imports pyproj, itself); None: derived
+        from ``crs`` on use (:meth:`projjson`).
     """
 
     fmt: str
@@ -69,6 +75,13 @@ class Layer:
     geojson_crs: dict | None = None
     schema: Any = None
     renames: dict[str, str] = field(default_factory=dict)
+    crs_json: str | None = None
+
+    def projjson(self) -> Any:
+        """The CRS as PROJJSON (for GeoParquet metadata), or None when unknown."""
+        if self.crs_json is not None:
+            return json.loads(self.crs_json)
+        return projjson(self.crs)
 
     @property
     def attribute_names(self) -> list[str]:
@@ -176,9 +189,15 @@ def crs_from_geojson_member(member: Any) -> str | None:
 
 def projjson(crs: str | None) -> Any:
     """``crs`` as PROJJSON (for GeoParquet metadata), or None when unknown."""
+    text = projjson_text(crs)
+    return None if text is None else json.loads(text)
+
+
+def projjson_text(crs: str | None) -> str | None:
+    """:func:`projjson` as JSON text (parsed once per CRS), for :attr:`Layer.crs_json`."""
     if crs is None or _pyproj() is None:
         return None
-    return json.loads(_projjson_text(crs))
+    return _projjson_text(crs)
 
 
 def renamed_columns(names: Iterable[str], reserved: Iterable[str] = RESULT_FIELDS) -> dict:

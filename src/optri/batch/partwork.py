@@ -71,6 +71,8 @@ class ReadTask(TaskOptions):
     explode: bool
     part: str
     crs: str | None
+    #: ``crs`` as PROJJSON, parsed by the parent (:attr:`~optri.batch.layer.Layer.crs_json`).
+    crs_json: str | None = None
 
     @property
     def items(self) -> list[int]:
@@ -120,7 +122,7 @@ def solve_read(task: ReadTask) -> tuple[int, Any]:
     if task.offset is not None:
         return task.index, table
     part = Path(task.part)
-    layer = Layer(task.source.kind, crs=task.crs)
+    layer = Layer(task.source.kind, crs=task.crs, crs_json=task.crs_json)
     write_table(part, table, "parquet", layer, part.parent, durable=False)
     features = table
     if task.explode:  # count features: the first row of each

@@ -40,7 +40,7 @@ from .chunks import TableTask, solve_table
 from .partwork import ReadTask, solve_read
 from .records import ChunkTask, error_record, solve_chunk
 
-__all__ = ["Backend", "default_workers", "open_backend", "run_tasks"]
+__all__ = ["Backend", "default_workers", "open_backend", "run_tasks", "start_pool_server"]
 
 
 Result = tuple[int, Any]
@@ -227,6 +227,42 @@ def _alive(pid: int) -> bool:
         return True
 
 
+#: What the local pool's forkserver imports once, before it forks any worker: each
+#: worker then starts with them instead of importing them itself ("__main__" is
+#: multiprocessing's own default; a module that is not installed is skipped).
+#: pandas because pyarrow imports it, where installed, on its first array conversion.
+FORKSERVER_PRELOAD = ("__main__", "optri.batch.runner", "pyarrow.parquet", "shapely", "pandas")
+
+
+def _pool_context() -> Any:
+    """The start method of local pools: a forkserver where there is one.
+
+    Forkserver workers never inherit the parent's threads (the progress bar's)
+    or locks. The forkserver imports :data:`FORKSERVER_PRELOAD` when it starts
+    (unless something in this process started it before).
+    """
+    if "forkserver" not in multiprocessing.get_all_start_methods():
+        return multiprocessing.get_context()
+    ctx = multiprocessing.get_context("forkserver")
+    ctx.set_forkserver_preload(list(FORKSERVER_PRELOAD))
+    return ctx
+
+
+def start_pool_server(scheduler: Any, workers: int | None) -> None:
+    """Start the forkserver a local pool will fork its workers from, now, in the background.
+
+    Its imports then overlap with what this process does before the first chunk
+    (reading the layer's metadata, hashing the input). A no-op for Dask, one
+    worker, or a platform without a forkserver.
+    """
+    if scheduler not in (None, "local", "processes") or (workers or default_workers()) <= 1:
+        return
+    if _pool_context().get_start_method() == "forkserver":
+        from multiprocessing import forkserver
+
+        forkserver.ensure_running()
+
+
 @contextmanager
 def open_backend(scheduler: Any, workers: int | None) -> Iterator[Backend]:
     """The backend for ``scheduler`` (None/"local", "dask", "dask://host:port", or a Client)."""
@@ -235,9 +271,7 @@ def open_backend(scheduler: Any, workers: int | None) -> Iterator[Backend]:
         if n <= 1:
             yield _Inline()
             return
-        # forkserver: workers never inherit the progress bar's thread or locks
-        methods = multiprocessing.get_all_start_methods()
-        ctx = multiprocessing.get_context("forkserver" if "forkserver" in methods else None)
+        ctx = _pool_context()
 
         def make() -> cf.ProcessPoolExecutor:
             return cf.ProcessPoolExecutor(

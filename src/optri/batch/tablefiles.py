@@ -19,7 +19,7 @@ import json
 import os
 import shutil
 import warnings
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -40,7 +40,7 @@ from .tables import (
     unify,
 )
 
-__all__ = ["OGR_DRIVERS", "assemble_tables", "read_table_records", "write_table"]
+__all__ = ["OGR_DRIVERS", "PartJoiner", "assemble_tables", "read_table_records", "write_table"]
 
 #: Output format -> GDAL driver.
 OGR_DRIVERS = {"gpkg": "GPKG", "fgb": "FlatGeobuf"}
@@ -81,7 +81,7 @@ def assemble_tables(
 
     def batches() -> Iterator[Any]:
         for part in parts:
-            yield from conform(pq.read_table(part), schema).to_batches()
+            yield from _part_batches(part, schema)
 
     if fmt == "parquet":
         schema = schema.with_metadata(_parquet_metadata(schema, layer))
@@ -90,6 +90,103 @@ def assemble_tables(
                 writer.write_batch(batch)
         return
     _write_ogr(target, fmt, layer, schema, batches(), temp_dir)
+
+
+def _part_batches(part: Path, schema: Any) -> list[Any]:
+    """A Parquet part's rows as record batches of ``schema`` (:func:`conform`)."""
+    pq = import_optional("pyarrow.parquet")
+    # ParquetFile, not read_table: that one imports pyarrow.dataset (and pandas)
+    with pq.ParquetFile(part) as pf:
+        table = pf.read()
+    return conform(table, schema).to_batches()  # type: ignore[no-any-return]
+
+
+class PartJoiner:
+    """A single GeoParquet output joined from its parts while later parts are still made.
+
+    :meth:`ready` says part ``index`` is complete; parts are appended in index
+    order, each as soon as every earlier one is in, into a temporary file beside
+    the target (:func:`~optri.io.atomic.atomic_write`), so the join overlaps the
+    solving instead of following it. :meth:`finish` keeps the file only when it
+    is what :func:`assemble_tables` would write from the same parts: every part
+    appended, in order, and the schema they unify to the one it was written
+    with; it then syncs and renames it over the target and returns True. Else
+    (a part whose columns or types change the unified schema, parts missing)
+    it removes the file and returns False: the caller assembles the parts. An
+    exception inside the ``with`` block removes the file too.
+    """
+
+    def __init__(self, target: Path, layer: Layer, part: Callable[[int], Path]) -> None:
+        self.target, self.layer, self.part = target, layer, part
+        self.joined: list[Path] = []
+        self._schemas: list[Any] = []
+        self._schema: Any = None
+        self._waiting: set[int] = set()
+        self._writer: Any = None
+        self._stack = contextlib.ExitStack()
+        self._fh: Any = None
+        self.broken = False
+
+    def __enter__(self) -> PartJoiner:
+        self._fh = self._stack.enter_context(atomic_write(self.target, "wb"))
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        if self._fh is not None:  # not finished: the temporary file goes
+            self._close(exc[1] if exc[0] is not None else _Abandoned())
+
+    def ready(self, index: int) -> None:
+        """Part ``index`` is complete on disk: append it and every waiting part after it."""
+        self._waiting.add(index)
+        while not self.broken and len(self.joined) in self._waiting:
+            self._waiting.discard(len(self.joined))
+            self._append(self.part(len(self.joined)))
+
+    def finish(self, parts: Sequence[Path]) -> bool:
+        """Rename the joined file over the target if it holds exactly ``parts``; see the class."""
+        pq = import_optional("pyarrow.parquet")
+        whole = (
+            not self.broken
+            and bool(parts)
+            and [Path(p) for p in parts] == self.joined
+            and unify([pq.read_schema(p) for p in parts]).equals(self._schema, check_metadata=True)
+        )
+        self._close(None if whole else _Abandoned())
+        return whole
+
+    def _append(self, path: Path) -> None:
+        pq = import_optional("pyarrow.parquet")
+        schemas = [*self._schemas, pq.read_schema(path)]
+        schema = unify(schemas)
+        if self._writer is None:
+            written = schema.with_metadata(_parquet_metadata(schema, self.layer))
+            self._writer = pq.ParquetWriter(self._fh, written)
+        elif not schema.equals(self._schema, check_metadata=True):
+            self.broken = True  # the first parts were written with other columns or types
+            return
+        self._schema, self._schemas = schema, schemas
+        for batch in _part_batches(path, schema):
+            self._writer.write_batch(batch)
+        self.joined.append(path)
+
+    def _close(self, exc: BaseException | None) -> None:
+        """Close the writer; rename the file into place (``exc`` None) or remove it."""
+        self._fh = None
+        try:
+            if self._writer is not None:
+                self._writer.close()
+        except BaseException as err:
+            exc = exc or err
+            raise
+        finally:
+            if exc is None:
+                self._stack.close()  # atomic_write syncs the file and renames it
+            else:  # atomic_write removes it (and hands exc back, which ends here)
+                self._stack.__exit__(type(exc), exc, exc.__traceback__)
+
+
+class _Abandoned(Exception):
+    """Raised into :func:`~optri.io.atomic.atomic_write` to drop a joined file."""
 
 
 def _parquet_metadata(schema: Any, layer: Layer) -> dict:

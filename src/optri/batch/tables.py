@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from .._optional import import_optional
-from .layer import Layer, projjson, renamed_columns
+from .layer import Layer, renamed_columns
 from .records import Item
 
 __all__ = [
@@ -247,7 +247,7 @@ def geo_metadata(layer: Layer, has_z: bool, explode: bool = False) -> dict:
     """GeoParquet 1.1 metadata for the ``geometry`` column (``crs`` null when unknown)."""
     kind = "Polygon" if explode else "GeometryCollection"
     kind = f"{kind} Z" if has_z else kind
-    column = {"encoding": "WKB", "geometry_types": [kind], "crs": projjson(layer.crs)}
+    column = {"encoding": "WKB", "geometry_types": [kind], "crs": layer.projjson()}
     return {"version": "1.1.0", "primary_column": GEOMETRY, "columns": {GEOMETRY: column}}
 
 
