@@ -2180,7 +2180,7 @@ MUTATIONS: list[Mutation] = [
     M(
         "many-explode-loses-error-rows",
         "src/optri/batch/many.py",
-        "        geoms, src = _with_error_rows(geoms, src, solved)",
+        "        geoms, src = with_error_rows(geoms, src, solved)",
         "        pass",
         ("tests/test_batch_many.py", "-k", "explode"),
         "explode=True silently drops the rows that failed",
@@ -2378,8 +2378,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "explode-dask-counts-triangles",
         "src/optri/batch/dasklayer.py",
-        "features = part if first is None else part[first.to_numpy()]",
-        "features = part",
+        "    return PartDone(part.number, len(solved), int(np.count_nonzero(ok)), bbox, has_z)",
+        "    return PartDone(part.number, len(wkb), int(np.count_nonzero(ok)), bbox, has_z)",
         (EXPLODE, "-k", "dask_partition"),
         "a Dask run's summary counts triangles as features",
     ),
