@@ -295,8 +295,12 @@ def test_lexicographic_costs_and_bounds_of_the_ok_rows_only(client, tmp_path):
 
 
 def test_an_empty_layer_gives_an_empty_valid_file(tmp_path):
-    src = tmp_path / "in.parquet"
-    _layer(4).iloc[:0].to_parquet(src)
+    import pyarrow.parquet as pq
+
+    _layer(4).iloc[:0].to_parquet(tmp_path / "empty.parquet")
+    src = tmp_path / "in.parquet"  # no row group at all (the other holds one of 0 rows)
+    pq.ParquetWriter(src, pq.read_schema(tmp_path / "empty.parquet")).close()
+    assert pq.ParquetFile(src).num_row_groups == 0
     from optri.batch.dasklayer import plan_parts, solve_part
 
     frame, parts = plan_parts(src, tmp_path)
