@@ -508,7 +508,7 @@ def solve_part(part: Part, frame: Frame) -> PartDone:
         wkb, rows = with_error_rows(wkb, rows, solved)
     ok = solved.status == 0
     results = {
-        "status": pa.array(np.where(ok, "ok", "error")[rows], pa.string()),
+        "status": pa.array(np.where(ok, "ok", "error")[rows].tolist(), pa.string()),
         "cost": _cost_column(pa, solved, ok, frame.schema.field("cost").type).take(rows),
         "reason": pa.array(solved.reason[rows].tolist(), pa.string()),
     }

@@ -295,8 +295,16 @@ def dask_client(scheduler: Any, workers: int | None, allowed_failures: int) -> I
 
 
 #: What the forkserver of a LocalCluster made here imports once, before it forks each
-#: worker: workers start with them loaded instead of importing them one by one.
-WORKER_PRELOAD = ("distributed", "numpy", "pyarrow.parquet", "shapely", "optri.batch.dasklayer")
+#: worker: workers start with them loaded instead of importing them one by one (pandas:
+#: pyarrow imports it at its first ``pa.array``).
+WORKER_PRELOAD = (
+    "distributed",
+    "numpy",
+    "pandas",
+    "pyarrow.parquet",
+    "shapely",
+    "optri.batch.dasklayer",
+)
 
 
 def _preload_forkserver(distributed: Any) -> None:
