@@ -2228,7 +2228,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "dask-progress-only-at-the-end",
         "src/optri/batch/dasklayer.py",
-        "            if progress is not None:\n                progress(sum(d.rows for d in done), total)",
+        "            if progress is not None:\n"
+        "                progress(sum(d.rows for d in done), total)",
         "            pass\n        if progress is not None:\n            progress(total, total)",
         (DASK, "-k", "bounds_of_the_ok_rows"),
         "progress is reported once, not as partitions finish",
