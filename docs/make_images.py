@@ -22,11 +22,12 @@ from pathlib import Path
 OUT = Path(__file__).resolve().parent / "images"
 PENTAGON = [5, 1, 5, 1, 5]
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
-#: README picture <- the gallery script that draws it
+#: README (and docs) picture <- the gallery script that draws it
 README_PICTURES = {
     "italy_earcut_vs_optimal.png": "plot_ear_clipping_vs_optimal.py",
     "mesh_hole_filled.png": "plot_mesh_hole.py",
     "mesh_refine_fair.png": "plot_refine_and_fair.py",
+    "mesh_hole_with_island.png": "plot_hole_with_island.py",
     "contours_branching.png": "plot_contours.py",
 }
 

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 import pytest
 
@@ -13,7 +11,7 @@ pyogrio = pytest.importorskip("pyogrio")
 shapely = pytest.importorskip("shapely")
 pytest.importorskip("scipy")
 
-from batch_polys import killer  # noqa: E402
+from batch_polys import killer, write_arrow_layer  # noqa: E402
 from optri import config  # noqa: E402
 from optri.batch import chunks, iter_records, partwork, runner, strip_timing  # noqa: E402
 from optri.batch.driver import batch  # noqa: E402
@@ -37,21 +35,7 @@ def _write(path, ids=None):
     if ids is not None:
         cols["id"] = ids
     cols["geometry"] = pa.array(shapely.to_wkb(np.array(GEOMS, object)), pa.binary())
-    table = pa.table(cols)
-    if path.suffix == ".parquet":
-        column = {"encoding": "WKB", "geometry_types": [], "crs": "EPSG:32633"}
-        geo = {"version": "1.1.0", "primary_column": "geometry", "columns": {"geometry": column}}
-        pq.write_table(table.replace_schema_metadata({b"geo": json.dumps(geo)}), path)
-    else:
-        pyogrio.write_arrow(
-            table,
-            path,
-            driver="GPKG",
-            geometry_name="geometry",
-            geometry_type="Unknown",
-            crs="EPSG:32633",
-        )
-    return path
+    return write_arrow_layer(path, pa.table(cols))
 
 
 def _records(out):

@@ -6,6 +6,7 @@ import functools
 import itertools
 import json
 import math
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -16,7 +17,9 @@ from hypothesis import strategies as st
 from optri import fill_holes, fill_polylines
 from optri.cli import main
 from optri.errors import InvalidPolygonError, NoTriangulationError
+from optri.holes import islands
 from optri.holes.boundary import edge_summary
+from optri.holes.candidates import delaunay_faces
 from optri.holes.islands import island_groups
 
 # --- the oracle: every surface, enumerated -------------------------------------------------
@@ -262,7 +265,7 @@ def check_surface(res, sizes):
     st.integers(3, 8),
     st.lists(st.integers(3, 5), min_size=1, max_size=2),
     st.sampled_from(["liepa", "area"]),
-    st.sampled_from(["auto", "liepa"]),
+    st.sampled_from(["auto", "liepa", "delaunay"]),
     st.integers(0, 2**32 - 1),
 )
 def test_every_result_is_one_manifold_surface(n0, islands, weight, method, seed):
@@ -289,6 +292,123 @@ def test_two_islands_exact_no_worse_than_heuristic_and_proven():
     check_surface(heuristic, (5, 3, 3))
     assert exact.optimality == "proven" and heuristic.optimality == "heuristic"
     assert exact.weight <= heuristic.weight and len(exact.stats["bridges"]) == 2
+
+
+def exactly_collinear(P, tri):
+    """Exact (rational) collinearity of three points with float coordinates."""
+    a, b, c = ([Fraction(float(x)) for x in P[v]] for v in tri)
+    u = [b[i] - a[i] for i in range(3)]
+    v = [c[i] - a[i] for i in range(3)]
+    cross = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+    return all(x == 0 for x in cross)
+
+
+@pytest.mark.parametrize("kind", ["area", "perimeter"])
+def test_fewest_zero_area_triangles_first_then_the_objective(kind):
+    # a straight run 0-1-2 on the outer loop: its ear is a zero-area triangle that the
+    # objective alone may take (it adds no area); the search minimises the count first
+    rng = np.random.default_rng(0)
+    S = surfaces((5, 3))
+    took_fewer = 0
+    for _ in range(8):
+        z = rng.integers(-2, 3, 2).astype(float)
+        outer = np.array([[0, 0, 0], [2, 0, 0], [4, 0, 0], [4, 4, z[0]], [0, 4, z[1]]], float)
+        top = float(rng.integers(-1, 2))
+        island = np.array([[2.0, 2.5, top], [2.5, 1.0, 0.5], [1.5, 1.0, 0.5]])
+        P = np.concatenate((outer, island))
+        keyed = [(sum(exactly_collinear(P, t) for t in s), sum_weight(P, s, kind)) for s in S]
+        count, best = min(keyed)
+        res = fill_polylines([outer, island], weight=kind, method="exact", orient=False)
+        got = sum(exactly_collinear(P, t) for t in res.triangles.tolist())
+        assert got == count == res.stats["degenerate"] == 0
+        assert res.weight == pytest.approx(best, rel=1e-12) and res.optimality == "proven"
+        assert res.stats["degenerate_unavoidable"] is False
+        plain = min(keyed, key=lambda k: k[1])
+        took_fewer += plain[0] > 0  # the objective alone had a zero-area optimum
+    assert took_fewer > 0 or kind == "perimeter"  # perimeter never prefers them here
+
+
+def test_fewest_zero_area_triangles_with_a_user_weight():
+    # the straight run's ear costs nothing: most weight tables' plain optimum takes it
+    outer = np.array([[0, 0, 0], [2, 0, 0], [4, 0, 0], [4, 4, 1.0], [0, 4, -1.0]], float)
+    island = np.array([[2.0, 2.5, 1.0], [2.5, 1.0, 0.5], [1.5, 1.0, 0.5]])
+    P = np.concatenate((outer, island))
+    rng = np.random.default_rng(4)
+    for _ in range(6):
+        triples = itertools.combinations(range(8), 3)
+        table = {frozenset(t): float(rng.integers(1, 1000)) for t in triples}
+        table[frozenset((0, 1, 2))] = 0.0
+        w = table_weight(table)
+        keyed = [
+            (sum(exactly_collinear(P, t) for t in s), sum(w(*t) for t in s))
+            for s in surfaces((5, 3))
+        ]
+        res = fill_polylines([outer, island], weight=w, method="exact", orient=False)
+        assert (res.stats["degenerate"], res.weight) == min(keyed)
+        assert res.optimality == "proven"
+
+
+def test_unavoidable_zero_area_triangles_are_reported():
+    # the pairs forbidden around point 0 leave side (0, 1) only the apex 2, on the
+    # straight run: one zero-area triangle is forced, and the search says so
+    outer = np.array([[0, 0, 0], [2, 0, 0], [4, 0, 0], [4, 4, 0], [0, 4, 0]], float)
+    island = np.array([[2.0, 2.5, 1.0], [2.5, 1.0, 0.5], [1.5, 1.0, 0.5]])
+    P = np.concatenate((outer, island))
+    forbidden = [(0, 3), (0, 5), (0, 6), (0, 7), (1, 4)]
+    banned = {frozenset(e) for e in forbidden}
+    allowed = [
+        s
+        for s in surfaces((5, 3))
+        if not any(frozenset(e) in banned for t in s for e in itertools.combinations(t, 2))
+    ]
+    keyed = [(sum(exactly_collinear(P, t) for t in s), sum_weight(P, s, "area")) for s in allowed]
+    count, best = min(keyed)
+    assert count == 1
+    res = fill_polylines(
+        [outer, island], weight="area", method="exact", orient=False, forbidden=forbidden
+    )
+    assert res.stats["degenerate"] == count and res.stats["degenerate_unavoidable"] is True
+    assert res.weight == pytest.approx(best, rel=1e-12) and res.optimality == "proven"
+
+
+@pytest.mark.parametrize("sizes", [(24, 8, 8), (40, 12)])
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_delaunay_searches_the_tetrahedralization_faces(sizes, seed):
+    # Zou, Ju and Carr's candidates: faces of the loops' 3-D Delaunay tetrahedralization
+    loops = config(np.random.default_rng(seed), sizes, bumpy=0.3)
+    faces = {tuple(f) for f in delaunay_faces(np.concatenate(loops)).tolist()}
+    res = fill_polylines(loops, method="delaunay", orient=False)
+    check_surface(res, sizes)
+    assert res.method == "delaunay" and res.optimality == "heuristic"
+    assert all(tuple(sorted(t)) in faces for t in res.triangles.tolist())
+    assert set(res.stats["candidates"]) == {"delaunay"}  # never widened here
+
+
+def test_merged_candidates_are_every_copy_of_every_face():
+    # a bridge vertex appears twice in the merged polygon: each Delaunay face of the
+    # loops' points is a candidate with every choice of copies, and nothing else is
+    loops = config(np.random.default_rng(4), (9, 4, 3))
+    V = np.concatenate(loops)
+    ids = [np.arange(0, 9), np.arange(9, 13), np.arange(13, 16)]
+    m = islands._merge(islands._heuristic_config(V, ids, 0, set()), V, {}, set(), set())
+    got = islands._Search(V, None, "liepa", "sum").merged_faces(m)
+    copies = np.bincount(m.orig, minlength=len(V))
+    faces = delaunay_faces(V)
+    assert len(got) == int(np.prod(copies[faces], axis=1).sum()) and copies.max() == 2
+    assert {tuple(sorted(t)) for t in m.orig[got].tolist()} == {tuple(f) for f in faces.tolist()}
+
+
+def test_auto_beyond_exact_keeps_the_better_heuristic():
+    better = []
+    for seed in range(3):
+        loops = config(np.random.default_rng(seed), (120, 30, 20), bumpy=0.3)
+        got = {
+            m: fill_polylines(loops, method=m, orient=False) for m in ("auto", "liepa", "delaunay")
+        }
+        check_surface(got["auto"], (120, 30, 20))
+        assert got["auto"].weight == min(got["liepa"].weight, got["delaunay"].weight)
+        better.append(got["delaunay"].weight < got["liepa"].weight)
+    assert any(better)  # the tetrahedralization's candidates find a better surface here
 
 
 def test_islands_given_either_way_round():
@@ -344,7 +464,7 @@ def test_one_loop_is_fill_polyline():
     [
         ([], {}, "non-empty"),
         ([ring(4, 2), ring(3, 2)], {}, "share a point"),
-        ([ring(4, 2), ring(3, 1)], {"method": "delaunay"}, "unknown method"),
+        ([ring(4, 2), ring(3, 1)], {"method": "greedy"}, "unknown method"),
         ([ring(4, 2), ring(3, 1)], {"third_points": [ring(4, 2)]}, "one"),
         ([ring(4, 2), ring(3, 1)], {"forbidden": [[0, 1]]}, "loop side"),
         ([ring(4, 2), ring(3, 1)], {"forbidden": [[0, 9]]}, "different vertices"),

@@ -172,7 +172,9 @@ def test_delaunay_falls_back_to_all_triangles_when_no_set_holds_a_patch(monkeypa
     import optri.holes.modes as modes
 
     monkeypatch.setattr(
-        modes, "candidate_sets", lambda pts: iter([("delaunay", np.zeros((0, 3), np.int64))])
+        modes,
+        "candidate_sets",
+        lambda pts, faces=None: iter([("delaunay", np.zeros((0, 3), np.int64))]),
     )
     r = fill_polyline(_regular(9), "liepa", "delaunay")
     assert r.stats["fallback"] == 1 and r.stats["candidates"] == "all"

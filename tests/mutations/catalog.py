@@ -55,6 +55,7 @@ DASK = "tests/test_batch_dask.py"
 DEGENERACY = "tests/test_degeneracy.py"
 EXPLODE = "tests/test_batch_explode.py"
 PARTWORK = "tests/test_batch_partwork.py"
+GEOARROW = "tests/test_batch_geoarrow.py"
 
 MUTATIONS: list[Mutation] = [
     # --- the issue's list: two-phase rule, ties, check(), CLI errors, 3-D limit ---------
@@ -507,6 +508,78 @@ MUTATIONS: list[Mutation] = [
         "if False:",
         (ISLANDS, "-k", "forbidden"),
         "a bridge along an edge the mesh already has",
+    ),
+    M(
+        "islands-zero-area-polygon-fill",
+        "src/optri/holes/islands.py",
+        "count, objective) instead\n            return fill_all(hole, mode, {})[0]",
+        "count, objective) instead\n            return tris",
+        (ISLANDS, "-k", "zero_area"),
+        "a merged polygon's patch keeps zero-area triangles: the bound misses the fewest",
+    ),
+    M(
+        "islands-unavoidable-not-said",
+        "src/optri/holes/islands.py",
+        'not search.liepa and found.proven and stats["degenerate"] > 0',
+        "False",
+        (ISLANDS, "-k", "unavoidable"),
+        "a forced zero-area triangle is not reported as unavoidable",
+    ),
+    M(
+        "geoarrow-workers-read-native",
+        "src/optri/batch/partwork.py",
+        "rows = wkb_geometry(rows, self.geometry, self.source.encoding)",
+        "pass",
+        (GEOARROW, "-k", "records_of_wkb and workers-2"),
+        "a worker that reads its rows hands native GeoArrow coordinates to the WKB reader",
+    ),
+    M(
+        "geoarrow-parent-reads-native",
+        "src/optri/batch/geo.py",
+        "batches = (wkb_geometry(b, geom_col, encoding) for b in batches)",
+        "pass",
+        (GEOARROW, "-k", "records_of_wkb and parent"),
+        "the parent's batches keep native GeoArrow coordinates",
+    ),
+    M(
+        "geoarrow-slice-offsets",
+        "src/optri/batch/geo.py",
+        "offsets.append(off - off[0])",
+        "offsets.append(off)",
+        (GEOARROW, "-k", "equals_the_geometries"),
+        "a sliced GeoArrow column: offsets taken as if they began at 0",
+    ),
+    M(
+        "geoarrow-interleaved-z",
+        "src/optri/batch/geo.py",
+        "return xyz[:, : 3 if has_z else 2]",
+        "return xyz[:, :2]",
+        (GEOARROW, "-k", "equals_the_geometries"),
+        "interleaved xyz coordinates lose their Z",
+    ),
+    M(
+        "islands-auto-liepa-only",
+        "src/optri/holes/islands.py",
+        'modes = ("liepa", "delaunay") if method in ("auto", "exact") else (method,)',
+        'modes = ("liepa",) if method in ("auto", "exact") else (method,)',
+        (ISLANDS, "-k", "better_heuristic"),
+        "beyond the exact search, auto ignores the tetrahedralization's candidates",
+    ),
+    M(
+        "islands-delaunay-one-copy",
+        "src/optri/holes/islands.py",
+        "itertools.product(copies[a], copies[b], copies[c])",
+        "itertools.product(copies[a][:1], copies[b][:1], copies[c][:1])",
+        (ISLANDS, "-k", "every_copy"),
+        "a bridge vertex's second copy gets no candidate triangle",
+    ),
+    M(
+        "islands-delaunay-faces-ignored",
+        "src/optri/holes/candidates.py",
+        "faces = delaunay_faces(points) if faces is None else faces",
+        "faces = delaunay_faces(points)",
+        (ISLANDS, "-k", "tetrahedralization or better_heuristic"),
+        "the merged polygon's repeated points tetrahedralized instead of the loops' points",
     ),
     M(
         "islands-never-inside",
@@ -1370,10 +1443,10 @@ MUTATIONS: list[Mutation] = [
     M(
         "explorer-slots-replaced-inside-user-text",
         "src/optri/teaching/explorer.py",
-        "    return _SLOT.sub(lambda m: slots[m.group(1)], _asset(\"explorer.html\"))",
-        "    page = _asset(\"explorer.html\")\n"
+        '    return _SLOT.sub(lambda m: slots[m.group(1)], _asset("explorer.html"))',
+        '    page = _asset("explorer.html")\n'
         "    for k, v in slots.items():\n"
-        "        page = page.replace(\"{{\" + k + \"}}\", v)\n"
+        '        page = page.replace("{{" + k + "}}", v)\n'
         "    return page",
         ("tests/test_teaching_explorer.py", "-k", "user_text"),
         "a title or weight name holding {{js}} gets the script pasted into it",
@@ -1382,7 +1455,7 @@ MUTATIONS: list[Mutation] = [
         "explorer-data-not-escaped",
         "src/optri/teaching/explorer.py",
         '    for ch, code in (("<", "\\\\u003c"), (">", "\\\\u003e"), ("&", "\\\\u0026")):',
-        '    for ch, code in ():',
+        "    for ch, code in ():",
         ("tests/test_teaching_explorer.py", "-k", "user_text"),
         "a weight name holding </script> ends the data block and runs as markup",
     ),
@@ -1496,8 +1569,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "intersect-window-ignores-face-width",
         "src/optri/holes/intersect.py",
-        "    start = np.searchsorted(lo_sorted, plo[:, 0] - width - pad, side=\"left\")",
-        "    start = np.searchsorted(lo_sorted, plo[:, 0] - pad, side=\"left\")",
+        '    start = np.searchsorted(lo_sorted, plo[:, 0] - width - pad, side="left")',
+        '    start = np.searchsorted(lo_sorted, plo[:, 0] - pad, side="left")',
         ("tests/test_refine_core.py",),
         "a face that starts left of a patch face's box but reaches into it is never tested",
     ),
@@ -2379,8 +2452,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "explode-json-numbers-all-zero",
         "src/optri/batch/writers.py",
-        "{**whole, \"geometry\": poly, \"properties\": {**fields, TRIANGLE: k}}",
-        "{**whole, \"geometry\": poly, \"properties\": {**fields, TRIANGLE: 0}}",
+        '{**whole, "geometry": poly, "properties": {**fields, TRIANGLE: k}}',
+        '{**whole, "geometry": poly, "properties": {**fields, TRIANGLE: 0}}',
         (EXPLODE, "-k", "round_trips and ndjson-in.ndjson"),
         "every exploded GeoJSON feature says it is its feature's first triangle",
     ),

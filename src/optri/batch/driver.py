@@ -385,7 +385,7 @@ def _rows_for_workers(inp: Path, kind: str, source: ArrowSource, s: _Settings) -
         pq = import_optional("pyarrow.parquet")
         meta = pq.ParquetFile(inp).metadata
         groups = tuple(meta.row_group(k).num_rows for k in range(meta.num_row_groups))
-        return LayerRows(str(inp), kind, sum(groups), row_groups=groups)
+        return LayerRows(str(inp), kind, sum(groups), row_groups=groups, encoding=source.encoding)
     total = count_rows(inp, kind, s.layer)
     if total is None:
         return None

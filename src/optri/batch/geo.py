@@ -5,8 +5,9 @@ Both are read one Arrow record batch at a time (``ParquetFile.iter_batches``,
 attribute schema in its :class:`~optri.batch.layer.Layer`, so writers give each
 column back its exact type. The CRS comes from the GeoParquet metadata (no
 ``crs`` key means OGC:CRS84, as the GeoParquet spec says; ``null`` means
-unknown) or from GDAL. pyarrow, pyogrio and shapely are imported lazily
-(``pip install 'optri[geo]'``).
+unknown) or from GDAL. GeoParquet's native (GeoArrow) encodings are read as
+well as WKB: :func:`wkb_geometry` turns such a column into WKB as it is read.
+pyarrow, pyogrio and shapely are imported lazily (``pip install 'optri[geo]'``).
 """
 
 from __future__ import annotations
@@ -31,7 +32,18 @@ __all__ = [
     "open_arrow_batches",
     "open_arrow_layer",
     "parse_timestamps",
+    "wkb_geometry",
 ]
+
+#: GeoParquet's native (GeoArrow) encodings: the list levels above the coordinates.
+NATIVE_ENCODINGS = {
+    "point": 0,
+    "linestring": 1,
+    "multipoint": 1,
+    "polygon": 2,
+    "multilinestring": 2,
+    "multipolygon": 3,
+}
 
 _OGR_DRIVERS = {"gpkg": "GeoPackage", "fgb": "FlatGeobuf", "shp": "shapefile"}
 
@@ -50,6 +62,7 @@ class ArrowSource:
     batches: Iterator[Any]
     query: dict = field(default_factory=dict)
     stamps: dict = field(default_factory=dict)
+    encoding: str = "WKB"  # the geometry as stored (the batches hold WKB)
 
 
 def open_arrow_layer(
@@ -85,11 +98,13 @@ def _open_parquet(path: Path) -> tuple[Layer, ArrowSource]:
     except Exception as exc:  # pyarrow raises its own ArrowInvalid/OSError zoo
         raise BatchInputError(f"{path}: not a Parquet file ({first_line(exc)})") from None
     schema = pf.schema_arrow
-    geom_col, crs = _geoparquet_column(schema.metadata or {}, schema.names, path)
+    geom_col, crs, encoding = _geoparquet_column(schema.metadata or {}, schema.names, path)
     attrs = schema.remove(schema.get_field_index(geom_col))
     layer = _layer("parquet", crs, attrs)
     batches = pf.iter_batches(batch_size=config.BATCH_ROWS_PER_READ)
-    return layer, ArrowSource(geom_col, None, batches)
+    if encoding != "WKB":
+        batches = (wkb_geometry(b, geom_col, encoding) for b in batches)
+    return layer, ArrowSource(geom_col, None, batches, encoding=encoding)
 
 
 def _open_ogr(path: Path, kind: str, name: str | None) -> tuple[Layer, ArrowSource]:
@@ -282,12 +297,12 @@ def _wkb_column(schema: Any, path: Path) -> str:
     raise BatchInputError(f"{path}: not a polygon layer (no geometry column)")
 
 
-def _geoparquet_column(meta: dict, names: list[str], path: Path) -> tuple[str, str | None]:
-    """The geometry column and CRS text of a GeoParquet file's ``geo`` metadata."""
+def _geoparquet_column(meta: dict, names: list[str], path: Path) -> tuple[str, str | None, str]:
+    """The geometry column, CRS text and encoding of a GeoParquet file's ``geo`` metadata."""
     raw = meta.get(b"geo")
     if not raw:
         if "geometry" in names:
-            return "geometry", None  # plain Parquet with a WKB column: CRS unknown
+            return "geometry", None, "WKB"  # plain Parquet with a WKB column: CRS unknown
         raise BatchInputError(f"{path}: not a polygon layer (no GeoParquet geometry column)")
     try:
         geo = json.loads(raw)
@@ -297,14 +312,93 @@ def _geoparquet_column(meta: dict, names: list[str], path: Path) -> tuple[str, s
         raise BatchInputError(f"{path}: unreadable GeoParquet metadata") from None
     if col not in names:
         raise BatchInputError(f"{path}: GeoParquet primary column {col!r} is missing")
-    if spec.get("encoding", "WKB") != "WKB":
+    encoding = spec.get("encoding", "WKB")
+    if encoding != "WKB" and encoding not in NATIVE_ENCODINGS:
         raise BatchInputError(
-            f"{path}: geometry encoding {spec.get('encoding')!r} is not read; write WKB"
+            f"{path}: unknown geometry encoding {str(encoding)[:40]!r} (GeoParquet has WKB, "
+            f"{', '.join(NATIVE_ENCODINGS)})"
         )
     if "crs" not in spec:
-        return col, "OGC:CRS84"  # the GeoParquet default
+        return col, "OGC:CRS84", encoding  # the GeoParquet default
     crs = spec["crs"]
-    return col, None if crs is None else (crs if isinstance(crs, str) else json.dumps(crs))
+    text = None if crs is None else (crs if isinstance(crs, str) else json.dumps(crs))
+    return col, text, encoding
+
+
+def wkb_geometry(table: Any, column: str, encoding: str) -> Any:
+    """``table`` (an Arrow Table or RecordBatch) with column ``column`` as WKB.
+
+    ``encoding`` is the GeoParquet encoding of the column: ``"WKB"`` (returned
+    as is) or a native GeoArrow one (:data:`NATIVE_ENCODINGS`): nested lists over
+    coordinates, separated (a struct of ``x``, ``y`` and maybe ``z``; ``m`` is
+    dropped) or interleaved (fixed-size lists of 2 or 3 values). Null rows stay
+    null.
+
+    Examples
+    --------
+    >>> import pyarrow as pa
+    >>> ring = [{"x": 0.0, "y": 0.0}, {"x": 1.0, "y": 0.0}, {"x": 0.0, "y": 1.0},
+    ...         {"x": 0.0, "y": 0.0}]
+    >>> t = pa.table({"geometry": [[ring], None]})
+    >>> import shapely
+    >>> [None if w is None else shapely.from_wkb(w).wkt
+    ...  for w in wkb_geometry(t, "geometry", "polygon").column("geometry").to_pylist()]
+    ['POLYGON ((0 0, 1 0, 0 1, 0 0))', None]
+    """
+    if encoding == "WKB":
+        return table
+    pa = import_optional("pyarrow")
+    shapely = import_optional("shapely")
+    np = import_optional("numpy")
+    k = table.schema.get_field_index(column)
+    arr = table.column(k)
+    if isinstance(arr, pa.ChunkedArray):
+        arr = arr.combine_chunks() if arr.num_chunks else pa.array([], arr.type)
+    if isinstance(arr.type, pa.ExtensionType):
+        arr = arr.storage
+    nulls = arr.is_null().to_numpy(zero_copy_only=False)
+    offsets = []
+    values = arr
+    try:
+        for _ in range(NATIVE_ENCODINGS[encoding]):  # one list level: offsets from 0
+            off = np.asarray(values.offsets, dtype=np.int64)
+            values = values.values.slice(int(off[0]), int(off[-1] - off[0]))
+            offsets.append(off - off[0])
+        coords = _coordinates(pa, np, values)
+    except (AttributeError, KeyError, TypeError, ValueError) as exc:
+        raise BatchInputError(
+            f"geometry column {column!r} is not {encoding!r} GeoArrow data ({first_line(exc)})"
+        ) from None
+    kind = getattr(shapely.GeometryType, encoding.upper())
+    if not len(coords):  # every row null or empty (shapely cannot rebuild from nothing)
+        geoms = np.full(len(arr), None, dtype=object)
+    elif encoding == "point":
+        geoms = shapely.points(coords)
+    else:
+        geoms = shapely.from_ragged_array(kind, coords, tuple(reversed(offsets)))
+    wkb = shapely.to_wkb(geoms).astype(object)
+    wkb[nulls] = None
+    field = table.schema.field(k)
+    metadata = {
+        key: v for key, v in (field.metadata or {}).items() if not key.startswith(b"ARROW:")
+    }
+    new = pa.field(field.name, pa.binary(), nullable=True, metadata=metadata or None)
+    return table.set_column(k, new, pa.array(wkb, pa.binary()))
+
+
+def _coordinates(pa: Any, np: Any, values: Any) -> Any:
+    """The (n, 2) or (n, 3) float64 coordinates of a GeoArrow coordinate array."""
+    if pa.types.is_struct(values.type):
+        names = [values.type.field(i).name for i in range(values.type.num_fields)]
+        dims = ["x", "y", "z"] if "z" in names else ["x", "y"]
+        cols = [values.field(names.index(d)).to_numpy(zero_copy_only=False) for d in dims]
+        return np.column_stack(cols).astype(np.float64)
+    size = values.type.list_size  # interleaved: fixed-size lists named xy, xyz, xym, xyzm
+    dims = values.type.value_field.name
+    has_z = "z" in dims if set(dims) <= set("xyzm") and len(dims) == size else size > 2
+    flat = values.values.slice(values.offset * size, len(values) * size)  # null slots too
+    xyz = flat.to_numpy(zero_copy_only=False).astype(np.float64).reshape(-1, size)
+    return xyz[:, : 3 if has_z else 2]
 
 
 def first_line(exc: BaseException) -> str:

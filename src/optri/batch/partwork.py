@@ -27,7 +27,7 @@ import numpy as np
 
 from .._optional import import_optional
 from .chunks import TableTask, solve_table
-from .geo import parse_timestamps
+from .geo import parse_timestamps, wkb_geometry
 from .layer import Layer, renamed_columns
 from .layout import file_sha256
 from .records import TaskOptions
@@ -53,6 +53,7 @@ class LayerRows:
     row_groups: tuple[int, ...] = ()
     query: tuple[tuple[str, Any], ...] = ()
     stamps: tuple[tuple[str, Any], ...] = ()
+    encoding: str = "WKB"  # GeoParquet's geometry encoding (native ones are read as WKB)
 
 
 @dataclass(frozen=True)
@@ -78,7 +79,9 @@ class ReadTask(TaskOptions):
 
     def table_task(self) -> TableTask:
         """The chunk as a :class:`~optri.batch.chunks.TableTask`, its rows read now."""
-        fid, table = ids_of(read_rows(self.source, self.first, self.count), self.fid, self.first)
+        rows = read_rows(self.source, self.first, self.count)
+        rows = wkb_geometry(rows, self.geometry, self.source.encoding)
+        fid, table = ids_of(rows, self.fid, self.first)
         return TableTask(
             self.index,
             table,

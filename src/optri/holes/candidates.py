@@ -133,18 +133,23 @@ def _knn_keys(points: NDArray[np.float64], k: int) -> NDArray[np.int64]:
     return np.unique(lo * n + hi)
 
 
-def candidate_sets(points: NDArray[np.float64]) -> Iterator[tuple[str, Tris]]:
+def candidate_sets(
+    points: NDArray[np.float64], faces: Tris | None = None
+) -> Iterator[tuple[str, Tris]]:
     """Candidate triangle sets ``(name, triangles)``, each wider than the last.
 
     Triangles are rows ``(i, k, j)``, ``i < k < j``. The steps are listed in
     the module docstring; the caller stops at the first set holding a patch.
+    ``faces`` replaces the Delaunay faces of ``points`` (rows ``a < b < c``):
+    a polygon whose points repeat (a hole's islands cut open along bridges)
+    passes the Delaunay faces of its distinct points, mapped to its copies.
 
     >>> sq = np.array([[0., 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]])
     >>> [(name, len(t)) for name, t in candidate_sets(sq)][:2]
     [('delaunay', 2), ('delaunay-edges', 2)]
     """
     n = len(points)
-    faces = delaunay_faces(points)
+    faces = delaunay_faces(points) if faces is None else faces
     edges = _edge_keys(faces, n)
     sides = _side_keys(n)
     missing = sides[~np.isin(sides, edges)]

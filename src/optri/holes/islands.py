@@ -26,8 +26,12 @@ unfixed bridge gives a lower bound and is branched on its apex when it matters.
 Best-first order makes the first subproblem solved without conflict optimal.
 
 Beyond the sizes the exhaustive search allows, bridges are chosen as the closest
-vertex pairs (a minimum spanning tree of the loops) and one polygon search fills the
-merged polygon; the result is labelled ``"heuristic"``.
+vertex pairs (a minimum spanning tree of the loops) and the merged polygon is filled
+by Liepa's recurrence over every triangle and by the search over Zou, Ju and Carr's
+candidates, the faces of the 3-D Delaunay tetrahedralization of the loops' points
+(each copy of a bridge vertex standing for its point; widened as
+:func:`optri.holes.candidates.candidate_sets` says when they hold no patch); the
+better surface is kept and labelled ``"heuristic"``.
 """
 
 from __future__ import annotations
@@ -49,14 +53,15 @@ from ..objective import Cost, ObjectiveLike
 from ..result import Triangulation
 from ..solve import solve_problem
 from ..weights import positional_arity
+from .candidates import delaunay_faces
 from .liepa import angle_of_key, as_points3d, liepa_keys, power_of_two_scale
-from .modes import Hole, degenerate_count, fill_all, problem_of, recompute_of
+from .modes import Hole, degenerate_count, fill_all, fill_delaunay, problem_of, recompute_of
 from .polyline import fill_polyline
 
 __all__ = ["ISLAND_METHODS", "fill_polylines", "group_chords", "island_groups"]
 
 #: Accepted ``method`` values of :func:`fill_polylines`.
-ISLAND_METHODS = ("auto", "exact", "liepa")
+ISLAND_METHODS = ("auto", "exact", "liepa", "delaunay")
 #: ``method="auto"`` searches exactly up to this many merged-polygon vertices ...
 EXACT_MAX_N = 40
 #: ... and this many bridge configurations.
@@ -358,6 +363,8 @@ class _Search:
         self.exponent = power_of_two_scale(stack)[1]
         self.solves = 0
         self._again: dict[int, Callable[[Ints], Cost]] = {}
+        self._faces: Ints | None = None  # Delaunay faces of the loops' points, once
+        self.candidates: dict[str, int] = {}  # candidate sets that held the patches
 
     def hole(self, m: _Merged, allowed: NDArray[np.bool_], thirds: Floats) -> Hole:
         N = len(m.orig)
@@ -386,6 +393,12 @@ class _Search:
         """The best triangulation of merged polygon ``m`` with these chords (None: none)."""
         self.solves += 1
         hole = self.hole(m, allowed, thirds)
+        if mode == "delaunay":
+            sub: dict[str, Any] = {}
+            found = fill_delaunay(hole, sub, self.merged_faces(m))[0]
+            name = str(sub.get("candidates"))
+            self.candidates[name] = self.candidates.get(name, 0) + 1
+            return found
         if self.liepa:
             return fill_all(hole, mode, {})[0]
         # triangle weights: the compiled engine at every size (many small searches)
@@ -394,19 +407,42 @@ class _Search:
             "fast" if jit.unavailable() is None and jit.unsupported(problem) is None else "auto"
         )
         try:
-            return solve_problem(problem, engine)[1].triangles  # type: ignore[no-any-return]
+            tris: Ints = solve_problem(problem, engine)[1].triangles
         except NoTriangulationError:
             return None
+        if degenerate_count(hole.P, tris):  # the least (zero-area count, objective) instead
+            return fill_all(hole, mode, {})[0]
+        return tris
+
+    def merged_faces(self, m: _Merged) -> Ints:
+        """The loops' Delaunay faces on merged positions: every choice of copies."""
+        if self._faces is None:
+            self._faces = delaunay_faces(self.V)
+        copies: list[list[int]] = [[] for _ in range(len(self.V))]
+        for q, p in enumerate(m.orig.tolist()):
+            copies[p].append(q)
+        rows = [
+            t
+            for a, b, c in self._faces.tolist()
+            for t in itertools.product(copies[a], copies[b], copies[c])
+        ]
+        if not rows:
+            return np.zeros((0, 3), dtype=np.int64)
+        return np.unique(np.sort(np.array(rows, dtype=np.int64), axis=1), axis=0)
 
     def value(self, m: _Merged, tris: Ints, thirds: Floats) -> Any:
-        """The polygon search's own objective of ``tris`` (Liepa: the key, not the angle)."""
+        """The polygon search's own value of ``tris``.
+
+        Liepa: the key, not the angle. Triangle weights: the pair (zero-area triangles,
+        objective), so that the search minimises the count first, as every fill does.
+        """
         hole = self.hole(m, m.allowed, thirds)
         if self.liepa:
             return liepa_keys(hole.Q, hole.n, True, tris)
         again = self._again.get(id(m))
         if again is None:
             again = self._again[id(m)] = recompute_of(hole)
-        return again(tris)
+        return (degenerate_count(hole.P, tris), again(tris))
 
     def glued_thirds(self, m: _Merged, tris: Ints) -> Floats:
         """Third points that make the search's value the glued surface's value."""
@@ -446,15 +482,19 @@ def fill_polylines(
         ``"liepa"`` (largest dihedral angle, then area) or a triangle weight, as in
         :func:`optri.fill_polyline`; dihedrals across the patch's own edges between
         loops count too.
-    method : {"auto", "exact", "liepa"}
+    method : {"auto", "exact", "liepa", "delaunay"}
         ``"exact"``: the optimum over every such surface (a branch and bound over
         bridge configurations; see the module documentation); stops after
         ``max_nodes`` polygon searches with the best surface found, its proven bound
         and gap. ``"liepa"``: bridges along the closest vertex pairs and one polygon
         search (Liepa's recurrence for ``"liepa"``, the exact DP for triangle
-        weights): a heuristic. ``"auto"``: ``"exact"`` up to ``EXACT_MAX_N`` merged
-        vertices (the loops' plus two per island) and ``EXACT_MAX_CONFIGS`` bridge
-        configurations, else ``"liepa"``.
+        weights): a heuristic. ``"delaunay"``: the same bridges, the search
+        restricted to the faces of the loops' 3-D Delaunay tetrahedralization
+        (Zou, Ju and Carr's candidates, widened when they hold no patch): a
+        heuristic. ``"auto"``: ``"exact"`` up to ``EXACT_MAX_N`` merged vertices
+        (the loops' plus two per island) and ``EXACT_MAX_CONFIGS`` bridge
+        configurations, else the better of ``"liepa"`` and ``"delaunay"`` (also
+        what ``"exact"`` falls back on when ``max_nodes`` ends it before any surface).
     third_points : sequence of array_like, optional
         Per loop, ``third_points[l][s]``: the third vertex of the mesh triangle on
         side ``(s, s + 1)`` of loop ``l`` (only ``"liepa"`` uses them).
@@ -479,7 +519,12 @@ def fill_polylines(
         (proven lower bound and relative gap; ``-inf`` and ``inf`` when unknown),
         ``stats``: ``loops`` (sizes), ``bridges`` (point pairs the surface was cut
         along), ``configurations`` and ``searches`` (polygon searches run),
-        ``degenerate`` (zero-area triangles).
+        ``candidates`` (the Delaunay searches: how many found their patch in
+        each candidate set, ``"all"`` for none), ``degenerate`` (zero-area
+        triangles) and ``degenerate_unavoidable``
+        (triangle weights, ``"proven"``: no surface has fewer). For triangle
+        weights the search minimises the zero-area count first, then the
+        objective, as :func:`optri.fill_polyline` does.
 
     Raises
     ------
@@ -546,13 +591,20 @@ def fill_polylines(
         found = _branch_and_bound(search, merged, max_nodes, stats)
     if found is None:
         tries = [merge(_heuristic_config(V, ids, r, forbid)) for r in range(HEURISTIC_TRIES)]
-        found = _heuristic(search, [m for m in tries if m is not None])
+        usable = [m for m in tries if m is not None]
+        modes = ("liepa", "delaunay") if method in ("auto", "exact") else (method,)
+        for mode in modes:  # the better surface of the two searches
+            other = _heuristic(search, usable, mode)
+            if other is not None and (found is None or other.value < found.value):
+                found = other
         stats["configurations"] = len(tries)
     if found is None:
         raise NoTriangulationError(
             "every patch of these loops uses a forbidden pair (an edge the mesh already has)"
         )
     stats["searches"] = search.solves
+    if search.candidates:
+        stats["candidates"] = search.candidates
     return _result(search, V, found, stats, time.perf_counter() - start)
 
 
@@ -658,12 +710,12 @@ def _best_of(search: _Search, heap: list[_Node]) -> tuple[_Merged, Ints, Any] | 
     return best
 
 
-def _heuristic(search: _Search, candidates: list[_Merged]) -> _Found | None:
+def _heuristic(search: _Search, candidates: list[_Merged], mode: str) -> _Found | None:
     """The best of one polygon search per candidate, doubled edges repaired by forbidding."""
     best: _Found | None = None
     for m in candidates:
         allowed = m.allowed.copy()
-        tris = search.solve(m, allowed, m.thirds, "liepa")
+        tris = search.solve(m, allowed, m.thirds, mode)
         for _ in range(4 * len(m.orig)):
             if tris is None:
                 break
@@ -672,26 +724,29 @@ def _heuristic(search: _Search, candidates: list[_Merged]) -> _Found | None:
                 break
             (i, j), (u, v) = dup
             allowed[i, j] = allowed[j, i] = False
-            again = search.solve(m, allowed, m.thirds, "liepa")
+            again = search.solve(m, allowed, m.thirds, mode)
             if again is None:  # keep that chord, drop the other
                 allowed[i, j] = allowed[j, i] = True
                 allowed[u, v] = allowed[v, u] = False
-                again = search.solve(m, allowed, m.thirds, "liepa")
+                again = search.solve(m, allowed, m.thirds, mode)
             tris = again
         if tris is None or _doubled(m.orig, tris, len(search.V)) is not None:
             continue
         value = search.value(m, tris, search.glued_thirds(m, tris))
         if best is None or value < best.value:
-            best = _Found(m, tris, value, "liepa", False)
+            best = _Found(m, tris, value, mode, False)
     return best
 
 
 def _public(search: _Search, value: Cost) -> Cost:
-    """A search value as reported: Liepa's key becomes the angle, the area is unscaled."""
+    """A search value as reported (Liepa's key as the angle, the area unscaled).
+
+    For triangle weights the zero-area count is dropped: the objective alone.
+    """
     if search.liepa:
         key, area = value  # type: ignore[misc]
         return (angle_of_key(key), math.ldexp(area, 2 * search.exponent))
-    return value
+    return value[1]  # type: ignore[index,no-any-return]
 
 
 def _gap(value: Cost, bound: Cost) -> float:
@@ -727,9 +782,14 @@ def _result(
         name = names[0] if len(names) == 1 else names
         obj_name = problem.objective.name
     bound: Cost
+    stats["degenerate_unavoidable"] = (
+        not search.liepa and found.proven and stats["degenerate"] > 0
+    )  # the count is minimised first and the search proved it
     if found.proven:
         bound, gap = weight, 0.0
-    elif found.bound is None:
+    elif found.bound is None or (
+        not search.liepa and found.bound[0] < found.value[0]  # type: ignore[index]
+    ):  # a surface with fewer zero-area triangles may exist: its objective is unbounded
         bound, gap = -math.inf, math.inf
     else:
         bound = _public(search, found.bound)

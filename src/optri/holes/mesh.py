@@ -460,7 +460,7 @@ def _fill_group(
     start = time.perf_counter()
     points = [vertices[lp.vertices] for lp in members]
     third = [vertices[lp.third] for lp in members]
-    mode = method if method in ISLAND_METHODS else "liepa"  # "delaunay": closest-pair bridges
+    mode = method if method in ISLAND_METHODS else "auto"
     try:
         tri = fill_polylines(points, weight, mode, third, forbidden=forbidden, orient=False)
     except (InvalidPolygonError, TableTooLargeError) as exc:  # NoTriangulationError too

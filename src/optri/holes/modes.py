@@ -98,15 +98,18 @@ def fill_all(hole: Hole, method: str, stats: dict[str, Any]) -> tuple[Tris | Non
     return _fewest(hole, tris, hole.allowed, stats), "exact"
 
 
-def fill_delaunay(hole: Hole, stats: dict[str, Any]) -> tuple[Tris | None, str]:
+def fill_delaunay(
+    hole: Hole, stats: dict[str, Any], faces: Tris | None = None
+) -> tuple[Tris | None, str]:
     """The best patch over the first candidate set holding one, else over all triangles.
 
     A set whose best patch has a degenerate triangle counts as holding none
-    while some patch over all triangles has none.
+    while some patch over all triangles has none. ``faces``: the Delaunay faces
+    to start from (see :func:`~optri.holes.candidates.candidate_sets`).
     """
     n = hole.n
     fewest: int | None = None  # over all allowed chords, known once a set needs it
-    for name, tris in candidate_sets(hole.Q[:n]):
+    for name, tris in candidate_sets(hole.Q[:n], faces):
         tris = tris[_uses_allowed(tris, hole.allowed)]
         sub: dict[str, Any] = {}
         if hole.liepa:
