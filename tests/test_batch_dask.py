@@ -331,3 +331,13 @@ def test_the_cluster_made_for_a_run_forks_its_workers_from_a_server(tmp_path):
     with dask_client("dask", 1, 3) as c:
         parents = set(c.run(os.getppid).values())
         assert len(parents) == 1 and os.getpid() not in parents  # not spawned by this process
+
+
+@pytest.mark.slow
+def test_native_geoarrow_geoparquet_is_read_as_wkb(client, tmp_path):
+    gdf = _layer(20)
+    src = tmp_path / "in.parquet"
+    gdf.to_parquet(src, geometry_encoding="geoarrow", row_group_size=8)
+    s = dask_layer(src, tmp_path / "out.parquet", scheduler=client)
+    assert (s.total, s.partitions) == (20, 3)
+    _same_rows(gpd.read_parquet(tmp_path / "out.parquet"), optri.triangulate_many(gdf))

@@ -2332,6 +2332,14 @@ MUTATIONS: list[Mutation] = [
         "the LocalCluster made for a run spawns each worker, importing everything anew",
     ),
     M(
+        "dask-native-geoarrow-not-converted",
+        "src/optri/batch/dasklayer.py",
+        "frame.geometry, part.source.encoding\n        )",
+        'frame.geometry, "WKB"\n        )',
+        (DASK, "-k", "native_geoarrow"),
+        "a GeoParquet with native GeoArrow geometry reaches the solver as lists, not WKB",
+    ),
+    M(
         "dask-layer-takes-any-output-format",
         "src/optri/batch/dasklayer.py",
         'return kind in DASK_INPUTS and layout.fmt == "parquet"',

@@ -44,7 +44,7 @@ from ..errors import BatchInputError
 from .columns import ragged_from_arrow, solve_ragged, triangle_wkb
 from .daskframe import cost_dtype
 from .each import SolveOptions
-from .geo import count_rows, open_arrow_batches
+from .geo import count_rows, open_arrow_batches, wkb_geometry
 from .layer import renamed_columns, warn_geographic, warn_renamed
 from .layout import output_lock, plan_layout
 from .many import MANY_COLUMNS, with_error_rows
@@ -380,7 +380,10 @@ def _plan(
             except Exception as exc:  # pyarrow's own error zoo
                 raise BatchInputError(f"{path}: not a Parquet file ({exc})") from None
             groups = tuple(pf.metadata.row_group(k).num_rows for k in range(pf.num_row_groups))
-            rows = LayerRows(str(path), kind, sum(groups), row_groups=groups)
+            encoding = (
+                source.encoding if path == files[0] else open_arrow_batches(path, kind)[1].encoding
+            )
+            rows = LayerRows(str(path), kind, sum(groups), row_groups=groups, encoding=encoding)
             first = 0
             for size in groups or (0,):
                 parts.append(Part(len(parts), rows, first, size))
@@ -497,8 +500,10 @@ def solve_part(part: Part, frame: Frame) -> PartDone:
     """
     pa = import_optional("pyarrow", "geo")
     pq = import_optional("pyarrow.parquet", "geo")
-    if part.count:
-        table = read_rows(part.source, part.first, part.count)
+    if part.count:  # native GeoArrow geometry is read as WKB
+        table = wkb_geometry(
+            read_rows(part.source, part.first, part.count), frame.geometry, part.source.encoding
+        )
     else:  # an empty layer still gives a part, with the schema
         table = pa.table({frame.geometry: pa.array([], pa.binary())})
     ragged = ragged_from_arrow(table.column(frame.geometry))
