@@ -4,9 +4,10 @@ The baseline, timed in the same run, is what a GIS user writes by hand:
 ``geopandas.read_parquet`` -> ``shapely.constrained_delaunay_triangles`` ->
 ``GeoDataFrame.to_parquet``. Every configuration runs in a fresh process (its
 imports, its reading and writing included), and each result is reported with
-its ratio to that pipeline, the process tree's peak RSS (the process and its
-children, sampled with psutil; without psutil the largest reaped child's
-``ru_maxrss``) and the machine's load (``os.getloadavg``) before and after.
+its ratio to that pipeline, the process tree's peak RSS and CPU seconds (the
+process and its children, sampled with psutil; without psutil the largest
+reaped child's ``ru_maxrss`` and no CPU) and the machine's load
+(``os.getloadavg``) before and after.
 
 Sections (``--sections a,b,c``):
 
@@ -17,6 +18,15 @@ a. real OSM building footprints (``benchmarks/data/osm_buildings.geojson``,
    alone, ``triangulate_many(gs)`` against ``constrained_delaunay_triangles(gs)``.
 b. ``--stars`` star polygons of 8-64 vertices: ``batch -j 2`` against the
    pipeline, ``-j 2`` against ``-j 1``, Dask against the process pool.
+
+Dask is timed both ways in (a) and (b): ``--scheduler dask`` starts (and
+stops) a LocalCluster inside the timed run, as a one-off command does; and
+``--scheduler tcp://...`` sends the run to a cluster that is already running,
+as a Dask user's is: a LocalCluster of single-threaded worker processes started
+by this script before the clock (its scheduler then runs in this process, not
+in the timed one), timed twice, its workers cold (their first optri task) and
+then warm. Its CPU seconds include the cluster's (scheduler and workers), its
+peak RSS only the client's.
 c. memory: ``batch -j 2`` on ``--rows`` footprints and on a tenth of them (flat
    memory: about equal peaks); ``--rows 10000000`` for the large run.
 
@@ -27,7 +37,9 @@ c. memory: ``batch -j 2`` on ``--rows`` footprints and on a tenth of them (flat
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import logging
 import os
 import resource
 import subprocess
@@ -129,7 +141,7 @@ def run(cmd: list[str], out: Path) -> dict:
     load = os.getloadavg()[0]
     start = time.perf_counter()
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    peak = _watch(proc)
+    peak, cpu = _watch(proc)
     stdout, stderr = proc.communicate()
     seconds = time.perf_counter() - start
     if proc.returncode:
@@ -138,18 +150,25 @@ def run(cmd: list[str], out: Path) -> dict:
     return {
         "seconds": seconds,
         "peak_mb": peak if peak is not None else children,
+        "cpu": cpu,
         "load": (load, os.getloadavg()[0]),
         "stdout": stdout,
     }
 
 
-def _watch(proc: subprocess.Popen) -> float | None:
-    """The largest summed RSS of ``proc`` and its descendants, sampled every 50 ms (psutil)."""
+def _watch(proc: subprocess.Popen) -> tuple[float | None, float | None]:
+    """Peak summed RSS (MB) and CPU seconds of ``proc`` and its descendants (psutil).
+
+    Sampled every 50 ms: the CPU time is each process's last sample, summed (a
+    process's last 50 ms may be missed). On a loaded machine CPU seconds compare
+    configurations better than wall time.
+    """
     try:
         import psutil
     except ImportError:
-        return None
+        return None, None
     peak = 0.0
+    cpu: dict[int, float] = {}
     stop = threading.Event()
 
     def sample() -> None:
@@ -164,6 +183,8 @@ def _watch(proc: subprocess.Popen) -> float | None:
                 for p in [root, *root.children(recursive=True)]:
                     try:
                         total += p.memory_info().rss
+                        times = p.cpu_times()
+                        cpu[p.pid] = times.user + times.system
                     except psutil.NoSuchProcess:
                         pass
             except psutil.NoSuchProcess:
@@ -176,7 +197,7 @@ def _watch(proc: subprocess.Popen) -> float | None:
     proc.wait()
     stop.set()
     t.join()
-    return peak
+    return peak, sum(cpu.values())
 
 
 def optri_batch(src: Path, out: Path, *args: str) -> list[str]:
@@ -184,11 +205,54 @@ def optri_batch(src: Path, out: Path, *args: str) -> list[str]:
     return exe
 
 
+@contextlib.contextmanager
+def running_cluster(workers: int):
+    """The address of a LocalCluster of ``workers`` single-threaded processes, started now."""
+    import distributed
+
+    with distributed.LocalCluster(
+        n_workers=workers,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=None,
+        silence_logs=logging.ERROR,
+    ) as cluster:
+        yield cluster.scheduler_address
+
+
+def dask_both_ways(src: Path, out: Path, workers: int, base: dict, what: str) -> None:
+    """Dask with the cluster started in the run, then on a running cluster (cold, warm)."""
+    r = run(optri_batch(src, out, "-j", str(workers), "--scheduler", "dask"), out)
+    report(f"optri batch --scheduler dask ({workers} workers)", r, base, what)
+    with running_cluster(workers) as address:
+        for state in ("cold", "warm"):
+            before = _cluster_cpu()
+            r = run(optri_batch(src, out, "--scheduler", address), out)
+            if r["cpu"] is not None:  # the cluster's work counts too
+                r["cpu"] += _cluster_cpu() - before
+            report(f"  on a running cluster, workers {state}", r, base, what)
+
+
+def _cluster_cpu() -> float:
+    """CPU seconds so far of this process (the running cluster's scheduler) and its workers."""
+    try:
+        import psutil
+    except ImportError:
+        return 0.0
+    total = 0.0
+    me = psutil.Process()
+    for p in [me, *me.children(recursive=True)]:
+        with contextlib.suppress(psutil.NoSuchProcess):
+            times = p.cpu_times()
+            total += times.user + times.system
+    return total
+
+
 def report(name: str, r: dict, base: dict | None, what: str = "pipeline") -> None:
     ratio = f"{r['seconds'] / base['seconds']:6.2f}x {what}" if base else " " * 8 + "baseline"
     print(
         f"{name:<40} {r['seconds']:8.2f} s  {ratio:<22} peak {r['peak_mb']:7.0f} MB  "
-        f"load {r['load'][0]:.2f}->{r['load'][1]:.2f}",
+        f"cpu {r['cpu'] or float('nan'):6.2f} s  load {r['load'][0]:.2f}->{r['load'][1]:.2f}",
         flush=True,
     )
 
@@ -205,8 +269,7 @@ def section_a(d: Path, count: int, workers: int) -> None:
     out = d / "out.parquet"
     report("optri batch -j 1", run(optri_batch(src, out, "-j", "1"), out), base)
     report(f"optri batch -j {workers}", run(optri_batch(src, out, "-j", str(workers)), out), base)
-    r = run(optri_batch(src, out, "-j", str(workers), "--scheduler", "dask"), out)
-    report(f"optri batch --scheduler dask ({workers} workers)", r, base)
+    dask_both_ways(src, out, workers, base, "pipeline")
     report(
         "triangulate_many(gdf) + read/write", run([py, "-c", MANY, str(src), str(out)], out), base
     )
@@ -230,8 +293,7 @@ def section_b(d: Path, count: int, workers: int) -> None:
     pool = run(optri_batch(src, out, "-j", str(workers)), out)
     report(f"optri batch -j {workers}", pool, base)
     report(f"optri batch -j {workers} against -j 1", pool, one, "-j 1")
-    dask = run(optri_batch(src, out, "-j", str(workers), "--scheduler", "dask"), out)
-    report(f"optri batch --scheduler dask ({workers} workers)", dask, pool, "process pool")
+    dask_both_ways(src, out, workers, pool, "process pool")
 
 
 def section_c(d: Path, rows: int, workers: int) -> None:

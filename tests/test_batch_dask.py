@@ -243,3 +243,101 @@ def test_a_worker_killed_mid_run_loses_no_row_and_writes_none_twice(client, tmp_
     assert sorted(got["name"]) == sorted(gdf["name"])  # every row, each once
     _same_rows(got, optri.triangulate_many(gdf, weight=dies_once))
     assert got["status"][20] == "ok" and got["cost"][20] == 5.0  # the heptagon: 5 triangles
+
+
+@pytest.mark.slow
+def test_a_dataset_of_files_with_differing_types_is_one_schema(client, tmp_path):
+    gdf = _layer(30)
+    src = tmp_path / "in.parquet"  # a directory: a GeoParquet dataset
+    src.mkdir()
+    first, second = gdf.iloc[:12].copy(), gdf.iloc[12:].copy()
+    first["blob"] = None  # a null column in this file, binary in the other
+    second["blob"] = [b"\x07"] * len(second)
+    first.to_parquet(src / "a.parquet")
+    second.to_parquet(src / "b.parquet", row_group_size=9)
+    s = dask_layer(src, tmp_path / "out.parquet", scheduler=client)
+    assert (s.total, s.partitions) == (30, 3)  # a file, then two row groups
+    got = gpd.read_parquet(tmp_path / "out.parquet")
+    _same_rows(got, optri.triangulate_many(gpd.GeoDataFrame(gpd.pd.concat([first, second]))))
+    assert got["blob"].tolist() == [None] * 12 + [b"\x07"] * 18
+
+
+@pytest.mark.slow
+def test_lexicographic_costs_and_bounds_of_the_ok_rows_only(client, tmp_path):
+    gdf = _layer(20)
+    far = shapely.affinity.translate(shapely.Polygon(BOWTIE), 1e6, 1e6)
+    gdf.loc[:, "geometry"] = [far if i == 3 else g for i, g in enumerate(gdf.geometry)]
+    src = tmp_path / "in.parquet"
+    gdf.to_parquet(src, row_group_size=7)
+    options = {"weight": ("max_angle", "perimeter"), "objective": ("max", "sum")}
+    seen = []
+    dask_layer(
+        src,
+        tmp_path / "out.parquet",
+        scheduler=client,
+        progress=lambda done, total: seen.append((done, total)),
+        **options,
+    )
+    got = gpd.read_parquet(tmp_path / "out.parquet")
+    expected = optri.triangulate_many(gdf, **options)
+    assert [None if c is None else list(c) for c in got["cost"]] == [
+        None if c is None else list(c) for c in expected["cost"]
+    ]
+    assert got["status"][3] == "error"
+    import json
+
+    import pyarrow.parquet as pq
+
+    geo = json.loads(pq.read_schema(tmp_path / "out.parquet").metadata[b"geo"])
+    bbox = geo["columns"][got.geometry.name]["bbox"]
+    assert bbox == pytest.approx(list(got.total_bounds))  # the far bow-tie drew nothing
+    assert sorted(seen) == seen and seen[-1] == (20, 20) and len(seen) == 3  # per partition
+
+
+def test_an_empty_layer_gives_an_empty_valid_file(tmp_path):
+    import pyarrow.parquet as pq
+
+    _layer(4).iloc[:0].to_parquet(tmp_path / "empty.parquet")
+    src = tmp_path / "in.parquet"  # no row group at all (the other holds one of 0 rows)
+    pq.ParquetWriter(src, pq.read_schema(tmp_path / "empty.parquet")).close()
+    assert pq.ParquetFile(src).num_row_groups == 0
+    from optri.batch.dasklayer import plan_parts, solve_part
+
+    frame, parts = plan_parts(src, tmp_path)
+    assert [(p.first, p.count) for p in parts] == [(0, 0)]
+    done = solve_part(parts[0], frame)
+    assert (done.rows, done.ok, done.bbox) == (0, 0, None)
+    back = gpd.read_parquet(tmp_path / "part.00000.parquet")
+    assert list(back.columns) == ["name", "note", "height", "geometry", "status", "cost", "reason"]
+    assert len(back) == 0 and back.crs == "EPSG:32633"
+
+
+def test_partitions_cut_by_rows_or_count_within_each_file(tmp_path):
+    from optri.batch.dasklayer import plan_parts
+
+    src = tmp_path / "in.parquet"
+    _layer(40).to_parquet(src, row_group_size=25)
+    spans = lambda **kw: [(p.first, p.count) for p in plan_parts(src, tmp_path, **kw)[1]]  # noqa: E731
+    assert spans() == [(0, 25), (25, 15)]  # row groups
+    assert spans(chunksize=10) == [(0, 10), (10, 10), (20, 10), (30, 10)]
+    assert spans(npartitions=3) == [(0, 14), (14, 14), (28, 12)]
+    assert spans(npartitions=100) == [(k, 1) for k in range(40)]
+
+
+@pytest.mark.slow
+def test_the_cluster_made_for_a_run_forks_its_workers_from_a_server(tmp_path):
+    from optri.batch.runner import dask_client
+
+    with dask_client("dask", 1, 3) as c:
+        parents = set(c.run(os.getppid).values())
+        assert len(parents) == 1 and os.getpid() not in parents  # not spawned by this process
+
+
+@pytest.mark.slow
+def test_native_geoarrow_geoparquet_is_read_as_wkb(client, tmp_path):
+    gdf = _layer(20)
+    src = tmp_path / "in.parquet"
+    gdf.to_parquet(src, geometry_encoding="geoarrow", row_group_size=8)
+    s = dask_layer(src, tmp_path / "out.parquet", scheduler=client)
+    assert (s.total, s.partitions) == (20, 3)
+    _same_rows(gpd.read_parquet(tmp_path / "out.parquet"), optri.triangulate_many(gdf))

@@ -18,7 +18,7 @@ pytest.importorskip("scipy")
 from batch_polys import killer  # noqa: E402
 from optri import config  # noqa: E402
 from optri.batch import iter_records, strip_timing  # noqa: E402
-from optri.batch.dasklayer import write_partition  # noqa: E402
+from optri.batch.dasklayer import plan_parts, solve_part  # noqa: E402
 from optri.batch.driver import batch  # noqa: E402
 from optri.batch.many import triangulate_many  # noqa: E402
 from optri.errors import BatchInputError  # noqa: E402
@@ -207,11 +207,17 @@ def test_a_dask_partition_counts_features(tmp_path):
     gdf = gpd.GeoDataFrame(
         {"name": NAMES}, geometry=[g for g, _ in ROWS.values()], crs="EPSG:32633"
     )
-    solved = triangulate_many(gdf, explode=True)
-    counts = write_partition(solved, str(tmp_path), True, partition_info={"number": 4})
-    assert counts.to_dict("records") == [{"part": 4, "rows": 9, "ok": 5}]
-    back = gpd.read_parquet(tmp_path / "part.00004.parquet")
+    gdf.to_parquet(tmp_path / "in.parquet")
+    frame, parts = plan_parts(tmp_path / "in.parquet", tmp_path, explode=True)
+    done = solve_part(parts[0], frame)
+    assert (done.number, done.rows, done.ok) == (0, 9, 5)  # features, not triangles
+    back = gpd.read_parquet(tmp_path / "part.00000.parquet")
     assert len(back) == EXPECTED and bool(back.geometry.dropna().is_valid.all())
+    expected = triangulate_many(gdf, explode=True)
+    assert list(back["name"]) == list(expected["name"])
+    assert all(
+        a.equals_exact(b, 0) for a, b in zip(back.geometry.dropna(), expected.geometry.dropna())
+    )
 
 
 @pytest.mark.slow

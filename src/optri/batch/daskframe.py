@@ -19,7 +19,7 @@ from ..solve import triangulate
 from .layer import warn_geographic
 from .solver import check_options
 
-__all__ = ["triangulate_dask"]
+__all__ = ["cost_dtype", "triangulate_dask"]
 
 _RESULT_COLUMNS = ("status", "cost", "reason")
 
@@ -81,7 +81,7 @@ def _result_meta(empty: Any, solve: Callable[..., Any], options: dict, project: 
         warnings.simplefilter("ignore", GeographicCRSWarning)
         meta = solve(empty, **options, project=project)
     text = pd.Series(["ok"]).dtype  # object, or pandas' own string dtype
-    dtypes = {"status": text, "reason": text, "cost": _cost_dtype(options)}
+    dtypes = {"status": text, "reason": text, "cost": cost_dtype(options)}
     return _with_dtypes(meta, dtypes)
 
 
@@ -96,7 +96,7 @@ def _with_dtypes(frame: Any, dtypes: dict[str, Any]) -> Any:
     return frame
 
 
-def _cost_dtype(options: dict[str, Any]) -> str:
+def cost_dtype(options: dict[str, Any]) -> str:
     """float64 for one objective, object for a lexicographic one (a list per row)."""
     try:
         cost = triangulate([[0, 0], [1, 0], [0, 1]], **options).weight

@@ -1,11 +1,18 @@
 """Layers on a Dask cluster: workers read partitions, solve them and write GeoParquet parts.
 
 :func:`dask_layer` is what ``optri batch --scheduler dask`` runs for GeoParquet,
-GeoPackage, FlatGeobuf and shapefile inputs written as GeoParquet: each task
-reads one partition of the input (``dask_geopandas.read_parquet``, or
-``read_file`` through pyogrio), solves it (:func:`optri.triangulate_many` on a
-dask GeoDataFrame, :mod:`.daskframe`) and writes it as one GeoParquet file; the
-parent only plans the graph and, at the end, publishes the output.
+GeoPackage, FlatGeobuf and shapefile inputs written as GeoParquet. The parent
+plans the partitions from the input's metadata (row groups, feature counts) and
+the output's schema, and sends each worker where its rows are, not the rows:
+one task per partition (:func:`solve_part`) reads them as Arrow (pyarrow, or
+pyogrio), solves them on the columnar path of :func:`optri.triangulate_many`
+(ragged arrays, the compiled kernel, triangles built as WKB by numpy) and writes
+them as one GeoParquet file. Workers never build a pandas frame or a shapely
+geometry per row and never import dask.dataframe, so a task costs little more
+than its read, its solve and its write. The rows and columns are those of
+:func:`optri.triangulate_many` on the layer read by geopandas: the attributes
+(columns named ``status``, ``cost`` or ``reason`` renamed), the triangles as the
+geometry, then ``status``, ``cost`` and ``reason``.
 
 Every row is written exactly once, even when a worker dies and Dask reruns its
 tasks elsewhere: a part is written under a temporary name and renamed to
@@ -20,26 +27,43 @@ output never exists half made.
 from __future__ import annotations
 
 import contextlib
-import functools
+import dataclasses
 import json
 import os
 import shutil
 import time
 import uuid
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from .._optional import import_optional
 from ..errors import BatchInputError
-from .daskframe import triangulate_dask
+from .columns import ragged_from_arrow, solve_ragged, triangle_wkb
+from .daskframe import cost_dtype
+from .each import SolveOptions
+from .geo import count_rows, open_arrow_batches, wkb_geometry
+from .layer import renamed_columns, warn_geographic, warn_renamed
 from .layout import output_lock, plan_layout
-from .many import triangulate_many
+from .many import MANY_COLUMNS, with_error_rows
+from .partwork import LayerRows, read_rows
 from .readers import detect_input_format
 from .runner import dask_client
 from .solver import check_options
 from .summary import BatchSummary
 
-__all__ = ["DASK_INPUTS", "dask_layer", "wants_dask_layer"]
+__all__ = [
+    "DASK_INPUTS",
+    "Frame",
+    "Part",
+    "PartDone",
+    "dask_layer",
+    "plan_parts",
+    "solve_part",
+    "wants_dask_layer",
+]
 
 #: Input formats whose partitions Dask workers read themselves (GeoParquet through
 #: pyarrow, the others through pyogrio); JSON inputs keep the streaming reader,
@@ -47,7 +71,8 @@ __all__ = ["DASK_INPUTS", "dask_layer", "wants_dask_layer"]
 DASK_INPUTS = ("parquet", "gpkg", "fgb", "shp")
 #: Default Dask scheduler retries of a task whose worker died, for clusters made here.
 ALLOWED_FAILURES = 3
-#: Rows per partition read from a GeoPackage, FlatGeobuf or shapefile by default.
+#: Most rows in a partition by default: a GeoPackage, FlatGeobuf or shapefile is
+#: cut in partitions of this many rows, and a larger GeoParquet row group too.
 DEFAULT_CHUNKSIZE = 50_000
 _PART = "part.{:05d}.parquet"
 _SUCCESS = "_SUCCESS"
@@ -81,6 +106,49 @@ def wants_dask_layer(
     except BatchInputError:
         return False  # the ordinary path reports it
     return kind in DASK_INPUTS and layout.fmt == "parquet"
+
+
+@dataclass(frozen=True)
+class Frame:
+    """What every partition's task shares: the input's geometry, the output's schema, options.
+
+    ``schema`` is the output's Arrow schema (attributes, the geometry as WKB,
+    ``status``, ``cost``, ``reason``); ``columns`` maps each output column to
+    the input column it comes from (None for the result columns); ``crs`` is the
+    GeoParquet ``crs`` member written for the geometry (``...`` when the input's
+    GeoParquet metadata has none, which means OGC:CRS84).
+    """
+
+    geometry: str
+    schema: Any
+    columns: tuple[tuple[str, str | None], ...]
+    options: SolveOptions
+    explode: bool
+    crs: Any
+    folder: str
+    durable: bool
+    compression: str | None
+
+
+@dataclass(frozen=True)
+class Part:
+    """One partition: rows ``first`` to ``first + count - 1`` of ``source``, its number."""
+
+    number: int
+    source: LayerRows
+    first: int
+    count: int
+
+
+@dataclass(frozen=True)
+class PartDone:
+    """What a worker reports of a part it wrote: counts and the bounds of its triangles."""
+
+    number: int
+    rows: int
+    ok: int
+    bbox: tuple[float, float, float, float] | None
+    has_z: bool
 
 
 def dask_layer(
@@ -119,13 +187,16 @@ def dask_layer(
     scheduler : {None, "dask", "tcp://host:port", "dask://host:port"} or distributed.Client
         ``None`` or ``"dask"``: a LocalCluster of ``workers`` processes made for
         the run (Dask reruns a task whose worker died up to
-        :data:`ALLOWED_FAILURES` times); an address: that cluster; a client: its cluster.
+        :data:`ALLOWED_FAILURES` times); an address: that cluster (its workers
+        already running: no start-up cost); a client: its cluster.
     workers : int, optional
         Processes of the LocalCluster (default: every core).
     npartitions, chunksize : int, optional
         Partitions of the input (``chunksize``: rows per partition). GeoParquet
-        is read one row group per partition unless ``npartitions`` asks for
-        another count; other formats default to :data:`DEFAULT_CHUNKSIZE` rows.
+        is read one row group per partition (row groups over
+        :data:`DEFAULT_CHUNKSIZE` rows cut) unless one of them is given; other
+        formats default to :data:`DEFAULT_CHUNKSIZE` rows. A partition never
+        spans two files of a GeoParquet directory.
     layer : str, optional
         The layer of a GeoPackage holding several.
     fmt : str, optional
@@ -133,7 +204,7 @@ def dask_layer(
     overwrite : bool
         Replace an existing output (otherwise an existing output is an error).
     progress : callable, optional
-        ``progress(done, total)``, called once the run is complete.
+        ``progress(done, total)`` in features, called as partitions finish.
     explode : bool
         One row per triangle (:func:`optri.triangulate_many` with ``explode=True``);
         the summary still counts features.
@@ -149,6 +220,11 @@ def dask_layer(
         without ``overwrite``, an output that is the input, an unknown scheduler.
     BatchLockedError
         Another run is writing the same output.
+
+    Warns
+    -----
+    GeographicCRSWarning
+        The CRS is longitude/latitude and ``project`` is false.
 
     Examples
     --------
@@ -172,10 +248,13 @@ def dask_layer(
         )
     if not src.exists():
         raise BatchInputError(f"{src}: no such file")
+    if (npartitions is not None and npartitions < 1) or (chunksize is not None and chunksize < 1):
+        raise BatchInputError("npartitions and chunk size must be at least 1")
     layout = plan_layout(out, "parquet")
     layout.check_paths(src)
     target = layout.target
-    options = check_options(weight, objective, method)
+    check_options(weight, objective, method)  # refused before the lock is taken
+    options = dict(weight=weight, objective=objective, method=method)
     with output_lock(layout.lock, target):
         if target.exists() and not overwrite:
             raise BatchInputError(f"{target} exists; pass --overwrite to replace it")
@@ -183,87 +262,324 @@ def dask_layer(
         shutil.rmtree(staging, ignore_errors=True)  # a crashed run's parts: not vouched for
         staging.mkdir(parents=True)
         try:
-            ddf = _read(src, kind, npartitions, chunksize, layer)
-            solve = functools.partial(triangulate_many, explode=explode)
-            solved = triangulate_dask(ddf, solve, options, project)
-            written = solved.map_partitions(
-                write_partition, str(staging), explode, partition_info=True, meta=_counts_meta()
+            frame, parts = plan_parts(
+                src,
+                staging,
+                **options,
+                project=project,
+                explode=explode,
+                npartitions=npartitions,
+                chunksize=chunksize,
+                layer=layer,
+                fmt=kind,
+                scratch=layout.single,
             )
-            with dask_client(scheduler, workers, ALLOWED_FAILURES) as client:
-                counts = client.compute(written).result()
-            _publish(staging, target, counts, layout.single)
+            done = _run(parts, frame, scheduler, workers, progress)
+            _publish(staging, target, frame, done, layout.single)
         finally:
             shutil.rmtree(staging, ignore_errors=True)
-    total, ok = int(counts["rows"].sum()), int(counts["ok"].sum())
-    if progress is not None:
-        progress(total, total)
-    return BatchSummary(total, ok, total - ok, len(counts), 0, time.perf_counter() - start, target)
+    total, ok = sum(d.rows for d in done), sum(d.ok for d in done)
+    return BatchSummary(total, ok, total - ok, len(done), 0, time.perf_counter() - start, target)
 
 
-def _counts_meta() -> Any:
-    pd = import_optional("pandas", "geo")
-    return pd.DataFrame(
-        {
-            "part": pd.Series(dtype="int64"),
-            "rows": pd.Series(dtype="int64"),
-            "ok": pd.Series(dtype="int64"),
-        }
-    )
+def _run(
+    parts: list[Part], frame: Frame, scheduler: Any, workers: int | None, progress: Any
+) -> list[PartDone]:
+    """Every part through :func:`solve_part` on the cluster; their reports in partition order."""
+    distributed = import_optional("distributed", "dask")
+    total = sum(p.count for p in parts)
+    run = uuid.uuid4().hex[:12]
+    keys = [f"optri-part-{run}-{p.number}" for p in parts]
+    done: list[PartDone] = []
+    with dask_client(scheduler, workers, ALLOWED_FAILURES) as client:
+        futures = client.map(solve_part, parts, frame=frame, key=keys)
+        for future in distributed.as_completed(futures):
+            done.append(future.result())
+            if progress is not None:
+                progress(sum(d.rows for d in done), total)
+    return sorted(done, key=lambda d: d.number)
 
 
-def _read(
-    src: Path, kind: str, npartitions: int | None, chunksize: int | None, layer: str | None
-) -> Any:
-    """The input as a dask GeoDataFrame whose partitions the workers read themselves."""
-    dg = import_optional("dask_geopandas", "dask")
+def plan_parts(
+    inp: str | os.PathLike[str],
+    folder: str | os.PathLike[str],
+    *,
+    weight: Any = "perimeter",
+    objective: Any = "sum",
+    method: str = "auto",
+    project: bool = False,
+    explode: bool = False,
+    npartitions: int | None = None,
+    chunksize: int | None = None,
+    layer: str | None = None,
+    fmt: str | None = None,
+    scratch: bool = False,
+) -> tuple[Frame, list[Part]]:
+    """The partitions of a layer and what their tasks share: ``solve_part(part, frame)`` each.
+
+    Reads only the input's metadata (row groups, the feature count, the schema).
+    Parts are written into ``folder``; ``scratch`` parts (to be joined into
+    one file) are written uncompressed and not fsynced. Options as for
+    :func:`dask_layer`.
+
+    Warns
+    -----
+    GeographicCRSWarning
+        The CRS is longitude/latitude and ``project`` is false.
+    BatchWarning
+        Attribute columns renamed because a result column has their name.
+
+    Examples
+    --------
+    >>> import geopandas, shapely, tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> geopandas.GeoDataFrame(
+    ...     {"name": ["a", "b"]}, geometry=[shapely.box(0, 0, 1, 1), shapely.box(0, 0, 2, 1)],
+    ...     crs=32633).to_parquet(d / "in.parquet", row_group_size=1)
+    >>> frame, parts = plan_parts(d / "in.parquet", d)
+    >>> [(p.number, p.first, p.count) for p in parts], frame.schema.names
+    ([(0, 0, 1), (1, 1, 1)], ['name', 'geometry', 'status', 'cost', 'reason'])
+    >>> done = [solve_part(p, frame) for p in parts]  # what each Dask task does
+    >>> [(d.rows, d.ok) for d in done]
+    [(1, 1), (1, 1)]
+    >>> round(float(geopandas.read_parquet(d / "part.00001.parquet").cost[0]), 6)
+    10.472136
+    """
+    src = Path(inp)
+    kind = detect_input_format(src, fmt)
+    options = check_options(weight, objective, method)
+    frame, parts, crs = _plan(src, kind, layer, options, project, explode, Path(folder))
+    if scratch:
+        frame = dataclasses.replace(frame, durable=False, compression="none")
+    warn_geographic(crs, project)
+    return frame, _cut(parts, npartitions, chunksize)
+
+
+def _plan(
+    src: Path,
+    kind: str,
+    layer: str | None,
+    options: dict[str, Any],
+    project: bool,
+    explode: bool,
+    staging: Path,
+) -> tuple[Frame, list[Part], str | None]:
+    """The output's schema and the input's natural partitions; and the CRS as text."""
+    pa = import_optional("pyarrow", "geo")
     if kind == "parquet":
-        ddf = dg.read_parquet(str(src), split_row_groups=True)
-        if chunksize is not None and npartitions is None:
-            pq = import_optional("pyarrow.parquet", "geo")
-            rows = sum(pq.ParquetFile(f).metadata.num_rows for f in _parquet_files(src))
-            npartitions = max(1, -(-rows // chunksize))
-        if npartitions is not None and npartitions != ddf.npartitions:
-            ddf = ddf.repartition(npartitions=npartitions)
-        return ddf
-    if npartitions is None and chunksize is None:
-        chunksize = DEFAULT_CHUNKSIZE
-    extra = {"layer": layer} if layer is not None else {}
+        files = _parquet_files(src)
+        if not files:
+            raise BatchInputError(f"{src}: no Parquet files in it")
+        header, source = open_arrow_batches(files[0], kind)
+        schemas: list[Any] = []
+        parts: list[Part] = []
+        pq = import_optional("pyarrow.parquet", "geo")
+        for path in files:
+            try:
+                pf = pq.ParquetFile(path)
+            except Exception as exc:  # pyarrow's own error zoo
+                raise BatchInputError(f"{path}: not a Parquet file ({exc})") from None
+            groups = tuple(pf.metadata.row_group(k).num_rows for k in range(pf.num_row_groups))
+            encoding = (
+                source.encoding if path == files[0] else open_arrow_batches(path, kind)[1].encoding
+            )
+            rows = LayerRows(str(path), kind, sum(groups), row_groups=groups, encoding=encoding)
+            first = 0
+            for size in groups or (0,):
+                parts.append(Part(len(parts), rows, first, size))
+                first += size
+            schemas.append(pf.schema_arrow)
+        schema = pa.unify_schemas(schemas, promote_options="permissive")
+        dropped = {source.geometry, *_index_columns(schema)}
+        crs_member = _crs_member(schema.metadata, source.geometry)
+        geometry = source.geometry
+    else:
+        header, source = open_arrow_batches(src, kind, layer)
+        total = count_rows(src, kind, layer)
+        if total is None:
+            raise BatchInputError(f"{src}: the layer does not say how many features it holds")
+        query = tuple(sorted(source.query.items()))
+        stamps = tuple(sorted(source.stamps.items()))
+        rows = LayerRows(str(src), kind, total, query=query, stamps=stamps)
+        parts = [Part(0, rows, 0, total)]
+        schema = header.schema.append(pa.field(source.geometry, pa.binary()))
+        dropped = {source.geometry}
+        crs_member = _projjson(header.crs)
+        geometry = "geometry"  # as geopandas names it
+    names = [f.name for f in schema if f.name not in dropped]
+    renames = renamed_columns(names, MANY_COLUMNS)
+    warn_renamed(renames)
+    fields, columns = [], []
+    for f in schema:
+        if f.name == source.geometry:
+            fields.append(pa.field(geometry, pa.binary()))
+            columns.append((geometry, None))
+        elif f.name not in dropped:
+            fields.append(f.with_name(renames.get(f.name, f.name)))
+            columns.append((fields[-1].name, f.name))
+    cost = pa.list_(pa.float64()) if cost_dtype(options) == "object" else pa.float64()
+    for name, kind_ in zip(MANY_COLUMNS, (pa.string(), cost, pa.string()), strict=True):
+        fields.append(pa.field(name, kind_))
+        columns.append((name, None))
+    crs = header.crs
+    solve = SolveOptions(**options, project=crs if project else None, threads=1)
+    if project and crs is None:
+        raise BatchInputError(f"{src}: project=True needs a CRS and the layer has none")
+    out = pa.schema(fields)
+    frame = Frame(
+        source.geometry, out, tuple(columns), solve, explode, crs_member, str(staging), True, None
+    )
+    return frame, parts, crs
+
+
+def _cut(parts: list[Part], npartitions: int | None, chunksize: int | None) -> list[Part]:
+    """``parts`` cut (or merged, within a file) to ``chunksize`` rows, or into ``npartitions``."""
+    total = sum(p.count for p in parts)
+    if npartitions is not None and chunksize is None:
+        chunksize = max(1, -(-total // npartitions))
+    merge = chunksize is not None
+    size = chunksize or DEFAULT_CHUNKSIZE
+    out: list[Part] = []
+    files: dict[str, list[Part]] = {}
+    for p in parts:
+        files.setdefault(p.source.path, []).append(p)
+    for group in files.values():
+        spans = (
+            [(group[0].first, sum(p.count for p in group))]
+            if merge
+            else [(p.first, p.count) for p in group]
+        )
+        for first, count in spans:
+            pieces = max(1, -(-count // size))
+            step = -(-count // pieces) if count else 0
+            for k in range(pieces):
+                lo = first + k * step
+                n = max(0, min(step, first + count - lo))
+                if n or not count:
+                    out.append(Part(len(out), group[0].source, lo, n))
+    return out
+
+
+def _index_columns(schema: Any) -> list[str]:
+    """Columns pandas stored its index in (``__index_level_0__``): not attributes."""
+    raw = (schema.metadata or {}).get(b"pandas")
     try:
-        return dg.read_file(str(src), npartitions=npartitions, chunksize=chunksize, **extra)
-    except Exception as exc:  # pyogrio's DataSourceError, a missing layer, ...
-        raise BatchInputError(f"{src}: cannot read it as a {kind} layer ({exc})") from None
+        return [c for c in json.loads(raw)["index_columns"] if isinstance(c, str)] if raw else []
+    except (ValueError, KeyError, TypeError):
+        return []
+
+
+def _crs_member(metadata: Any, geometry: str) -> Any:
+    """The input's GeoParquet ``crs`` member as is (``...`` when absent: OGC:CRS84)."""
+    try:
+        column = json.loads((metadata or {})[b"geo"])["columns"][geometry]
+    except (KeyError, ValueError, TypeError):
+        return None  # plain Parquet with a WKB column: CRS unknown
+    return column.get("crs", ...)
+
+
+def _projjson(crs: str | None) -> Any:
+    if crs is None:
+        return None
+    pyproj = import_optional("pyproj", "geo")
+    return json.loads(pyproj.CRS.from_user_input(crs).to_json())
 
 
 def _parquet_files(src: Path) -> list[Path]:
     return sorted(src.rglob("*.parquet")) if src.is_dir() else [src]
 
 
-def write_partition(
-    part: Any, folder: str, explode: bool = False, partition_info: dict | None = None
-) -> Any:
-    """Write one solved partition as ``part.NNNNN.parquet`` in ``folder``, atomically.
+def solve_part(part: Part, frame: Frame) -> PartDone:
+    """Read, solve and write one partition as ``part.NNNNN.parquet`` in ``frame.folder``.
 
-    The file is written under a temporary name, flushed to disk and renamed, so
-    the part's name only ever holds a complete part, and a task Dask reruns
-    (its worker died) replaces the part instead of adding rows. Returns one row
-    of counts (partition number, features, ok features) for the parent; the
-    rows of an ``explode``-d feature share its index, one after another.
+    Runs on a worker. The file is written under a temporary name and renamed,
+    so the part's name only ever holds a complete part, and a task Dask reruns
+    (its worker died) replaces the part instead of adding rows. Returns the
+    part's feature count, ok count and the bounds of its triangles; the rows of
+    an ``explode``-d feature follow one another.
     """
-    pd = import_optional("pandas", "geo")
-    number = 0 if partition_info is None else int(partition_info["number"])
-    final = Path(folder) / _PART.format(number)
+    pa = import_optional("pyarrow", "geo")
+    pq = import_optional("pyarrow.parquet", "geo")
+    if part.count:  # native GeoArrow geometry is read as WKB
+        table = wkb_geometry(
+            read_rows(part.source, part.first, part.count), frame.geometry, part.source.encoding
+        )
+    else:  # an empty layer still gives a part, with the schema
+        table = pa.table({frame.geometry: pa.array([], pa.binary())})
+    ragged = ragged_from_arrow(table.column(frame.geometry))
+    solved = solve_ragged(ragged, frame.options)
+    wkb, rows = triangle_wkb(ragged, solved, frame.explode)
+    if frame.explode:
+        wkb, rows = with_error_rows(wkb, rows, solved)
+    ok = solved.status == 0
+    results = {
+        "status": pa.array(np.where(ok, "ok", "error")[rows].tolist(), pa.string()),
+        "cost": _cost_column(pa, solved, ok, frame.schema.field("cost").type).take(rows),
+        "reason": pa.array(solved.reason[rows].tolist(), pa.string()),
+    }
+    take = pa.array(rows, pa.int64())
+    arrays = []
+    for (name, source), f in zip(frame.columns, frame.schema, strict=True):
+        if source is not None:
+            col = table.column(source) if source in table.column_names else pa.nulls(len(table))
+            arrays.append(col.take(take).cast(f.type))
+        elif name in results:
+            arrays.append(results[name])
+        else:
+            arrays.append(pa.array(wkb.tolist(), pa.binary()))
+    has_z = bool(ragged.has_z and ragged.row_z[ok].any())
+    bbox = _bbox(ragged, ok)
+    meta = {b"geo": json.dumps(_geo(frame, [bbox], has_z)).encode()}
+    out = pa.Table.from_arrays(arrays, schema=frame.schema.with_metadata(meta))
+    final = Path(frame.folder) / _PART.format(part.number)
     temp = final.with_name(f".{final.name}.{uuid.uuid4().hex}.tmp")
     try:
-        part.to_parquet(temp, index=False)
-        _fsync(temp)
+        pq.write_table(out, temp, compression=frame.compression or "snappy")
+        if frame.durable:
+            _fsync(temp)
         os.replace(temp, final)
     finally:
         with contextlib.suppress(FileNotFoundError):
             temp.unlink()
-    first = part.index.to_series() != part.index.to_series().shift() if explode else None
-    features = part if first is None else part[first.to_numpy()]
-    ok = int((features["status"] == "ok").sum())
-    return pd.DataFrame({"part": [number], "rows": [len(features)], "ok": [ok]})
+    return PartDone(part.number, len(solved), int(np.count_nonzero(ok)), bbox, has_z)
+
+
+def _cost_column(pa: Any, solved: Any, ok: Any, kind: Any) -> Any:
+    """Costs as ``triangulate_many`` gives them: NaN, or a null pair, on an error row."""
+    if solved.cost.ndim == 2:
+        return pa.array([list(map(float, c)) if g else None for c, g in zip(solved.cost, ok)], kind)
+    return pa.array(np.where(ok, solved.cost, np.nan), kind)
+
+
+def _bbox(ragged: Any, ok: Any) -> tuple[float, float, float, float] | None:
+    """The x-y bounds of the part's triangles: those of its ok rows' vertices."""
+    if not ok.any():
+        return None
+    xy = ragged.coords[:, :2]
+    if not ok.all():  # each row's vertices, kept where the row is ok
+        ends = ragged.ring_offsets[ragged.part_offsets[ragged.row_offsets]]
+        xy = xy[np.repeat(ok, np.diff(ends))]
+    lo, hi = xy.min(axis=0), xy.max(axis=0)
+    return (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
+
+
+def _geo(frame: Frame, boxes: list[Any], has_z: bool) -> dict:
+    """GeoParquet 1.1 metadata for the output's geometry: types, CRS, bounds of ``boxes``."""
+    kind = "Polygon" if frame.explode else "GeometryCollection"
+    kinds = [f"{kind} Z" if has_z else kind]
+    name = next(n for n, s in frame.columns if s is None and n not in MANY_COLUMNS)
+    column: dict[str, Any] = {"encoding": "WKB", "geometry_types": kinds}
+    if frame.crs is not ...:
+        column["crs"] = frame.crs
+    found = [b for b in boxes if b is not None]
+    if found:
+        column["bbox"] = [
+            min(b[0] for b in found),
+            min(b[1] for b in found),
+            max(b[2] for b in found),
+            max(b[3] for b in found),
+        ]
+    return {"version": "1.1.0", "primary_column": name, "columns": {name: column}}
 
 
 def _fsync(path: Path) -> None:
@@ -274,63 +590,29 @@ def _fsync(path: Path) -> None:
         os.close(fd)
 
 
-def _publish(staging: Path, target: Path, counts: Any, single: bool) -> None:
+def _publish(staging: Path, target: Path, frame: Frame, done: list[PartDone], single: bool) -> None:
     """Make the output appear whole: every part there, once, with one schema."""
-    parts = [staging / _PART.format(int(k)) for k in sorted(counts["part"])]
+    parts = [staging / _PART.format(d.number) for d in done]
     missing = [p.name for p in parts if not p.is_file()]
-    if missing or len(set(counts["part"])) != len(counts):
+    if missing or len({d.number for d in done}) != len(done):
         raise BatchInputError(f"{target}: parts missing or repeated after the run: {missing}")
     for stray in staging.glob(".*.tmp"):  # left by a worker that died while writing
         stray.unlink()
-    schema = _unified_schema(parts)
+    geo = _geo(frame, [d.bbox for d in done], any(d.has_z for d in done))
     if single:
+        schema = frame.schema.with_metadata({b"geo": json.dumps(geo).encode()})
         _join(parts, schema, staging / ".joined.tmp")
         os.replace(staging / ".joined.tmp", target)
         return
-    for p in parts:
-        _conform_part(p, schema)
     summary = {
-        "rows": int(counts["rows"].sum()),
-        "ok": int(counts["ok"].sum()),
+        "rows": sum(d.rows for d in done),
+        "ok": sum(d.ok for d in done),
         "partitions": len(parts),
     }
     (staging / _SUCCESS).write_text(json.dumps(summary) + "\n")
     if target.exists():
         shutil.rmtree(target)
     os.rename(staging, target)
-
-
-def _unified_schema(parts: list[Path]) -> Any:
-    """One Arrow schema for all parts (a column null in one part takes the others' type)."""
-    pa = import_optional("pyarrow", "geo")
-    pq = import_optional("pyarrow.parquet", "geo")
-    schemas = [pq.read_schema(p) for p in parts]
-    unified = pa.unify_schemas(schemas, promote_options="permissive")
-    return unified.with_metadata(_geo_metadata(schemas))
-
-
-def _geo_metadata(schemas: list[Any]) -> dict:
-    """The first part's metadata, with the bounding box and geometry types of all parts."""
-    meta = dict(schemas[0].metadata or {})
-    geo = [json.loads(s.metadata[b"geo"]) for s in schemas if s.metadata and b"geo" in s.metadata]
-    if not geo:
-        return meta
-    merged = geo[0]
-    for name, column in merged.get("columns", {}).items():
-        others = [g["columns"].get(name, {}) for g in geo]
-        column["geometry_types"] = sorted({t for o in others for t in o.get("geometry_types", [])})
-        boxes = [o["bbox"] for o in others if o.get("bbox")]
-        if boxes:
-            column["bbox"] = [
-                min(b[0] for b in boxes),
-                min(b[1] for b in boxes),
-                max(b[2] for b in boxes),
-                max(b[3] for b in boxes),
-            ]
-        else:
-            column.pop("bbox", None)
-    meta[b"geo"] = json.dumps(merged).encode()
-    return meta
 
 
 def _join(parts: list[Path], schema: Any, dest: Path) -> None:
@@ -340,15 +622,5 @@ def _join(parts: list[Path], schema: Any, dest: Path) -> None:
         for p in parts:
             table = pq.read_table(p)
             if table.num_rows:
-                writer.write_table(table.cast(schema))
+                writer.write_table(table.replace_schema_metadata(schema.metadata))
     _fsync(dest)
-
-
-def _conform_part(path: Path, schema: Any) -> None:
-    """Rewrite a part whose column types differ from the dataset's (all-null columns)."""
-    pq = import_optional("pyarrow.parquet", "geo")
-    if pq.read_schema(path).remove_metadata().equals(schema.remove_metadata()):
-        return
-    temp = path.with_name(f".{path.name}.cast.tmp")
-    pq.write_table(pq.read_table(path).cast(schema), temp)
-    os.replace(temp, path)

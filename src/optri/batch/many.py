@@ -22,7 +22,7 @@ from .daskframe import triangulate_dask
 from .layer import renamed_columns, warn_geographic, warn_renamed
 from .solver import SolveOptions, check_options, solve_polygons
 
-__all__ = ["triangulate_many"]
+__all__ = ["triangulate_many", "with_error_rows"]
 
 #: Columns triangulate_many adds to a GeoDataFrame.
 MANY_COLUMNS = ("status", "cost", "reason")
@@ -157,7 +157,7 @@ def _as_frame(frame: Any, series: Any, ragged: Ragged, solved: Solved, explode: 
     gpd = import_optional("geopandas")
     geoms, src = triangle_geometries(ragged, solved, explode)
     if explode:
-        geoms, src = _with_error_rows(geoms, src, solved)
+        geoms, src = with_error_rows(geoms, src, solved)
     index = series.index.take(src) if explode else series.index
     status = np.where(solved.ok, "ok", "error").astype(object)
     if solved.cost.ndim == 1:
@@ -179,7 +179,7 @@ def _as_frame(frame: Any, series: Any, ragged: Ragged, solved: Solved, explode: 
     return out
 
 
-def _with_error_rows(geoms: Any, src: Any, solved: Solved) -> tuple[Any, Any]:
+def with_error_rows(geoms: Any, src: Any, solved: Solved) -> tuple[Any, Any]:
     """Exploded triangles plus one empty row per error row, in row order."""
     bad = np.flatnonzero(~solved.ok)
     if not len(bad):
