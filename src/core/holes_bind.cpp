@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "arrays.hpp"
 #include "bind.hpp"
 #include "holes.hpp"
 #include "weights.hpp"
@@ -23,16 +24,11 @@ namespace optri {
 
 namespace {
 
-template <class T>
-using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
-template <class T>
-using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
-template <class T>
-using NewArray = nb::ndarray<nb::numpy, T>;
+using arrays::In;
+using arrays::NewArray;
+using arrays::Out;
 
-void need(bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(std::string("optri._core.holes: ") + what);
-}
+void need(bool ok, const char* what) { arrays::need(ok, "optri._core.holes", what); }
 
 template <class A>
 bool shaped(const A& a, std::initializer_list<int64_t> shape) {
@@ -44,15 +40,6 @@ bool shaped(const A& a, std::initializer_list<int64_t> shape) {
     return true;
 }
 
-// a new zeroed numpy array of this shape
-template <class T>
-NewArray<T> new_array(std::initializer_list<size_t> shape) {
-    size_t total = 1;
-    for (size_t s : shape) total *= s;
-    T* data = new T[total > 0 ? total : 1]();
-    nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<T*>(p); });
-    return NewArray<T>(data, shape, owner);
-}
 
 // Q holds the n points, then (with third points) the n third points
 void check_points(const In<double>& Q, int64_t n, bool has_third) {
@@ -84,7 +71,7 @@ void bind_holes(nb::module_& m) {
 
     h.def("mesh_normals", [](In<double> Q, int64_t n) {
         check_points(Q, n, true);
-        auto out = new_array<double>({static_cast<size_t>(n), 4});
+        auto out = arrays::zeros<double>({static_cast<size_t>(n), 4});
         mesh_normals(Q.data(), n, out.data());
         return out;
     }, nb::arg("Q"), nb::arg("n"),
@@ -97,7 +84,7 @@ void bind_holes(nb::module_& m) {
         const int64_t rows = static_cast<int64_t>(Q.shape(0));
         const int64_t* t = tris.data();
         for (int64_t r = 0; r < 3 * m; ++r) need(t[r] >= 0 && t[r] < rows, "triangle index");
-        auto out = new_array<double>({static_cast<size_t>(m), 5});
+        auto out = arrays::zeros<double>({static_cast<size_t>(m), 5});
         triangle_normals(Q.data(), t, m, out.data());
         return out;
     }, nb::arg("Q"), nb::arg("tris"),
@@ -110,7 +97,7 @@ void bind_holes(nb::module_& m) {
         const int64_t rows = static_cast<int64_t>(P.shape(0));
         const int64_t* t = tris.data();
         for (int64_t r = 0; r < 3 * m; ++r) need(t[r] >= 0 && t[r] < rows, "triangle index");
-        auto out = new_array<bool>({static_cast<size_t>(m)});
+        auto out = arrays::zeros<bool>({static_cast<size_t>(m)});
         collinear_rows(P.data(), t, m, out.data());
         return out;
     }, nb::arg("P"), nb::arg("tris"),
@@ -155,7 +142,7 @@ void bind_holes(nb::module_& m) {
         const int64_t rows = U.ndim() == 2 ? static_cast<int64_t>(U.shape(0)) : -1;
         check_rows(U, rows, "U must be (rows, >= 4)");
         check_rows(V, rows, "V must be (rows, >= 4), as many rows as U");
-        auto out = new_array<double>({static_cast<size_t>(rows)});
+        auto out = arrays::zeros<double>({static_cast<size_t>(rows)});
         pair_keys(U.data(), U.shape(1), V.data(), V.shape(1), rows, out.data());
         return out;
     }, nb::arg("U"), nb::arg("V"),
@@ -170,7 +157,7 @@ void bind_holes(nb::module_& m) {
         for (int64_t r = 0; r < rows; ++r) {
             need(s[r] >= 0 && s[r] < static_cast<int64_t>(MN.shape(0)), "side index");
         }
-        auto out = new_array<double>({static_cast<size_t>(rows)});
+        auto out = arrays::zeros<double>({static_cast<size_t>(rows)});
         mesh_pair_keys(U.data(), U.shape(1), MN.data(), s, rows, out.data());
         return out;
     }, nb::arg("U"), nb::arg("MN"), nb::arg("sides"),
@@ -243,7 +230,7 @@ void bind_holes(nb::module_& m) {
 
     h.def("state_offsets", [](int64_t n) {
         need(n >= 3, "a polyline has at least 3 points");
-        auto off = new_array<int64_t>({static_cast<size_t>(n), static_cast<size_t>(n)});
+        auto off = arrays::zeros<int64_t>({static_cast<size_t>(n), static_cast<size_t>(n)});
         state_offsets(n, off.data());
         return off;
     }, nb::arg("n"), "First slot of each chord's states (-1 for sides); the root's is last.");
@@ -251,7 +238,7 @@ void bind_holes(nb::module_& m) {
     h.def("leaf_table", [](In<double> Q, int64_t n, In<double> MN, bool has_third) {
         check_points(Q, n, has_third);
         check_mesh(MN, n, has_third);
-        auto leaf = new_array<double>({static_cast<size_t>(n), static_cast<size_t>(n)});
+        auto leaf = arrays::zeros<double>({static_cast<size_t>(n), static_cast<size_t>(n)});
         leaf_table(Q.data(), n, MN.data(), has_third, leaf.data());
         return leaf;
     }, nb::arg("Q"), nb::arg("n"), nb::arg("MN"), nb::arg("has_third"),

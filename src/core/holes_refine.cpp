@@ -18,6 +18,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "arrays.hpp"
 #include "bind.hpp"
 
 namespace nb = nanobind;
@@ -420,20 +421,14 @@ std::vector<int64_t> intersecting_pairs(const double* v, const int64_t* f, int64
 
 namespace {
 
-template <class T>
-using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
-template <class T>
-using NewArray = nb::ndarray<nb::numpy, T>;
+using arrays::In;
+using arrays::NewArray;
 
-void need(bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(std::string("optri._core.refine: ") + what);
-}
+void need(bool ok, const char* what) { arrays::need(ok, "optri._core.refine", what); }
 
 template <class T>
 NewArray<T> from_vector(std::vector<T>&& data, size_t rows, size_t cols) {
-    auto* heap = new std::vector<T>(std::move(data));
-    nb::capsule owner(heap, [](void* q) noexcept { delete static_cast<std::vector<T>*>(q); });
-    return NewArray<T>(heap->data(), {rows, cols}, owner);
+    return arrays::owning(std::move(data), {rows, cols});
 }
 
 void check_faces(const In<int64_t>& F, int64_t rows, const char* what) {

@@ -27,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "arrays.hpp"
 #include "bind.hpp"
 
 namespace nb = nanobind;
@@ -35,20 +36,15 @@ namespace optri {
 
 namespace {
 
-template <class T>
-using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
-template <class T>
-using NewArray = nb::ndarray<nb::numpy, T>;
+using arrays::In;
+using arrays::NewArray;
 
-void need(bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(std::string("optri._core.topology: ") + what);
-}
+void need(bool ok, const char* what) { arrays::need(ok, "optri._core.topology", what); }
 
 template <class T>
 NewArray<T> from_vector(std::vector<T>&& v) {
-    auto* data = new std::vector<T>(std::move(v));
-    nb::capsule owner(data, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
-    return NewArray<T>(data->data(), {data->size()}, owner);
+    const size_t n = v.size();
+    return arrays::owning(std::move(v), {n});
 }
 
 struct RowKey {
