@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from .. import config
 from .._optional import import_optional
 from ..errors import BatchInputError, OptriError
@@ -349,7 +351,6 @@ def wkb_geometry(table: Any, column: str, encoding: str) -> Any:
         return table
     pa = import_optional("pyarrow")
     shapely = import_optional("shapely")
-    np = import_optional("numpy")
     k = table.schema.get_field_index(column)
     arr = table.column(k)
     if isinstance(arr, pa.ChunkedArray):
@@ -364,7 +365,7 @@ def wkb_geometry(table: Any, column: str, encoding: str) -> Any:
             off = np.asarray(values.offsets, dtype=np.int64)
             values = values.values.slice(int(off[0]), int(off[-1] - off[0]))
             offsets.append(off - off[0])
-        coords = _coordinates(pa, np, values)
+        coords = _coordinates(pa, values)
     except (AttributeError, KeyError, TypeError, ValueError) as exc:
         raise BatchInputError(
             f"geometry column {column!r} is not {encoding!r} GeoArrow data ({first_line(exc)})"
@@ -386,7 +387,7 @@ def wkb_geometry(table: Any, column: str, encoding: str) -> Any:
     return table.set_column(k, new, pa.array(wkb, pa.binary()))
 
 
-def _coordinates(pa: Any, np: Any, values: Any) -> Any:
+def _coordinates(pa: Any, values: Any) -> Any:
     """The (n, 2) or (n, 3) float64 coordinates of a GeoArrow coordinate array."""
     if pa.types.is_struct(values.type):
         names = [values.type.field(i).name for i in range(values.type.num_fields)]
