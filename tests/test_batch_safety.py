@@ -3,23 +3,30 @@ parent, no temporary files left, duplicate ids reported, a user weight's error k
 
 from __future__ import annotations
 
+import collections
 import json
 import os
 import re
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 import warnings
 from pathlib import Path
 
+import numpy as np
 import pytest
 from click.testing import CliRunner
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import optri
 from batch_polys import mixed_polygons, write_ndjson
+from optri import config
 from optri.batch import BatchLockedError, DuplicateIdWarning, iter_records
 from optri.batch.layout import output_lock
+from optri.batch.summary import IdHashes
 from optri.cli import main
 
 SRC = str(Path(__file__).resolve().parents[1] / "src")
@@ -150,6 +157,40 @@ def test_duplicate_ids_are_warned_about_and_counted(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error", DuplicateIdWarning)  # unique ids: no warning at all
         assert optri.batch(unique, tmp_path / "v.ndjson", workers=1).duplicates == 0
+
+
+def test_duplicate_ids_are_found_when_the_hashes_spill_to_disk(tmp_path, monkeypatch):
+    # a few hashes in memory: the rest go to bucket files, counted and removed at the end
+    monkeypatch.setattr(config, "BATCH_ID_HASHES_IN_MEMORY", 3)
+    spill = tmp_path / "tmp"
+    spill.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(spill))
+    rows = [{"id": i % 40, "coordinates": SQUARE} for i in range(100)]
+    src = write_ndjson(tmp_path / "in.ndjson", rows)
+    with pytest.warns(DuplicateIdWarning, match=r"60 record\(s\) repeat an earlier id"):
+        summary = optri.batch(src, tmp_path / "o.ndjson", workers=1, chunk_size=8)
+    assert summary.duplicates == 60 and summary.partitions > 3
+    assert list(spill.iterdir()) == []
+
+
+def test_id_hash_spill_files_go_when_counted(tmp_path, monkeypatch):
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    hashes = IdHashes(limit=1)
+    hashes.add(np.array([1, 2, 2], dtype=np.int64))
+    assert len(list(tmp_path.rglob("*.bin"))) > 0  # spilled
+    assert hashes.repeated() == (1, {2})
+    assert list(tmp_path.iterdir()) == []  # gone at once, not when collected
+
+
+@given(st.lists(st.lists(st.integers(-(2**63), 2**63 - 1) | st.integers(0, 5), max_size=6)))
+@settings(max_examples=60, deadline=None)
+def test_id_hashes_count_repeats_as_a_sort_does(parts):
+    hashes = IdHashes(limit=4)
+    for p in parts:
+        hashes.add(np.array(p, dtype=np.int64))
+    flat = [h for p in parts for h in p]
+    seen = collections.Counter(flat)
+    assert hashes.repeated() == (len(flat) - len(seen), {h for h, c in seen.items() if c > 1})
 
 
 def _geo():

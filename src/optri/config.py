@@ -91,6 +91,9 @@ BATCH_WORKERS_READ = True
 #: A single GeoParquet output is joined from its parts while later parts are still solved
 #: (optri.batch.tablefiles.PartJoiner); False: all at once after the last part.
 BATCH_JOIN_WHILE_SOLVING = True
+#: Batch: id hashes (8 bytes each) the parent keeps in memory to find duplicate ids; beyond
+#: this many they go to temporary bucket files, so the parent's memory stays flat with rows.
+BATCH_ID_HASHES_IN_MEMORY = 1 << 21
 #: Batch: chunks in flight per worker (keeps workers busy without reading ahead far).
 BATCH_IN_FLIGHT_PER_WORKER = 2
 #: Batch: rows per Parquet record batch / GeoPackage page while reading.

@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import collections
 import hashlib
+import shutil
+import tempfile
 import warnings
+import weakref
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -12,12 +15,15 @@ from typing import Any
 
 import numpy as np
 
+from .. import config
 from ..errors import DuplicateIdWarning
 
-__all__ = ["BatchSummary", "Counter", "id_hash"]
+__all__ = ["BatchSummary", "Counter", "IdHashes", "id_hash"]
 
 #: Duplicate ids named in the warning.
 _NAMED = 5
+#: Spilled hashes go to this many bucket files, by their top bits.
+_BUCKET_BITS = 8
 
 
 @dataclass(frozen=True)
@@ -65,18 +71,100 @@ class BatchSummary:
         )
 
 
+class IdHashes:
+    """The 64-bit hashes of a run's ids, to count the ones that repeat, in flat memory.
+
+    Up to ``config.BATCH_ID_HASHES_IN_MEMORY`` hashes are held in memory. Beyond, they
+    are appended to 256 temporary files by their top 8 bits, so that equal hashes share
+    a file and :meth:`repeated` sorts one file at a time: the memory held stays below
+    that limit plus one file, whatever the number of rows. The files live in a private
+    temporary folder, removed by :meth:`repeated`, :meth:`close` or garbage collection.
+    If the folder cannot be written (a full disk), hashes stay in memory instead.
+
+    Examples
+    --------
+    >>> h = IdHashes(limit=2)
+    >>> for part in ([1, 2], [3, 1], [2, 5]):
+    ...     h.add(np.array(part, dtype=np.int64))
+    >>> count, which = h.repeated()
+    >>> count, sorted(which)
+    (2, [1, 2])
+    """
+
+    def __init__(self, limit: int | None = None) -> None:
+        self.limit = int(config.BATCH_ID_HASHES_IN_MEMORY if limit is None else limit)
+        self._held: list[np.ndarray] = []
+        self._held_n = 0
+        self._folder: Path | None = None
+        self._cleanup: weakref.finalize | None = None
+
+    def add(self, hashes: np.ndarray) -> None:
+        """Keep one part's hashes."""
+        self._held.append(np.asarray(hashes, dtype=np.int64))
+        self._held_n += len(hashes)
+        if self._held_n > self.limit:
+            self._spill()
+
+    def _spill(self) -> None:
+        held = np.concatenate(self._held)
+        try:
+            if self._folder is None:
+                self._folder = Path(tempfile.mkdtemp(prefix="optri-ids-"))
+                self._cleanup = weakref.finalize(
+                    self, shutil.rmtree, self._folder, ignore_errors=True
+                )
+            bucket = (held.view(np.uint64) >> np.uint64(64 - _BUCKET_BITS)).astype(np.intp)
+            order = np.argsort(bucket, kind="stable")
+            bounds = np.searchsorted(bucket[order], np.arange((1 << _BUCKET_BITS) + 1))
+            for b in np.flatnonzero(np.diff(bounds)):
+                with open(self._folder / f"{b:03d}.bin", "ab") as fh:
+                    held[order[bounds[b] : bounds[b + 1]]].tofile(fh)
+        except OSError:  # no room for the files: memory it is (a later spill may retry)
+            self.limit = max(self.limit, 2 * self._held_n)
+            return
+        self._held, self._held_n = [], 0
+
+    def repeated(self) -> tuple[int, set[int]]:
+        """How many hashes repeat an earlier one, and which hashes repeat; the files go."""
+        if self._folder is None:
+            return _repeats(self._held)
+        if self._held:
+            self._spill()
+        count, which = 0, set[int]()
+        try:
+            for path in sorted(self._folder.glob("*.bin")):
+                c, w = _repeats([np.fromfile(path, dtype=np.int64)])
+                count, which = count + c, which | w
+            c, w = _repeats(self._held)  # what a full disk kept in memory
+            return count + c, which | w
+        finally:
+            self.close()
+
+    def close(self) -> None:
+        """Remove the temporary files now."""
+        if self._cleanup is not None:
+            self._cleanup()
+
+
+def _repeats(parts: list[np.ndarray]) -> tuple[int, set[int]]:
+    if not parts:
+        return 0, set()
+    all_ = np.sort(np.concatenate(parts))
+    same = all_[1:] == all_[:-1]
+    return int(np.count_nonzero(same)), {int(h) for h in all_[1:][same]}
+
+
 class Counter:
     """Running totals, reported to ``progress`` after each chunk, and the ids seen.
 
-    Ids are kept as 64-bit hashes (8 bytes a record), so a run of ten million
-    features holds 80 MB of them; the ids themselves are looked up again in
-    the output only when some hashes repeat.
+    Ids are kept as 64-bit hashes (:class:`IdHashes`, flat in memory); the ids
+    themselves are looked up again in the output only when some hashes repeat.
     """
 
     def __init__(self, progress: Callable[[int, int], None] | None, total: int) -> None:
         self.progress, self.total = progress, total
         self.n = self.ok = self.errors = self.parts = self.reused = 0
-        self.hashes: list[np.ndarray] = []
+        self.hashes = IdHashes()
         if progress is not None:
             progress(0, total)
 
@@ -93,7 +181,7 @@ class Counter:
         """Count one part given as its ids' hashes (:func:`id_hash`) and its ok records."""
         self.n += len(hashes)
         self.ok += ok
-        self.hashes.append(hashes)
+        self.hashes.add(hashes)
         self.errors = self.n - self.ok
         self.parts += 1
         self.reused += reused
@@ -106,11 +194,7 @@ class Counter:
 
     def repeated_hashes(self) -> tuple[int, set[int]]:
         """How many records repeat an earlier id hash, and which hashes repeat."""
-        if not self.hashes:
-            return 0, set()
-        all_ = np.sort(np.concatenate(self.hashes))
-        same = all_[1:] == all_[:-1]
-        return int(np.count_nonzero(same)), {int(h) for h in all_[1:][same]}
+        return self.hashes.repeated()
 
     def summary(self, output: Path, seconds: float, duplicates: int = 0) -> BatchSummary:
         """The summary of this run."""
