@@ -49,7 +49,7 @@ _SINE_FLOOR = 1e-12
 # why a solve failed, by the compiled core's status
 _NO_AREA = "a vertex to fair has no area around it"
 _NOT_FINITE = "the fairing system gave non-finite positions"
-_FAILED = {1: _NO_AREA, 2: "the fairing system could not be solved (a zero pivot)", 3: _NOT_FINITE}
+_FAILED = {1: _NO_AREA, 2: "the fairing system could not be solved (a zero or non-finite pivot)", 3: _NOT_FINITE}
 
 
 @dataclass
