@@ -6,7 +6,7 @@ Schroder and Barr 2003) and ``k`` is the continuity asked for at the fixed ring:
 ``k = 0`` a membrane (``L x = 0``, position continuity), ``k = 1`` a thin plate
 (``L^2 x = 0``, tangent continuity), ``k = 2`` minimal curvature variation
 (``L^3 x = 0``, curvature continuity); as in Liepa (2003), CGAL's
-``fair`` and MeshLib's hole filling. One sparse LU factorization serves x, y and z.
+``fair`` and MeshLib's hole filling. One sparse factorization serves x, y and z.
 
 Rows of ``L^(k+1)`` reach ``k + 1`` rings out from a free vertex, so the fixed
 vertices within that many rings act as the boundary condition: a whole mesh may be
@@ -49,7 +49,11 @@ _SINE_FLOOR = 1e-12
 # why a solve failed, by the compiled core's status
 _NO_AREA = "a vertex to fair has no area around it"
 _NOT_FINITE = "the fairing system gave non-finite positions"
-_FAILED = {1: _NO_AREA, 2: "the fairing system could not be solved (a zero or non-finite pivot)", 3: _NOT_FINITE}
+_FAILED = {
+    1: _NO_AREA,
+    2: "the fairing system could not be solved (a zero or non-finite pivot)",
+    3: _NOT_FINITE,
+}
 
 
 @dataclass

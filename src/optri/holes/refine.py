@@ -140,7 +140,9 @@ def refine_patch(
         raise InvalidPolygonError(f"density must be a positive number, got {density!r}")
     from .. import _core
 
-    pairs = [sorted(int(i) for i in pair) for pair in (forbidden or ()) if len(pair) == 2]
+    ends = np.array([tuple(p) for p in (forbidden or ()) if len(p) == 2], dtype=np.int64)
+    ends = ends.reshape(-1, 2)  # each pair as (low, high), in the set's order
+    pairs = np.column_stack([ends.min(axis=1), ends.max(axis=1)])
     new, faces, split = _core.refine.refine_patch(
         np.ascontiguousarray(vertices, dtype=np.float64).reshape(-1, 3),
         np.ascontiguousarray(patch, dtype=np.int64).reshape(-1, 3),
@@ -148,13 +150,13 @@ def refine_patch(
         np.ascontiguousarray(scales, dtype=np.float64).reshape(-1),
         float(density),
         int(max_rounds),
-        np.asarray(pairs, dtype=np.int64).reshape(-1, 2),
+        pairs,
         MAX_SWEEPS,
         _FOLD_FREE_COS,
         _CREASE_COS,
     )
     if parents is not None:
-        parents.extend((int(a), int(b), int(c)) for a, b, c in split.tolist())
+        parents.extend(map(tuple, split.tolist()))
     return new, faces
 
 
