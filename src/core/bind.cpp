@@ -15,6 +15,7 @@ void bind_all(nanobind::module_& m) {
     bind_simple(m);
     bind_refine(m);
     bind_topology(m);
+    bind_fair(m);
 }
 
 }  // namespace optri

@@ -16,5 +16,6 @@ void bind_many(nanobind::module_& m);
 void bind_simple(nanobind::module_& m);
 void bind_refine(nanobind::module_& m);
 void bind_topology(nanobind::module_& m);
+void bind_fair(nanobind::module_& m);
 
 }  // namespace optri

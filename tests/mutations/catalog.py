@@ -57,6 +57,7 @@ EXPLODE = "tests/test_batch_explode.py"
 PARTWORK = "tests/test_batch_partwork.py"
 GEOARROW = "tests/test_batch_geoarrow.py"
 STARTUP = "tests/test_batch_startup.py"
+FAIR_CORE = "tests/test_fair_core.py"
 
 MUTATIONS: list[Mutation] = [
     # --- the issue's list: two-phase rule, ties, check(), CLI errors, 3-D limit ---------
@@ -1497,7 +1498,7 @@ MUTATIONS: list[Mutation] = [
         "src/optri/holes/fair.py",
         "    for _ in range(continuity):\n        op = C @",
         "    for _ in range(max(continuity - 1, 0)):\n        op = C @",
-        ("tests/test_mesh_refine.py", "-k", "sphere_cap or paraboloid"),
+        (FAIR_CORE, "-k", "refined_patches"),
         "fair=k solved L^k instead of L^(k+1): one order of continuity lost at the border",
     ),
     M(
@@ -1505,7 +1506,7 @@ MUTATIONS: list[Mutation] = [
         "src/optri/holes/fair.py",
         "        share = np.where(any_obtuse, np.where(obtuse[:, c], area / 2, area / 4), vor)",
         "        share = area / 3",
-        ("tests/test_mesh_refine.py", "-k", "voronoi or laplacian or sphere_cap"),
+        ("tests/test_mesh_refine.py", "-k", "voronoi or laplacian"),
         "barycentric areas in place of the mixed Voronoi areas of the cotangent operator",
     ),
     M(
@@ -1513,7 +1514,7 @@ MUTATIONS: list[Mutation] = [
         "src/optri/holes/fair.py",
         "    fixed = np.setdiff1d(np.flatnonzero(near), free)",
         "    fixed = np.setdiff1d(np.flatnonzero(near), free)[1:]",
-        ("tests/test_mesh_refine.py", "-k", "flattens or sphere_cap"),
+        (FAIR_CORE, "-k", "refined_patches"),
         "a fixed vertex dropped from the boundary condition",
     ),
     M(
@@ -1614,7 +1615,7 @@ MUTATIONS: list[Mutation] = [
         "src/optri/holes/fair.py",
         "        res = _solve(res.vertices, f, free, continuity)",
         "        res = _solve(v, f, free, continuity)",
-        ("tests/test_mesh_refine.py", "-k", "passes"),
+        (FAIR_CORE, "-k", "refined_patches"),
         "every fairing pass takes L where the input was: the second pass changes nothing",
     ),
     M(
@@ -2724,6 +2725,62 @@ MUTATIONS: list[Mutation] = [
         "            before = 0",
         ("tests/test_mesh_topology.py", "-k", "crossings_left"),
         "a fairing is undone whenever its patch crosses anything, even where the refined one did",
+    ),
+    M(
+        "fair-core-obtuse-shares-swapped",
+        "src/core/fair.cpp",
+        "(q.cot[c] < 0 ? q.area / 2 : q.area / 4)",
+        "(q.cot[c] < 0 ? q.area / 4 : q.area / 2)",
+        (FAIR_CORE, "-k", "random_patches"),
+        "the compiled mixed areas give an obtuse triangle's half to its acute corners",
+    ),
+    M(
+        "fair-core-one-order-too-low",
+        "src/core/fair.cpp",
+        "            c_times(i, b_row);",
+        "            c_times(i, c_row);",
+        (FAIR_CORE, "-k", "refined_patches"),
+        "the compiled solve takes L^2 for fair=2",
+    ),
+    M(
+        "fair-core-rhs-sign",
+        "src/core/fair.cpp",
+        "rhs[3 * i + a] = -s[a];",
+        "rhs[3 * i + a] = s[a];",
+        (FAIR_CORE, "-k", "refined_patches"),
+        "the fixed vertices' columns moved to the right-hand side without a change of sign",
+    ),
+    M(
+        "fair-core-pivot-update",
+        "src/core/fair.cpp",
+        "            dq -= lki * yi;",
+        "            dq += lki * yi;",
+        (FAIR_CORE, "-k", "refined_patches"),
+        "the LDL^T pivots miss their updates from the rows above",
+    ),
+    M(
+        "fair-core-no-separators",
+        "src/core/fair.cpp",
+        "        if (on[i - lo] && h == side) {",
+        "        if (false && on[i - lo] && h == side) {",
+        (FAIR_CORE, "-k", "fill"),
+        "the dissection cuts without separators: a correct solve with far more fill",
+    ),
+    M(
+        "fair-core-one-pass",
+        "src/core/fair.cpp",
+        "for (int64_t pass = 0; pass < passes; ++pass)",
+        "for (int64_t pass = 0; pass < 1; ++pass)",
+        (FAIR_CORE, "-k", "refined_patches"),
+        "fair_vertices(passes=2) solves once",
+    ),
+    M(
+        "fair-core-area-check-misses-zero",
+        "src/core/fair.cpp",
+        "        if (!(area[i] > 0)) {",
+        "        if (area[i] < 0) {",
+        (FAIR_CORE, "-k", "without_area"),
+        "a free vertex on no face reaches the factorization (a zero pivot, another reason)",
     ),
     M(
         "fair-solve-wrong-rows",

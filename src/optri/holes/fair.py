@@ -6,7 +6,7 @@ Schroder and Barr 2003) and ``k`` is the continuity asked for at the fixed ring:
 ``k = 0`` a membrane (``L x = 0``, position continuity), ``k = 1`` a thin plate
 (``L^2 x = 0``, tangent continuity), ``k = 2`` minimal curvature variation
 (``L^3 x = 0``, curvature continuity); as in Liepa (2003), CGAL's
-``fair`` and MeshLib's hole filling. One sparse LU factorization serves x, y and z.
+``fair`` and MeshLib's hole filling. One sparse factorization serves x, y and z.
 
 Rows of ``L^(k+1)`` reach ``k + 1`` rings out from a free vertex, so the fixed
 vertices within that many rings act as the boundary condition: a whole mesh may be
@@ -17,6 +17,11 @@ given (for a hole, the flat refined patch, as CGAL does); ``passes=2`` solves ag
 with ``L`` taken from the first solution, whose cotangents and areas are those of the
 curved surface: ``fill_holes`` fairs so (over a large hole the flat patch's areas and
 angles are far from the surface's, and ``L^3`` taken there overshoots).
+
+:func:`fair_vertices` solves in the compiled core (one sparse ``L D L^T`` factorization
+of the symmetric system under a nested-dissection order); :func:`reference_fair_vertices`
+is the same solve in numpy and scipy (``laplacian`` and SuperLU), which the tests hold
+the core equal to within rounding.
 """
 
 from __future__ import annotations
@@ -31,7 +36,7 @@ from .._optional import import_optional
 from ..errors import InvalidPolygonError
 from ..meshdata import mesh_arrays, same_kind
 
-__all__ = ["FairResult", "fair_region", "fair_vertices", "laplacian"]
+__all__ = ["FairResult", "fair_region", "fair_vertices", "laplacian", "reference_fair_vertices"]
 
 #: Continuity orders :func:`fair_region` accepts.
 CONTINUITY = (0, 1, 2)
@@ -39,7 +44,16 @@ CONTINUITY = (0, 1, 2)
 PATCH_PASSES = 2
 # a corner whose sine is below this (relative to its sides) counts as degenerate: its
 # cotangent is clamped there, so a zero-area face never puts an infinity in the system
+# (the compiled core's fair.cpp uses the same floor)
 _SINE_FLOOR = 1e-12
+# why a solve failed, by the compiled core's status
+_NO_AREA = "a vertex to fair has no area around it"
+_NOT_FINITE = "the fairing system gave non-finite positions"
+_FAILED = {
+    1: _NO_AREA,
+    2: "the fairing system could not be solved (a zero or non-finite pivot)",
+    3: _NOT_FINITE,
+}
 
 
 @dataclass
@@ -159,18 +173,47 @@ def fair_vertices(
     >>> res.ok, bool(abs(res.vertices[12, 2]) < 1e-12)
     (True, True)
     """
-    if continuity not in CONTINUITY:
-        raise InvalidPolygonError(f"continuity must be 0, 1 or 2, got {continuity!r}")
-    if not (isinstance(passes, (int, np.integer)) and passes >= 1):
-        raise InvalidPolygonError(f"passes must be a positive integer, got {passes!r}")
-    v = np.asarray(vertices, dtype=np.float64)
-    free = np.unique(np.asarray(free, dtype=np.int64))
+    v, f, free = _checked(vertices, faces, free, continuity, passes)
     if len(free) == 0:
         return FairResult(v.copy(), True)
-    if free.min() < 0 or free.max() >= len(v):
-        raise InvalidPolygonError("a vertex to fair does not exist")
-    f = np.asarray(faces, dtype=np.int64)
+    from .._core import fair as core
+
+    status, _, x = core.solve(v, f, free, continuity, int(passes))
+    if status:
+        return FairResult(v.copy(), False, _FAILED[status])
+    out = v.copy()
+    out[free] = x
+    return FairResult(out, True)
+
+
+def reference_fair_vertices(
+    vertices: NDArray[np.float64],
+    faces: NDArray[np.int64],
+    free: NDArray[np.int64],
+    continuity: int = 1,
+    *,
+    passes: int = 1,
+) -> FairResult:
+    """:func:`fair_vertices` in numpy and scipy: the reference the compiled core must equal.
+
+    The same selection, operator and system (:func:`laplacian`, sparse products),
+    factored by SuperLU; the positions agree with :func:`fair_vertices` to rounding
+    (the sums run in other orders), a failure is reported alike.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> v = np.array([[1.0, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0], [0.1, 0.2, 1]])
+    >>> f = np.array([[4, 0, 1], [4, 1, 2], [4, 2, 3], [4, 3, 0]])  # a fan around 4
+    >>> a = reference_fair_vertices(v, f, [4], 0).vertices[4]       # pulled into the plane
+    >>> b = fair_vertices(v, f, [4], 0).vertices[4]
+    >>> abs(float(a[2])), bool(np.abs(a - b).max() < 1e-15)
+    (0.0, True)
+    """
+    v, f, free = _checked(vertices, faces, free, continuity, passes)
     res = FairResult(v.copy(), True)
+    if len(free) == 0:
+        return res
     for _ in range(int(passes)):
         res = _solve(res.vertices, f, free, continuity)
         if not res.ok:
@@ -178,10 +221,30 @@ def fair_vertices(
     return res
 
 
+def _checked(
+    vertices: Any, faces: Any, free: Any, continuity: int, passes: int
+) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]]:
+    """The arguments of a fairing as contiguous arrays; InvalidPolygonError when bad."""
+    if continuity not in CONTINUITY:
+        raise InvalidPolygonError(f"continuity must be 0, 1 or 2, got {continuity!r}")
+    if not (isinstance(passes, (int, np.integer)) and passes >= 1):
+        raise InvalidPolygonError(f"passes must be a positive integer, got {passes!r}")
+    v = np.ascontiguousarray(vertices, dtype=np.float64)
+    f = np.ascontiguousarray(faces, dtype=np.int64)
+    if v.ndim != 2 or v.shape[1] != 3 or f.ndim != 2 or f.shape[1] != 3:
+        raise InvalidPolygonError("vertices and faces must be (n, 3) and (m, 3) arrays")
+    free = np.unique(np.asarray(free, dtype=np.int64))
+    if len(free) and (free[0] < 0 or free[-1] >= len(v)):
+        raise InvalidPolygonError("a vertex to fair does not exist")
+    if f.size and (f.min() < 0 or f.max() >= len(v)):
+        raise InvalidPolygonError("a face names a vertex that does not exist")
+    return v, f, free
+
+
 def _solve(
     v: NDArray[np.float64], f: NDArray[np.int64], free: NDArray[np.int64], continuity: int
 ) -> FairResult:
-    """One solve of :func:`fair_vertices`, ``L`` taken at ``v``."""
+    """One solve of :func:`reference_fair_vertices`, ``L`` taken at ``v``."""
     linalg = import_optional("scipy.sparse.linalg", "mesh")
     # only faces within continuity + 1 rings of the free vertices enter the operator
     near = np.zeros(len(v), dtype=bool)
@@ -192,7 +255,7 @@ def _solve(
     local = f[near[f].any(axis=1)]
     C, A = laplacian(v, local)
     if not np.all(A[free] > 0):
-        return FairResult(v.copy(), False, "a vertex to fair has no area around it")
+        return FairResult(v.copy(), False, _NO_AREA)
     inv_area = np.zeros(len(v))
     used = A > 0
     inv_area[used] = 1.0 / A[used]
@@ -209,7 +272,7 @@ def _solve(
     except (RuntimeError, ValueError) as exc:  # singular: keep the input
         return FairResult(v.copy(), False, f"the fairing system could not be solved ({exc})")
     if not np.all(np.isfinite(x)):
-        return FairResult(v.copy(), False, "the fairing system gave non-finite positions")
+        return FairResult(v.copy(), False, _NOT_FINITE)
     out = v.copy()
     out[free] = x
     return FairResult(out, True)

@@ -69,16 +69,14 @@ def boundary_scales(
     f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
     on_loop = np.zeros(len(vertices), dtype=bool)
     on_loop[loop] = True
-    f = f[on_loop[f].any(axis=1)]  # only the faces at the loop hold its edges
-    e = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
+    f = f[on_loop[f[:, 0]] | on_loop[f[:, 1]] | on_loop[f[:, 2]]]  # faces holding its edges
+    a, b = f.ravel(), f[:, [1, 2, 0]].ravel()
     nv = len(vertices)  # distinct edges in (low, high) order, by one key each
-    e = np.column_stack(np.divmod(np.unique(e[:, 0] * nv + e[:, 1]), nv))
+    e = np.column_stack(np.divmod(np.unique(np.minimum(a, b) * nv + np.maximum(a, b)), nv))
     length = np.linalg.norm(vertices[e[:, 0]] - vertices[e[:, 1]], axis=1)
-    total = np.zeros(len(vertices))
-    count = np.zeros(len(vertices))
-    for c in range(2):
-        np.add.at(total, e[:, c], length)
-        np.add.at(count, e[:, c], 1)
+    ends = np.concatenate([e[:, 0], e[:, 1]])  # summed in this order, as np.add.at would
+    total = np.bincount(ends, weights=np.concatenate([length, length]), minlength=nv)
+    count = np.bincount(ends, minlength=nv)
     out = np.where(count[loop] > 0, total[loop] / np.maximum(count[loop], 1), 0.0)
     if not np.any(out > 0):
         return out
@@ -142,7 +140,9 @@ def refine_patch(
         raise InvalidPolygonError(f"density must be a positive number, got {density!r}")
     from .. import _core
 
-    pairs = [sorted(int(i) for i in pair) for pair in (forbidden or ()) if len(pair) == 2]
+    ends = np.array([tuple(p) for p in (forbidden or ()) if len(p) == 2], dtype=np.int64)
+    ends = ends.reshape(-1, 2)  # each pair as (low, high), in the set's order
+    pairs = np.column_stack([ends.min(axis=1), ends.max(axis=1)])
     new, faces, split = _core.refine.refine_patch(
         np.ascontiguousarray(vertices, dtype=np.float64).reshape(-1, 3),
         np.ascontiguousarray(patch, dtype=np.int64).reshape(-1, 3),
@@ -150,13 +150,13 @@ def refine_patch(
         np.ascontiguousarray(scales, dtype=np.float64).reshape(-1),
         float(density),
         int(max_rounds),
-        np.asarray(pairs, dtype=np.int64).reshape(-1, 2),
+        pairs,
         MAX_SWEEPS,
         _FOLD_FREE_COS,
         _CREASE_COS,
     )
     if parents is not None:
-        parents.extend((int(a), int(b), int(c)) for a, b, c in split.tolist())
+        parents.extend(map(tuple, split.tolist()))
     return new, faces
 
 
