@@ -4,6 +4,7 @@ parent, no temporary files left, duplicate ids reported, a user weight's error k
 from __future__ import annotations
 
 import collections
+import itertools
 import json
 import os
 import re
@@ -24,7 +25,7 @@ from hypothesis import strategies as st
 import optri
 from batch_polys import mixed_polygons, write_ndjson
 from optri import config
-from optri.batch import BatchLockedError, DuplicateIdWarning, iter_records
+from optri.batch import BatchLockedError, DuplicateIdWarning, iter_records, summary
 from optri.batch.layout import output_lock
 from optri.batch.summary import IdHashes
 from optri.cli import main
@@ -180,6 +181,31 @@ def test_id_hash_spill_files_go_when_counted(tmp_path, monkeypatch):
     assert len(list(tmp_path.rglob("*.bin"))) > 0  # spilled
     assert hashes.repeated() == (1, {2})
     assert list(tmp_path.iterdir()) == []  # gone at once, not when collected
+
+
+def test_id_hashes_a_full_disk_neither_loses_nor_doubles_a_hash(tmp_path, monkeypatch):
+    # every other append fails halfway: its rows stay in memory, the file is cut back
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    calls = itertools.count()
+
+    def flaky(fh, rows):
+        if next(calls) % 2:
+            fh.write(rows.tobytes()[: len(rows.tobytes()) // 2 + 1])
+            raise OSError(28, "No space left on device")
+        rows.tofile(fh)
+
+    monkeypatch.setattr(summary, "_write", flaky)
+    rng = np.random.default_rng(7)
+    pool = rng.integers(-(2**63), 2**63 - 1, 300, dtype=np.int64)
+    parts = [rng.choice(pool, 50) for _ in range(12)]
+    hashes = IdHashes(limit=60)
+    for p in parts:
+        hashes.add(p)
+    assert next(calls) > 20  # spilled, and some appends failed
+    flat = np.concatenate(parts).tolist()
+    seen = collections.Counter(flat)
+    assert hashes.repeated() == (len(flat) - len(seen), {h for h, c in seen.items() if c > 1})
+    assert list(tmp_path.iterdir()) == []
 
 
 @given(st.lists(st.lists(st.integers(-(2**63), 2**63 - 1) | st.integers(0, 5), max_size=6)))

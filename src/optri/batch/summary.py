@@ -79,7 +79,8 @@ class IdHashes:
     a file and :meth:`repeated` sorts one file at a time: the memory held stays below
     that limit plus one file, whatever the number of rows. The files live in a private
     temporary folder, removed by :meth:`repeated`, :meth:`close` or garbage collection.
-    If the folder cannot be written (a full disk), hashes stay in memory instead.
+    Hashes that cannot be written (a full disk) stay in memory, counted with their
+    bucket's file; a half-written append is cut back first, so none counts twice.
 
     Examples
     --------
@@ -106,6 +107,7 @@ class IdHashes:
             self._spill()
 
     def _spill(self) -> None:
+        """Append the held hashes to their bucket files; what cannot be written stays held."""
         held = np.concatenate(self._held)
         try:
             if self._folder is None:
@@ -113,16 +115,17 @@ class IdHashes:
                 self._cleanup = weakref.finalize(
                     self, shutil.rmtree, self._folder, ignore_errors=True
                 )
-            bucket = (held.view(np.uint64) >> np.uint64(64 - _BUCKET_BITS)).astype(np.intp)
-            order = np.argsort(bucket, kind="stable")
-            bounds = np.searchsorted(bucket[order], np.arange((1 << _BUCKET_BITS) + 1))
-            for b in np.flatnonzero(np.diff(bounds)):
-                with open(self._folder / f"{b:03d}.bin", "ab") as fh:
-                    held[order[bounds[b] : bounds[b + 1]]].tofile(fh)
-        except OSError:  # no room for the files: memory it is (a later spill may retry)
+        except OSError:  # no room for a folder: memory it is (a later spill may retry)
             self.limit = max(self.limit, 2 * self._held_n)
             return
-        self._held, self._held_n = [], 0
+        kept = [rows for b, rows in _buckets(held) if not _append(self._bucket(b), rows)]
+        self._held, self._held_n = kept, sum(len(k) for k in kept)
+        if kept:  # a full disk: hold these until the held count doubles
+            self.limit = max(self.limit, 2 * self._held_n)
+
+    def _bucket(self, b: int) -> Path:
+        assert self._folder is not None
+        return self._folder / f"{b:03d}.bin"
 
     def repeated(self) -> tuple[int, set[int]]:
         """How many hashes repeat an earlier one, and which hashes repeat; the files go."""
@@ -130,13 +133,16 @@ class IdHashes:
             return _repeats(self._held)
         if self._held:
             self._spill()
+        held = dict(_buckets(np.concatenate(self._held))) if self._held else {}
         count, which = 0, set[int]()
         try:
-            for path in sorted(self._folder.glob("*.bin")):
-                c, w = _repeats([np.fromfile(path, dtype=np.int64)])
-                count, which = count + c, which | w
-            c, w = _repeats(self._held)  # what a full disk kept in memory
-            return count + c, which | w
+            for b in range(1 << _BUCKET_BITS):  # a file and what a full disk kept held
+                path = self._bucket(b)
+                parts = [np.fromfile(path, dtype=np.int64)] if path.exists() else []
+                c, w = _repeats(parts + ([held[b]] if b in held else []))
+                count += c
+                which |= w
+            return count, which
         finally:
             self.close()
 
@@ -144,6 +150,34 @@ class IdHashes:
         """Remove the temporary files now."""
         if self._cleanup is not None:
             self._cleanup()
+
+
+def _buckets(hashes: np.ndarray) -> Iterator[tuple[int, np.ndarray]]:
+    """``(bucket, its hashes)`` for every bucket (the top bits) that ``hashes`` use."""
+    bucket = (hashes.view(np.uint64) >> np.uint64(64 - _BUCKET_BITS)).astype(np.intp)
+    order = np.argsort(bucket, kind="stable")
+    bounds = np.searchsorted(bucket[order], np.arange((1 << _BUCKET_BITS) + 1))
+    for b in np.flatnonzero(np.diff(bounds)):
+        yield int(b), hashes[order[bounds[b] : bounds[b + 1]]]
+
+
+def _append(path: Path, rows: np.ndarray) -> bool:
+    """Append ``rows`` to ``path``; False, and the file as it was, when it cannot be written."""
+    try:
+        with open(path, "ab") as fh:
+            start = fh.tell()
+            try:
+                _write(fh, rows)
+            except OSError:
+                fh.truncate(start)  # a half-written part would be counted twice
+                raise
+    except OSError:
+        return False
+    return True
+
+
+def _write(fh: Any, rows: np.ndarray) -> None:
+    rows.tofile(fh)
 
 
 def _repeats(parts: list[np.ndarray]) -> tuple[int, set[int]]:
