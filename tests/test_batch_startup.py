@@ -7,6 +7,8 @@ import json
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 pa = pytest.importorskip("pyarrow")
 pq = pytest.importorskip("pyarrow.parquet")
@@ -20,6 +22,7 @@ from optri.batch.driver import batch  # noqa: E402
 from optri.batch.layer import Layer, projjson, projjson_text  # noqa: E402
 from optri.batch.partwork import LayerRows, ReadTask  # noqa: E402
 from optri.batch.tablefiles import PartJoiner, assemble_tables  # noqa: E402
+from optri.batch.tables import unify  # noqa: E402
 
 GEOMS = [shapely.box(0, 0, 20, 10), None, shapely.box(30, 0, 34, 3)]
 
@@ -128,6 +131,37 @@ def test_a_join_that_cannot_be_kept_leaves_nothing(tmp_path, case):
                 assert joiner.broken and joiner.joined == [first]
             assert not joiner.finish(parts)  # "missing": part 1 never said ready
     assert not target.exists() and not list(tmp_path.glob(".out.parquet*"))
+
+
+_SCHEMAS = [
+    pa.schema([("id", pa.int64()), ("note", pa.null())]),
+    pa.schema([("id", pa.int64()), ("note", pa.int32())]),
+    pa.schema([("id", pa.int64()), ("note", pa.float64())]),
+    pa.schema([("id", pa.int64()), ("note", pa.binary())]),
+    pa.schema([("id", pa.int64()), ("other", pa.string())]),
+    pa.schema([("id", pa.int64())], metadata={b"optri": json.dumps({"has_z": True})}),
+    pa.schema([("id", pa.int64())], metadata={b"optri": json.dumps({"explode": True})}),
+]
+
+
+@given(st.lists(st.sampled_from(range(len(_SCHEMAS))), min_size=1, max_size=8))
+@settings(max_examples=80, deadline=None)
+def test_unify_depends_on_the_distinct_schemas_only(picks):
+    # what PartJoiner relies on to keep one copy of a repeated part schema
+    schemas = [_SCHEMAS[k] for k in picks]
+    distinct = [_SCHEMAS[k] for k in dict.fromkeys(picks)]
+    assert unify(schemas).equals(unify(distinct), check_metadata=True)
+
+
+def test_a_join_keeps_one_copy_of_a_repeated_part_schema(tmp_path):
+    layer = Layer("parquet")
+    same = [_part(tmp_path / f"q{k}.parquet", v) for k, v in enumerate([[1, 2], [3], [4, 5]])]
+    assemble_tables(same, "parquet", tmp_path / "whole2.parquet", layer, tmp_path)
+    with PartJoiner(tmp_path / "joined2.parquet", layer, lambda k: same[k]) as joiner:
+        for k in (0, 1, 2):
+            joiner.ready(k)
+        assert len(joiner._schemas) == 1 and joiner.finish(same)
+    assert (tmp_path / "joined2.parquet").read_bytes() == (tmp_path / "whole2.parquet").read_bytes()
 
 
 def test_a_run_joins_its_parts_without_assembling_them_after(tmp_path, monkeypatch):

@@ -2873,8 +2873,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "joiner-keeps-a-file-with-parts-missing",
         "src/optri/batch/tablefiles.py",
-        "            and [Path(p) for p in parts] == self.joined\n",
-        "",
+        " and [Path(p) for p in parts] == self.joined\n",
+        "\n",
         (STARTUP, "-k", "cannot_be_kept"),
         "a joined file missing parts is renamed into place",
     ),
@@ -2887,6 +2887,14 @@ MUTATIONS: list[Mutation] = [
         "            pass\n",
         (STARTUP, "-k", "cannot_be_kept"),
         "parts of another schema written under the first part's",
+    ),
+    M(
+        "joiner-keeps-every-part-schema",
+        "src/optri/batch/tablefiles.py",
+        "        if not any(new.equals(s, check_metadata=True) for s in schemas):\n",
+        "        if True:\n",
+        (STARTUP, "-k", "repeated_part_schema"),
+        "every part's schema kept and unified again: each append slower than the last",
     ),
     M(
         "joiner-not-told-of-kept-parts",

@@ -143,20 +143,23 @@ class PartJoiner:
             self._append(self.part(len(self.joined)))
 
     def finish(self, parts: Sequence[Path]) -> bool:
-        """Rename the joined file over the target if it holds exactly ``parts``; see the class."""
-        pq = import_optional("pyarrow.parquet")
-        whole = (
-            not self.broken
-            and bool(parts)
-            and [Path(p) for p in parts] == self.joined
-            and unify([pq.read_schema(p) for p in parts]).equals(self._schema, check_metadata=True)
-        )
+        """Rename the joined file over the target if it holds exactly ``parts``; see the class.
+
+        The parts' unified schema needs no second reading: each append unified the
+        joined parts' schemas and broke the join where that changed the one written.
+        """
+        whole = not self.broken and bool(parts) and [Path(p) for p in parts] == self.joined
         self._close(None if whole else _Abandoned())
         return whole
 
     def _append(self, path: Path) -> None:
         pq = import_optional("pyarrow.parquet")
-        schemas = [*self._schemas, pq.read_schema(path)]
+        new = pq.read_schema(path)
+        # unify depends on the distinct schemas only (in order of first appearance): parts
+        # that repeat one are not kept again, so each append costs the same however many
+        schemas = self._schemas
+        if not any(new.equals(s, check_metadata=True) for s in schemas):
+            schemas = [*schemas, new]
         schema = unify(schemas)
         if self._writer is None:
             written = schema.with_metadata(_parquet_metadata(schema, self.layer))
