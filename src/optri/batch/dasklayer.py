@@ -41,6 +41,7 @@ import numpy as np
 
 from .._optional import import_optional
 from ..errors import BatchInputError
+from ..io.atomic import fsync_path
 from .columns import ragged_from_arrow, solve_ragged, triangle_wkb
 from .daskframe import cost_dtype
 from .each import SolveOptions
@@ -536,7 +537,7 @@ def solve_part(part: Part, frame: Frame) -> PartDone:
     try:
         pq.write_table(out, temp, compression=frame.compression or "snappy")
         if frame.durable:
-            _fsync(temp)
+            fsync_path(temp)
         os.replace(temp, final)
     finally:
         with contextlib.suppress(FileNotFoundError):
@@ -582,14 +583,6 @@ def _geo(frame: Frame, boxes: list[Any], has_z: bool) -> dict:
     return {"version": "1.1.0", "primary_column": name, "columns": {name: column}}
 
 
-def _fsync(path: Path) -> None:
-    fd = os.open(path, os.O_RDONLY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
-
-
 def _publish(staging: Path, target: Path, frame: Frame, done: list[PartDone], single: bool) -> None:
     """Make the output appear whole: every part there, once, with one schema."""
     parts = [staging / _PART.format(d.number) for d in done]
@@ -623,4 +616,4 @@ def _join(parts: list[Path], schema: Any, dest: Path) -> None:
             table = pq.read_table(p)
             if table.num_rows:
                 writer.write_table(table.replace_schema_metadata(schema.metadata))
-    _fsync(dest)
+    fsync_path(dest)
