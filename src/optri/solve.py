@@ -17,11 +17,17 @@ from .domains import Domain, triangulate_domain
 from .engines import check_method, select_engine
 from .engines.memory import require_memory
 from .engines.problem import Problem, ProgressFn, Solution
-from .errors import InvalidPolygonError, NoTriangulationError
+from .errors import (
+    InvalidPolygonError,
+    NoTriangulationError,
+    check_callback,
+    check_flag,
+    check_float_dtype,
+    check_seconds,
+)
 from .io.files import read_rings
 from .io.geo import geo_polygon_rings
 from .objective import Objective, ObjectiveLike, as_objective, tie_ceiling
-from .params import check_callback, check_flag, check_float_dtype, check_seconds
 from .polygon import Polygon, as_polygon, is_ring_pair
 from .result import Triangulation, recompute_cost
 from .simple import allowed_chords, zero_area_triangles

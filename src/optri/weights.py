@@ -58,8 +58,7 @@ from dataclasses import dataclass, field
 from enum import IntEnum
 from typing import Any, Union
 
-from .errors import WeightError
-from .params import accepts_positional
+from .errors import WeightError, accepts_positional
 from .polygon import Polygon
 
 __all__ = [

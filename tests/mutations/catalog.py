@@ -1378,7 +1378,7 @@ MUTATIONS: list[Mutation] = [
     ),
     M(
         "seconds-zero-always-allowed",
-        "src/optri/params.py",
+        "src/optri/errors.py",
         "(seconds > 0 or (allow_zero and seconds == 0))",
         "seconds >= 0",
         ("tests/test_bench.py", "-k", "refuses_bad_parameters"),

@@ -36,9 +36,8 @@ from typing import IO, Any
 import numpy as np
 
 from .. import config
-from ..errors import EngineUnavailableError
+from ..errors import EngineUnavailableError, check_choice, check_count, check_seconds
 from ..io.files import read_polygon
-from ..params import check_choice, check_count, check_seconds
 from ..solve import triangulate
 from .compiled import Built, build, measure_peak, measure_transfer, run_reference
 

@@ -17,9 +17,8 @@ from typing import Any
 from .. import config
 from ..engines.memory import require_memory
 from ..engines.recurrence import chords_by_length, split_points, walk
-from ..errors import InvalidPolygonError, NoTriangulationError, WeightError
+from ..errors import InvalidPolygonError, NoTriangulationError, WeightError, check_count
 from ..objective import ObjectiveLike, as_objective
-from ..params import check_count
 from ..result import Triangulation
 from ..solve import build_problem, solve_problem
 from ..weights import resolve_weights

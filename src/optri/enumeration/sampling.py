@@ -6,9 +6,8 @@ import random
 from typing import Any
 
 from ..engines.recurrence import split_points, triangles_from_splits
-from ..errors import InvalidPolygonError
+from ..errors import InvalidPolygonError, check_seed
 from ..objective import ObjectiveLike
-from ..params import check_seed
 from ..result import Triangulation
 from .builder import PolygonOrN, TriangulationBuilder, as_enumerable, usable_chords
 from .counting import catalan, count_table, require_count_memory
