@@ -17,7 +17,7 @@ a. real OSM building footprints (``benchmarks/data/osm_buildings.geojson``,
    ``triangulate_many`` + read/write, each against the pipeline; and the solve
    alone, ``triangulate_many(gs)`` against ``constrained_delaunay_triangles(gs)``.
 b. ``--stars`` star polygons of 8-64 vertices: ``batch -j 2`` against the
-   pipeline, ``-j 2`` against ``-j 1``, Dask against the process pool.
+   pipeline, ``-j 2`` against ``-j 1``, Dask against the local pool (``-j 2``).
 
 Dask is timed both ways in (a) and (b): ``--scheduler dask`` starts (and
 stops) a LocalCluster inside the timed run, as a one-off command does; and
@@ -293,7 +293,7 @@ def section_b(d: Path, count: int, workers: int) -> None:
     pool = run(optri_batch(src, out, "-j", str(workers)), out)
     report(f"optri batch -j {workers}", pool, base)
     report(f"optri batch -j {workers} against -j 1", pool, one, "-j 1")
-    dask_both_ways(src, out, workers, pool, "process pool")
+    dask_both_ways(src, out, workers, pool, "local pool")
 
 
 def section_c(d: Path, rows: int, workers: int) -> None:

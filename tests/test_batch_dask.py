@@ -8,6 +8,7 @@ back exactly once.
 
 from __future__ import annotations
 
+import importlib
 import logging
 import os
 from pathlib import Path
@@ -331,6 +332,71 @@ def test_the_cluster_made_for_a_run_forks_its_workers_from_a_server(tmp_path):
     with dask_client("dask", 1, 3) as c:
         parents = set(c.run(os.getppid).values())
         assert len(parents) == 1 and os.getpid() not in parents  # not spawned by this process
+
+
+def test_a_run_the_kernel_solves_gets_worker_threads_in_this_process(tmp_path):
+    from optri.batch.runner import cluster_threads, dask_client
+
+    with dask_client("dask", 2, 3, threads=True) as c:
+        assert set(c.run(os.getpid).values()) == {os.getpid()}  # no worker process
+        assert cluster_threads(c) == 2  # one worker, two threads: two tasks at once
+    gdf = _layer(30)
+    gdf.to_parquet(tmp_path / "in.parquet", row_group_size=7)
+    s = dask_layer(tmp_path / "in.parquet", tmp_path / "out.parquet", workers=2)
+    assert (s.total, s.partitions) == (30, 5)
+    _same_rows(gpd.read_parquet(tmp_path / "out.parquet"), optri.triangulate_many(gdf))
+
+
+def test_a_cluster_made_for_a_run_does_not_warn_of_a_busy_dashboard_port():
+    import socket
+    import warnings
+
+    from optri.batch.runner import dask_client
+
+    with socket.socket() as busy:
+        try:
+            busy.bind(("", 8787))  # Dask's default dashboard port, taken
+        except OSError:
+            pass  # taken already
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            with dask_client("dask", 1, 3, threads=True) as c:
+                assert c.submit(sum, [1, 2]).result() == 3
+
+
+@pytest.mark.slow
+def test_more_threads_than_the_cap_or_a_python_weight_get_processes(monkeypatch):
+    from optri import config
+    from optri.batch.dasklayer import _run
+    from optri.batch.runner import dask_client
+
+    monkeypatch.setattr(config, "BATCH_THREADS", 1)
+    with dask_client("dask", 2, 3, threads=True) as c:
+        assert os.getpid() not in set(c.run(os.getpid).values())
+    seen = []
+
+    class Spy:  # what _run asks of the cluster, for a Python weight
+        def __init__(self, *a, threads):
+            seen.append(threads)
+
+        def __enter__(self):
+            raise RuntimeError("enough")
+
+        def __exit__(self, *a):
+            return False
+
+    dasklayer = importlib.import_module("optri.batch.dasklayer")  # optri.batch: a function
+    from optri.batch.dasklayer import Frame
+
+    monkeypatch.setattr(dasklayer, "dask_client", Spy)
+    from optri.batch.each import SolveOptions
+
+    for weight in (dies_once, "perimeter"):
+        options = SolveOptions(weight=weight, threads=1)
+        frame = Frame("geometry", None, (), options, False, None, ".", False, None)
+        with pytest.raises(RuntimeError, match="enough"):
+            _run([], frame, None, 2, None)
+    assert seen == [False, True]
 
 
 @pytest.mark.slow

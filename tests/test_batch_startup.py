@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import json
+import os
 
 import numpy as np
 import pytest
@@ -84,6 +85,36 @@ def test_pool_workers_start_with_the_preloaded_modules():
         assert pool.executor.submit(eval, probe).result() == list(wanted)
     for scheduler, workers in (("dask", 2), ("local", 1)):  # nothing to start: no error
         runner.start_pool_server(scheduler, workers)
+
+
+def test_compiled_work_on_few_workers_runs_on_threads_of_this_process(monkeypatch):
+    started = []
+    monkeypatch.setattr(runner, "_pool_context", lambda: started.append(1))
+    runner.start_pool_server("local", 2, threads=True)  # no forkserver to start
+    with runner.open_backend("local", 2, threads=True) as backend:
+        assert backend.workers == 2 and not backend.shared_fate
+        assert backend.executor.submit(os.getpid).result() == os.getpid()
+    assert started == []
+    monkeypatch.undo()  # a real pool again, for more workers than threads may be
+    monkeypatch.setattr(config, "BATCH_THREADS", 1)
+    with runner.open_backend("local", 2, threads=True) as backend:
+        assert backend.shared_fate and backend.executor.submit(os.getpid).result() != os.getpid()
+
+
+@pytest.mark.parametrize(
+    ("weight", "threads"),
+    [("perimeter", True), ("min_angle", True), (("perimeter", "max_angle"), False)],
+)
+def test_threads_only_where_the_compiled_kernel_solves(tmp_path, monkeypatch, weight, threads):
+    src = _layer(tmp_path / "in.parquet")
+    seen = []
+    real = runner.open_backend
+    monkeypatch.setattr(
+        driver, "open_backend", lambda *a, **k: (seen.append(k["threads"]), real(*a, **k))[1]
+    )
+    objective = ("sum", "sum") if isinstance(weight, tuple) else "sum"
+    s = batch(src, tmp_path / "out.parquet", workers=2, weight=weight, objective=objective)
+    assert seen == [threads] and (s.ok, s.errors) == (2, 1)
 
 
 # --- a single GeoParquet output joined while its parts are solved ---------------------

@@ -193,6 +193,15 @@ BATCH_FULL_DISK_BYTES = 16 * 2**20
 #: (KilledWorker); optri then retries the chunk alone, then polygon by polygon.
 BATCH_WORKER_RETRIES = 0
 
+#: Batch: a run whose polygons the compiled kernel solves, on at most this many workers,
+#: runs them as threads of the calling process (the local pool, and a Dask LocalCluster
+#: made for the run): no worker process to start or import in, nothing pickled. A worker
+#: thread holds the GIL about a sixth of its time (the kernel, Arrow and shapely release
+#: it), so four share one interpreter without queueing much. Beyond four, and for Python
+#: weights (which hold the GIL, and may take their process down), each worker is a
+#: process of its own.
+BATCH_THREADS = 4
+
 #: Dask: how often a wait checks that the cluster still has workers, and how long it may
 #: have none before the run stops with an error (a run never hangs on a dead cluster).
 BATCH_DASK_POLL_SECONDS = 5.0

@@ -2912,4 +2912,46 @@ MUTATIONS: list[Mutation] = [
         (STARTUP, "-k", "without_assembling"),
         "a single GeoParquet output is assembled after the last part, not while solving",
     ),
+    M(
+        "batch-threads-past-the-cap",
+        "src/optri/batch/runner.py",
+        "        if threads and n <= config.BATCH_THREADS:\n            backend = _Threads(n)\n",
+        "        if threads:\n            backend = _Threads(n)\n",
+        (STARTUP, "-k", "runs_on_threads"),
+        "any number of local workers share one interpreter's GIL",
+    ),
+    M(
+        "batch-threads-for-python-weights",
+        "src/optri/batch/driver.py",
+        "    return many_plan(SolveOptions(**options, threads=1)) is not None\n",
+        "    return True\n",
+        (STARTUP, "-k", "only_where_the_compiled"),
+        "Python weights and lexicographic objectives on threads: the GIL held, no isolation",
+    ),
+    M(
+        "dask-threads-for-python-weights",
+        "src/optri/batch/dasklayer.py",
+        "    threads = many_plan(frame.options) is not None",
+        "    threads = True",
+        (DASK, "-k", "python_weight_get_processes"),
+        "a Dask LocalCluster made for a Python weight runs it on threads of the client",
+    ),
+    M(
+        "dask-cluster-counts-workers-not-threads",
+        "src/optri/batch/runner.py",
+        '    return max(1, sum(int(w.get("nthreads", 1)) for w in info.values()))',
+        "    return max(1, len(info))",
+        (DASK, "-k", "threads_in_this_process"),
+        "one task in flight per multi-threaded worker: its other threads idle",
+    ),
+    M(
+        "dask-dashboard-on-the-default-port",
+        "src/optri/batch/runner.py",
+        '                n_workers=1,\n                threads_per_worker=n,\n                processes=False,\n'
+        '                dashboard_address=":0",',
+        '                n_workers=1,\n                threads_per_worker=n,\n                processes=False,\n'
+        "                dashboard_address=None,",
+        (DASK, "-k", "busy_dashboard"),
+        "a second run warns that port 8787 is already in use",
+    ),
 ]

@@ -43,6 +43,7 @@ from .._optional import import_optional
 from ..errors import BatchInputError
 from ..io.atomic import fsync_path
 from .columns import ragged_from_arrow, solve_ragged, triangle_wkb
+from .compiled import many_plan
 from .daskframe import cost_dtype
 from .each import SolveOptions
 from .geo import count_rows, open_arrow_batches, wkb_geometry
@@ -186,12 +187,15 @@ def dask_layer(
     weight, objective, method, project
         As for :func:`optri.triangulate_many`.
     scheduler : {None, "dask", "tcp://host:port", "dask://host:port"} or distributed.Client
-        ``None`` or ``"dask"``: a LocalCluster of ``workers`` processes made for
-        the run (Dask reruns a task whose worker died up to
-        :data:`ALLOWED_FAILURES` times); an address: that cluster (its workers
-        already running: no start-up cost); a client: its cluster.
+        ``None`` or ``"dask"``: a LocalCluster made for the run: one worker of
+        ``workers`` threads in this process when the compiled kernel solves the
+        polygons and ``workers`` is at most
+        :data:`~optri.config.BATCH_THREADS`, else ``workers`` processes
+        (Dask reruns a task whose worker died up to :data:`ALLOWED_FAILURES`
+        times); an address: that cluster (its workers already running: no
+        start-up cost); a client: its cluster.
     workers : int, optional
-        Processes of the LocalCluster (default: every core).
+        Threads or processes of the LocalCluster (default: every core).
     npartitions, chunksize : int, optional
         Partitions of the input (``chunksize``: rows per partition). GeoParquet
         is read one row group per partition (row groups over
@@ -292,7 +296,8 @@ def _run(
     run = uuid.uuid4().hex[:12]
     keys = [f"optri-part-{run}-{p.number}" for p in parts]
     done: list[PartDone] = []
-    with dask_client(scheduler, workers, ALLOWED_FAILURES) as client:
+    threads = many_plan(frame.options) is not None  # the compiled kernel does the work
+    with dask_client(scheduler, workers, ALLOWED_FAILURES, threads=threads) as client:
         futures = client.map(solve_part, parts, frame=frame, key=keys)
         for future in distributed.as_completed(futures):
             done.append(future.result())

@@ -222,7 +222,7 @@ def _require_picklable(options: dict[str, Any]) -> None:
 
 def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
     start = time.perf_counter()
-    start_pool_server(s.scheduler, s.workers)
+    start_pool_server(s.scheduler, s.workers, threads=_compiled(s.options))
     kind = detect_input_format(inp, s.fmt)
     if not inp.is_file():
         what = "is a directory, not a layer file" if inp.is_dir() else "no such file"
@@ -331,7 +331,7 @@ def _solve_all(
         layout.record(task.index, task.index * work.size, len(records), work.job)
         counter.add(records, reused=False)
 
-    with open_backend(s.scheduler, s.workers) as backend:
+    with open_backend(s.scheduler, s.workers, threads=_compiled(s.options)) as backend:
         run_tasks(backend, tasks, done)
 
 
@@ -388,7 +388,7 @@ def _solve_tables(
         finished(task, table)
         joiner.ready(task.index)
 
-    with open_backend(s.scheduler, s.workers) as backend:
+    with open_backend(s.scheduler, s.workers, threads=_compiled(s.options)) as backend:
         run_tasks(backend, tasks(), done)
 
 
@@ -442,10 +442,14 @@ def _rows_for_workers(inp: Path, kind: str, source: ArrowSource, s: _Settings) -
     return LayerRows(str(inp), kind, total, query=query, stamps=stamps)
 
 
+def _compiled(options: dict[str, Any]) -> bool:
+    """Whether the compiled many-polygon kernel solves polygons with these options."""
+    return many_plan(SolveOptions(**options, threads=1)) is not None
+
+
 def _chunk_work(options: dict[str, Any]) -> int:
     """Work per columnar chunk: larger when the compiled kernel solves it (see config)."""
-    compiled = many_plan(SolveOptions(**options, threads=1)) is not None
-    return config.BATCH_COMPILED_CHUNK_WORK if compiled else config.BATCH_CHUNK_WORK
+    return config.BATCH_COMPILED_CHUNK_WORK if _compiled(options) else config.BATCH_CHUNK_WORK
 
 
 def _table_chunks(

@@ -49,7 +49,8 @@ class SolveOptions:
     ``project`` is the layer's CRS (any text pyproj reads) when polygons are to
     be measured in metres in a local azimuthal equidistant projection, else None.
     ``threads`` bounds the threads of the compiled many-polygon path (None: all
-    of numba's; batch workers use 1, their parallelism being the pool's).
+    the core's, :mod:`optri.engines.threads`; batch workers use 1, their
+    parallelism being the pool's).
     """
 
     weight: Any = "perimeter"

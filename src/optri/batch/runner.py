@@ -1,10 +1,12 @@
-"""Run chunk tasks in-process, on a local process pool, or on Dask, with bounded in-flight work.
+"""Run chunk tasks in-process, on local threads or processes, or on Dask, in-flight work bounded.
 
-All three backends run the same :func:`solve_task` (records of a chunk of
-Items, or the output table of an Arrow chunk: :mod:`.chunks`) and hand results
-back to the calling process, which writes their part files; a chunk of an Arrow
-layer on the local pool is read, solved and written by its worker, which hands
-back only what the ledger and the summary need (:mod:`.partwork`). At most
+Every backend runs the same :func:`solve_task` (records of a chunk of Items, or
+the output table of an Arrow chunk: :mod:`.chunks`) and hands results back to
+the calling process, which writes their part files; a chunk of an Arrow layer
+on the local workers is read, solved and written by its worker, which hands
+back only what the ledger and the summary need (:mod:`.partwork`). Local
+workers are threads of this process when the compiled kernel does the work and
+they are few (:data:`~optri.config.BATCH_THREADS`), else processes. At most
 ``config.BATCH_IN_FLIGHT_PER_WORKER * workers`` chunks are queued at once, so memory does not
 grow with the input.
 
@@ -137,6 +139,25 @@ class _Pool(Backend):
         self.executor = self.make()
 
 
+class _Threads(Backend):
+    """Runs chunks on threads of this process: for the compiled kernel, which releases the GIL.
+
+    No process to start or import in, nothing pickled; a worker that fails raises
+    in its task like any exception (there is no process to lose).
+    """
+
+    def __init__(self, workers: int) -> None:
+        self.workers = workers
+        self.executor = cf.ThreadPoolExecutor(workers, thread_name_prefix="optri-batch")
+
+    def submit(self, task: Task) -> Any:
+        return self.executor.submit(solve_task, task)
+
+    def wait_any(self, handles: Iterable[Any]) -> set[Any]:
+        done, _ = cf.wait(list(handles), return_when=cf.FIRST_COMPLETED)
+        return set(done)
+
+
 class _Dask(Backend):
     def __init__(self, client: Any, workers: int) -> None:
         self.client, self.workers = client, workers
@@ -248,14 +269,19 @@ def _pool_context() -> Any:
     return ctx
 
 
-def start_pool_server(scheduler: Any, workers: int | None) -> None:
+def start_pool_server(scheduler: Any, workers: int | None, *, threads: bool = False) -> None:
     """Start the forkserver a local pool will fork its workers from, now, in the background.
 
     Its imports then overlap with what this process does before the first chunk
     (reading the layer's metadata, hashing the input). A no-op for Dask, one
     worker, or a platform without a forkserver.
     """
-    if scheduler not in (None, "local", "processes") or (workers or default_workers()) <= 1:
+    n = workers or default_workers()
+    if (
+        scheduler not in (None, "local", "processes")
+        or n <= 1
+        or (threads and n <= config.BATCH_THREADS)
+    ):
         return
     if _pool_context().get_start_method() == "forkserver":
         from multiprocessing import forkserver
@@ -264,12 +290,24 @@ def start_pool_server(scheduler: Any, workers: int | None) -> None:
 
 
 @contextmanager
-def open_backend(scheduler: Any, workers: int | None) -> Iterator[Backend]:
-    """The backend for ``scheduler`` (None/"local", "dask", "dask://host:port", or a Client)."""
+def open_backend(
+    scheduler: Any, workers: int | None, *, threads: bool = False
+) -> Iterator[Backend]:
+    """The backend for ``scheduler`` (None/"local", "dask", "dask://host:port", or a Client).
+
+    ``threads``: the compiled kernel does the work (see :func:`dask_client`).
+    """
     if scheduler in (None, "local", "processes"):
         n = workers or default_workers()
         if n <= 1:
             yield _Inline()
+            return
+        if threads and n <= config.BATCH_THREADS:
+            backend = _Threads(n)
+            try:
+                yield backend
+            finally:
+                backend.executor.shutdown(wait=True, cancel_futures=True)
             return
         ctx = _pool_context()
 
@@ -284,17 +322,29 @@ def open_backend(scheduler: Any, workers: int | None) -> Iterator[Backend]:
         finally:
             pool.executor.shutdown(wait=True, cancel_futures=True)
         return
-    with dask_client(scheduler, workers, config.BATCH_WORKER_RETRIES) as client:
-        n = workers or max(1, len(client.scheduler_info().get("workers", {})))
-        yield _Dask(client, n)
+    with dask_client(scheduler, workers, config.BATCH_WORKER_RETRIES, threads=threads) as client:
+        yield _Dask(client, workers or cluster_threads(client))
+
+
+def cluster_threads(client: Any) -> int:
+    """How many tasks ``client``'s cluster runs at once: its workers' threads, at least 1."""
+    info = client.scheduler_info().get("workers", {})
+    return max(1, sum(int(w.get("nthreads", 1)) for w in info.values()))
 
 
 @contextmanager
-def dask_client(scheduler: Any, workers: int | None, allowed_failures: int) -> Iterator[Any]:
+def dask_client(
+    scheduler: Any, workers: int | None, allowed_failures: int, *, threads: bool = False
+) -> Iterator[Any]:
     """A ``distributed.Client``: the one given, at an address, or on a LocalCluster made here.
 
     ``allowed_failures``: how often the LocalCluster's scheduler reruns a task whose
-    worker died before raising ``KilledWorker``.
+    worker died before raising ``KilledWorker``. ``threads``: the compiled kernel
+    does the work; a LocalCluster made here of at most
+    :data:`~optri.config.BATCH_THREADS` workers is then one worker of that
+    many threads in this process, which starts at once (worker processes take
+    seconds to start and import). Otherwise each worker is a process: a Python
+    weight holds the GIL, and a worker it takes down takes down its own tasks only.
     """
     if scheduler is not None and not isinstance(scheduler, str):  # a Client the caller owns
         yield scheduler
@@ -302,6 +352,17 @@ def dask_client(scheduler: Any, workers: int | None, allowed_failures: int) -> I
     distributed = import_optional("distributed")
     if scheduler in (None, "dask"):
         n = workers or default_workers()
+        if threads and n <= config.BATCH_THREADS:
+            cluster = distributed.LocalCluster(
+                n_workers=1,
+                threads_per_worker=n,
+                processes=False,
+                dashboard_address=":0",  # a free port: never "8787 is already in use"
+                silence_logs=logging.ERROR,
+            )
+            with cluster, distributed.Client(cluster) as client:
+                yield client
+            return
         dask = import_optional("dask")
         settings: dict[str, Any] = {"distributed.scheduler.allowed-failures": allowed_failures}
         if "forkserver" in multiprocessing.get_all_start_methods():
@@ -312,7 +373,7 @@ def dask_client(scheduler: Any, workers: int | None, allowed_failures: int) -> I
                 n_workers=n,
                 threads_per_worker=1,
                 processes=True,
-                dashboard_address=None,
+                dashboard_address=":0",  # a free port: never "8787 is already in use"
                 silence_logs=logging.ERROR,  # its INFO/WARNING chatter would bury the progress bar
             )
         with cluster, distributed.Client(cluster) as client:
