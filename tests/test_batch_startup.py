@@ -141,6 +141,21 @@ def test_a_joined_file_is_byte_for_byte_the_assembled_one(tmp_path):
     assert not list(tmp_path.glob(".joined*"))  # no temporary left
 
 
+@pytest.mark.parametrize(("rows", "groups"), [(None, [3]), (2, [2, 1]), (1, [1, 1, 1])])
+def test_a_single_output_holds_its_parts_in_row_groups_of_a_useful_size(
+    tmp_path, monkeypatch, rows, groups
+):
+    if rows is not None:
+        monkeypatch.setattr(config, "BATCH_ROW_GROUP_ROWS", rows)
+    src = _layer(tmp_path / "in.parquet")
+    for workers in (1, 2):
+        out = tmp_path / f"out{workers}.parquet"
+        batch(src, out, workers=workers, chunk_size=1)  # three parts of one row
+        meta = pq.ParquetFile(out).metadata
+        assert [meta.row_group(k).num_rows for k in range(meta.num_row_groups)] == groups
+        assert pq.read_table(out).column("name").to_pylist() == ["a", "b", "c"]
+
+
 def _part(path, values):
     pq.write_table(pa.table({"id": list(range(len(values))), "note": values}), path)
     return path

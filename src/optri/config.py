@@ -91,6 +91,12 @@ BATCH_WORKERS_READ = True
 #: A single GeoParquet output is joined from its parts while later parts are still solved
 #: (optri.batch.tablefiles.PartJoiner); False: all at once after the last part.
 BATCH_JOIN_WHILE_SOLVING = True
+#: A single GeoParquet output's row groups: parts are held until they reach this many
+#: rows or Arrow bytes, then written as one row group. A part per row group would make
+#: thousands of small groups, whose footer entries the writer keeps in memory to the
+#: end (some 13 kB each: 65 MB at 10M footprints) and readers scan one by one.
+BATCH_ROW_GROUP_ROWS = 65_536
+BATCH_ROW_GROUP_BYTES = 16 << 20
 #: Batch: id hashes (8 bytes each) the parent keeps in memory to find duplicate ids; beyond
 #: this many they go to temporary bucket files, so the parent's memory stays flat with rows.
 BATCH_ID_HASHES_IN_MEMORY = 1 << 21

@@ -2954,4 +2954,20 @@ MUTATIONS: list[Mutation] = [
         (DASK, "-k", "busy_dashboard"),
         "a second run warns that port 8787 is already in use",
     ),
+    M(
+        "row-group-per-part",
+        "src/optri/batch/tablefiles.py",
+        "        if self.rows >= config.BATCH_ROW_GROUP_ROWS or self.bytes >= config.BATCH_ROW_GROUP_BYTES:\n",
+        "        if True:\n",
+        (STARTUP, "-k", "useful_size"),
+        "a row group per part: thousands of footer entries held in memory, slow scans",
+    ),
+    M(
+        "row-groups-last-held-dropped",
+        "src/optri/batch/tablefiles.py",
+        "                if exc is None:\n                    self._groups.flush()\n",
+        "                pass\n",
+        (STARTUP, "-k", "useful_size or byte_for_byte"),
+        "the rows held for the last row group are never written",
+    ),
 ]

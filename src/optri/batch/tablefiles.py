@@ -40,7 +40,14 @@ from .tables import (
     unify,
 )
 
-__all__ = ["OGR_DRIVERS", "PartJoiner", "assemble_tables", "read_table_records", "write_table"]
+__all__ = [
+    "OGR_DRIVERS",
+    "PartJoiner",
+    "RowGroups",
+    "assemble_tables",
+    "read_table_records",
+    "write_table",
+]
 
 #: Output format -> GDAL driver.
 OGR_DRIVERS = {"gpkg": "GPKG", "fgb": "FlatGeobuf"}
@@ -79,26 +86,68 @@ def assemble_tables(
     else:  # no input at all: still a valid, empty layer
         schema = records_table([], [], layer, flavor_of(fmt)).schema
 
-    def batches() -> Iterator[Any]:
-        for part in parts:
-            yield from _part_batches(part, schema)
-
     if fmt == "parquet":
         schema = schema.with_metadata(_parquet_metadata(schema, layer))
         with atomic_write(target, "wb") as fh, pq.ParquetWriter(fh, schema) as writer:
-            for batch in batches():
-                writer.write_batch(batch)
+            groups = RowGroups(writer)
+            for part in parts:
+                groups.add(_part_table(part, schema))
+            groups.flush()
         return
-    _write_ogr(target, fmt, layer, schema, batches(), temp_dir)
+    batches = (b for part in parts for b in _part_table(part, schema).to_batches())
+    _write_ogr(target, fmt, layer, schema, batches, temp_dir)
 
 
-def _part_batches(part: Path, schema: Any) -> list[Any]:
-    """A Parquet part's rows as record batches of ``schema`` (:func:`conform`)."""
+def _part_table(part: Path, schema: Any) -> Any:
+    """A Parquet part's rows as a table of ``schema`` (:func:`conform`)."""
     pq = import_optional("pyarrow.parquet")
     # ParquetFile, not read_table: that one imports pyarrow.dataset (and pandas)
     with pq.ParquetFile(part) as pf:
         table = pf.read()
-    return conform(table, schema).to_batches()  # type: ignore[no-any-return]
+    return conform(table, schema)
+
+
+class RowGroups:
+    """Tables of one schema written to a ``ParquetWriter`` as row groups of a useful size.
+
+    Tables are held until they make ``config.BATCH_ROW_GROUP_ROWS`` rows or
+    ``config.BATCH_ROW_GROUP_BYTES`` Arrow bytes, then written as one row group
+    (joined without a copy: the row group reads each table's chunks in turn);
+    :meth:`flush` writes what is held. The rows and their order are the tables'.
+
+    >>> import io, pyarrow as pa, pyarrow.parquet as pq
+    >>> sink = io.BytesIO()
+    >>> with pq.ParquetWriter(sink, pa.schema([("x", pa.int64())])) as w:
+    ...     groups = RowGroups(w)
+    ...     for k in range(3):
+    ...         groups.add(pa.table({"x": [k, k]}))
+    ...     groups.flush()
+    >>> f = pq.ParquetFile(sink)
+    >>> f.metadata.num_row_groups, f.read().column("x").to_pylist()
+    (1, [0, 0, 1, 1, 2, 2])
+    """
+
+    def __init__(self, writer: Any) -> None:
+        self.writer = writer
+        self.held: list[Any] = []
+        self.rows = self.bytes = 0
+
+    def add(self, table: Any) -> None:
+        """Hold ``table``; write the held tables once they make a row group."""
+        self.held.append(table)
+        self.rows += table.num_rows
+        self.bytes += table.nbytes
+        if self.rows >= config.BATCH_ROW_GROUP_ROWS or self.bytes >= config.BATCH_ROW_GROUP_BYTES:
+            self.flush()
+
+    def flush(self) -> None:
+        """Write the held tables as one row group (nothing when none is held)."""
+        if not self.held:
+            return
+        pa = import_optional("pyarrow")
+        table = pa.concat_tables(self.held)
+        self.writer.write_table(table, row_group_size=max(1, table.num_rows))
+        self.held, self.rows, self.bytes = [], 0, 0
 
 
 class PartJoiner:
@@ -123,6 +172,7 @@ class PartJoiner:
         self._schema: Any = None
         self._waiting: set[int] = set()
         self._writer: Any = None
+        self._groups: Any = None  # RowGroups, with the writer
         self._stack = contextlib.ExitStack()
         self._fh: Any = None
         self.broken = False
@@ -164,12 +214,12 @@ class PartJoiner:
         if self._writer is None:
             written = schema.with_metadata(_parquet_metadata(schema, self.layer))
             self._writer = pq.ParquetWriter(self._fh, written)
+            self._groups = RowGroups(self._writer)
         elif not schema.equals(self._schema, check_metadata=True):
             self.broken = True  # the first parts were written with other columns or types
             return
         self._schema, self._schemas = schema, schemas
-        for batch in _part_batches(path, schema):
-            self._writer.write_batch(batch)
+        self._groups.add(_part_table(path, schema))
         self.joined.append(path)
 
     def _close(self, exc: BaseException | None) -> None:
@@ -177,6 +227,8 @@ class PartJoiner:
         self._fh = None
         try:
             if self._writer is not None:
+                if exc is None:
+                    self._groups.flush()
                 self._writer.close()
         except BaseException as err:
             exc = exc or err
