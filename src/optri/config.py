@@ -63,8 +63,9 @@ HOLES_EXACT_MAX_N = 400
 #: exact patch up to this many boundary edges, and above it from Liepa's recurrence over
 #: Delaunay candidates (as CGAL does): refinement and fairing then decide the surface, and
 #: the refined patches were as close to the true surface either way, at a small part of the
-#: exact search's time. Measured by benchmarks/bench_refill.py: see docs/mesh.md.
-HOLES_REFINE_EXACT_MAX_N = 128
+#: exact search's time; below it, computing the candidates costs more than the search.
+#: Measured by benchmarks/bench_refill.py: see docs/mesh.md.
+HOLES_REFINE_EXACT_MAX_N = 64
 #: 3-D holes: work (about apex evaluations) per compiled-kernel call of the Liepa and
 #: exact searches; between calls Ctrl-C takes effect.
 HOLES_CHUNK_WORK = 2e7
