@@ -274,7 +274,8 @@ def start_pool_server(scheduler: Any, workers: int | None, *, threads: bool = Fa
 
     Its imports then overlap with what this process does before the first chunk
     (reading the layer's metadata, hashing the input). A no-op for Dask, one
-    worker, or a platform without a forkserver.
+    worker, workers that are threads (``threads``, as for :func:`open_backend`), or
+    a platform without a forkserver.
     """
     n = workers or default_workers()
     if (
