@@ -126,6 +126,30 @@ def test_duplicate_ids_are_found_across_workers(tmp_path):
     assert s.duplicates == 2
 
 
+def test_worker_threads_enter_catch_warnings_only_under_the_lock(tmp_path, monkeypatch):
+    import threading
+    import warnings
+
+    from optri.batch.each import WARNINGS_LOCK
+
+    entered = []
+    real = warnings.catch_warnings.__enter__
+
+    def enter(self):  # catch_warnings is process-wide: threads may not interleave in it
+        if threading.current_thread() is not threading.main_thread():
+            entered.append(WARNINGS_LOCK._is_owned())
+        return real(self)
+
+    monkeypatch.setattr(warnings.catch_warnings, "__enter__", enter)
+    src = _write(tmp_path / "in.parquet")  # Z, holes, a bow-tie: per-polygon and checked rows
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        filters, show = list(warnings.filters), warnings.showwarning
+        batch(src, tmp_path / "o.parquet", workers=2, chunk_size=1)
+        assert warnings.filters == filters and warnings.showwarning is show
+    assert len(entered) >= 3 and all(entered)
+
+
 def test_id_hash_is_the_same_in_every_process():
     import subprocess
     import sys

@@ -200,9 +200,10 @@ BATCH_FULL_DISK_BYTES = 16 * 2**20
 #: (KilledWorker); optri then retries the chunk alone, then polygon by polygon.
 BATCH_WORKER_RETRIES = 0
 
-#: Batch: a run whose polygons the compiled kernel solves, on at most this many workers,
-#: runs them as threads of the calling process (the local pool, and a Dask LocalCluster
-#: made for the run): no worker process to start or import in, nothing pickled. A worker
+#: Batch: an Arrow layer whose polygons the compiled kernel solves as columns, on at most
+#: this many workers, runs them as threads of the calling process (the local pool, and a
+#: Dask LocalCluster made for the run): no worker process to start or import in, nothing
+#: pickled (feature-by-feature input, JSON, holds the GIL: it keeps processes). A worker
 #: thread holds the GIL about a sixth of its time (the kernel, Arrow and shapely release
 #: it), so four share one interpreter without queueing much. Beyond four, and for Python
 #: weights (which hold the GIL, and may take their process down), each worker is a

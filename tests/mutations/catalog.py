@@ -2970,4 +2970,20 @@ MUTATIONS: list[Mutation] = [
         (STARTUP, "-k", "useful_size or byte_for_byte"),
         "the rows held for the last row group are never written",
     ),
+    M(
+        "warnings-lock-off-per-polygon",
+        "src/optri/batch/each.py",
+        "        with WARNINGS_LOCK, warnings.catch_warnings(record=True) as caught:",
+        "        with warnings.catch_warnings(record=True) as caught:",
+        (PARTWORK, "-k", "only_under_the_lock"),
+        "worker threads interleave catch_warnings: the process's warnings end up recorded away",
+    ),
+    M(
+        "warnings-lock-off-is-valid",
+        "src/optri/batch/columns.py",
+        "    with WARNINGS_LOCK:  # shapely.is_valid enters warnings.catch_warnings",
+        "    if True:  # shapely.is_valid enters warnings.catch_warnings",
+        (PARTWORK, "-k", "only_under_the_lock"),
+        "shapely.is_valid's catch_warnings races the per-polygon path's in another thread",
+    ),
 ]

@@ -47,7 +47,7 @@ from ..errors import InvalidPolygonError, OptriError
 from ..objective import Objective, as_objective
 from ..result import Triangulation
 from .compiled import ManyPlan, kernel_result, many_plan, run_kernel
-from .each import Polygonal, Result, SolveOptions, one_line, solve_each
+from .each import WARNINGS_LOCK, Polygonal, Result, SolveOptions, one_line, solve_each
 from .solver import polygon_rings, solve_polygons
 
 __all__ = [
@@ -783,7 +783,9 @@ def _drawn(shapely: Any, ragged: Ragged, solved: Solved) -> tuple[Ints, Ints]:
         return tris, row
     suspect = np.flatnonzero(np.isin(row, flagged))
     polys = _polygons(shapely, ragged.coords[:, :2], tris[suspect])
-    bad = suspect[~shapely.is_valid(polys)]
+    with WARNINGS_LOCK:  # shapely.is_valid enters warnings.catch_warnings: one thread at a time
+        valid = shapely.is_valid(polys)
+    bad = suspect[~valid]
     keep = np.ones(len(tris), dtype=bool)
     keep[bad] = False
     return tris[keep], row[keep]

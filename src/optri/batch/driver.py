@@ -222,12 +222,13 @@ def _require_picklable(options: dict[str, Any]) -> None:
 
 def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
     start = time.perf_counter()
-    start_pool_server(s.scheduler, s.workers, threads=_compiled(s.options))
     kind = detect_input_format(inp, s.fmt)
     if not inp.is_file():
         what = "is a directory, not a layer file" if inp.is_dir() else "no such file"
         raise BatchInputError(f"{inp}: {what}")
     layout = plan_layout(out, s.out_fmt)
+    columnar = kind in ARROW_INPUTS and layout.part_fmt == "parquet" and config.BATCH_COLUMNAR
+    start_pool_server(s.scheduler, s.workers, threads=columnar and _compiled(s.options))
     layout.check_paths(inp)
     with output_lock(layout.lock, layout.target):
         layout.check_work_folder()
@@ -238,7 +239,6 @@ def _run(inp: Path, out: str | os.PathLike[str], s: _Settings) -> BatchSummary:
             if layout.single and layout.target.exists():
                 layout.check_receipt(job)
                 return _summary_of_existing(layout, start, s.explode)
-        columnar = kind in ARROW_INPUTS and layout.part_fmt == "parquet" and config.BATCH_COLUMNAR
         if columnar:
             layer, source = open_arrow_batches(inp, kind, s.layer)
             budget = _chunk_work(s.options)
@@ -331,7 +331,8 @@ def _solve_all(
         layout.record(task.index, task.index * work.size, len(records), work.job)
         counter.add(records, reused=False)
 
-    with open_backend(s.scheduler, s.workers, threads=_compiled(s.options)) as backend:
+    # processes: feature-by-feature Python (JSON, records) holds the GIL most of the time
+    with open_backend(s.scheduler, s.workers) as backend:
         run_tasks(backend, tasks, done)
 
 
@@ -388,6 +389,8 @@ def _solve_tables(
         finished(task, table)
         joiner.ready(task.index)
 
+    # threads where the compiled kernel solves the columns: it, Arrow and shapely release
+    # the GIL (config.BATCH_THREADS)
     with open_backend(s.scheduler, s.workers, threads=_compiled(s.options)) as backend:
         run_tasks(backend, tasks(), done)
 

@@ -7,6 +7,7 @@ Holds what every chunk solver shares: :class:`SolveOptions`, the
 
 from __future__ import annotations
 
+import threading
 import time
 import warnings
 from collections.abc import Callable, Sequence
@@ -110,6 +111,15 @@ class HoledRings:
 
 Polygonal = NDArray[np.float64] | HoledRings
 
+#: ``warnings.catch_warnings`` saves and restores the process's warning filters, so two
+#: threads inside it at once can leave the filters of one of them behind (``"always"``
+#: or ``"ignore"`` for every warning) and record each other's warnings. Batch workers may
+#: be threads (``config.BATCH_THREADS``): every call of theirs that enters it (the
+#: per-polygon path, which records a polygon's warnings; ``shapely.is_valid``) holds this
+#: lock, one at a time across threads. The compiled kernel, which solves most polygons,
+#: never takes it.
+WARNINGS_LOCK = threading.RLock()
+
 
 def solve_each(arrays: Sequence[Polygonal], options: SolveOptions) -> list[Result]:
     """The per-polygon path: :func:`optri.triangulate` on each array, errors as results.
@@ -122,7 +132,7 @@ def solve_each(arrays: Sequence[Polygonal], options: SolveOptions) -> list[Resul
     out: list[Result] = []
     for arr in arrays:
         start = time.perf_counter()
-        with warnings.catch_warnings(record=True) as caught:
+        with WARNINGS_LOCK, warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
                 source = arr.pair() if isinstance(arr, HoledRings) else arr
