@@ -2640,7 +2640,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "compiled-chunks-as-small-as-python-ones",
         "src/optri/batch/driver.py",
-        "return config.BATCH_COMPILED_CHUNK_WORK if compiled else config.BATCH_CHUNK_WORK",
+        "return config.BATCH_COMPILED_CHUNK_WORK if _compiled(options)"
+        " else config.BATCH_CHUNK_WORK",
         "return config.BATCH_CHUNK_WORK",
         (PARTWORK, "-k", "compiled_chunks"),
         "columnar chunks sized for pure-Python work: many tiny tasks",
@@ -2947,9 +2948,9 @@ MUTATIONS: list[Mutation] = [
     M(
         "dask-dashboard-on-the-default-port",
         "src/optri/batch/runner.py",
-        '                n_workers=1,\n                threads_per_worker=n,\n                processes=False,\n'
+        "                threads_per_worker=n,\n                processes=False,\n"
         '                dashboard_address=":0",',
-        '                n_workers=1,\n                threads_per_worker=n,\n                processes=False,\n'
+        "                threads_per_worker=n,\n                processes=False,\n"
         "                dashboard_address=None,",
         (DASK, "-k", "busy_dashboard"),
         "a second run warns that port 8787 is already in use",
@@ -2957,7 +2958,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "row-group-per-part",
         "src/optri/batch/tablefiles.py",
-        "        if self.rows >= config.BATCH_ROW_GROUP_ROWS or self.bytes >= config.BATCH_ROW_GROUP_BYTES:\n",
+        "        if self.rows >= config.BATCH_ROW_GROUP_ROWS"
+        " or self.bytes >= config.BATCH_ROW_GROUP_BYTES:\n",
         "        if True:\n",
         (STARTUP, "-k", "useful_size"),
         "a row group per part: thousands of footer entries held in memory, slow scans",
