@@ -77,6 +77,23 @@ def test_triangulate_many_on_dask_is_lazy_and_equals_in_memory():
     assert got["status"].tolist().count("error") == 2  # the bow-tie and the null
 
 
+def test_lon_lat_warns_once_and_threaded_partitions_leave_the_filters_alone():
+    import warnings
+
+    from optri.errors import GeographicCRSWarning
+
+    gdf = _layer(24).to_crs(4326)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        filters = list(warnings.filters)
+        lazy = optri.triangulate_many(dg.from_geopandas(gdf, npartitions=6))
+        assert [w.category for w in caught] == [GeographicCRSWarning]  # once, for the frame
+        got = lazy.compute(scheduler="threads", num_workers=3)
+        assert warnings.filters == filters  # no partition touched the process's filters
+        assert [w.category for w in caught] == [GeographicCRSWarning]  # none per partition
+    assert got["status"].tolist().count("ok") == 22
+
+
 def test_explode_on_dask_gives_one_row_per_triangle_like_in_memory():
     gdf = _layer()
     lazy = optri.triangulate_many(dg.from_geopandas(gdf, npartitions=3), explode=True)

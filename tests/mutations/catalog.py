@@ -2988,4 +2988,12 @@ MUTATIONS: list[Mutation] = [
         (PARTWORK, "-k", "only_under_the_lock"),
         "shapely.is_valid's catch_warnings races the per-polygon path's in another thread",
     ),
+    M(
+        "dask-partitions-warn-geographic",
+        "src/optri/batch/layer.py",
+        "    if project or GEOGRAPHIC_WARNED.get() or not is_geographic(crs):",
+        "    if project or not is_geographic(crs):",
+        (DASK, "-k", "warns_once"),
+        "every partition of a lon/lat dask frame warns again",
+    ),
 ]

@@ -9,14 +9,12 @@ cast to them, so a partition of only error rows has the same schema as the other
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Callable
 from typing import Any
 
 from .._optional import import_optional
-from ..errors import GeographicCRSWarning
 from ..solve import triangulate
-from .layer import warn_geographic
+from .layer import GEOGRAPHIC_WARNED, warn_geographic
 from .solver import check_options
 
 __all__ = ["cost_dtype", "triangulate_dask"]
@@ -77,9 +75,7 @@ def triangulate_dask(
 def _result_meta(empty: Any, solve: Callable[..., Any], options: dict, project: bool) -> Any:
     """The empty frame a partition's result looks like, with the dtypes every partition gets."""
     pd = import_optional("pandas", "geo")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", GeographicCRSWarning)
-        meta = solve(empty, **options, project=project)
+    meta = _quietly(solve, empty, options, project)
     text = pd.Series(["ok"]).dtype  # object, or pandas' own string dtype
     dtypes = {"status": text, "reason": text, "cost": cost_dtype(options)}
     return _with_dtypes(meta, dtypes)
@@ -109,10 +105,20 @@ def _solve_partition(
     part: Any, solve: Callable[..., Any], options: dict, project: bool, meta: Any
 ) -> Any:
     """One partition through ``solve``, its columns and dtypes made those of ``meta``."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", GeographicCRSWarning)  # said once, by the parent
-        out = solve(part, **options, project=project)
+    out = _quietly(solve, part, options, project)
     return _with_dtypes(out[list(meta.columns)], {c: meta[c].dtype for c in _RESULT_COLUMNS})
+
+
+def _quietly(solve: Callable[..., Any], frame: Any, options: dict, project: bool) -> Any:
+    """``solve`` without the geographic-CRS warning, said once for the whole frame.
+
+    Dask may run partitions on threads: a context variable, not a warnings filter.
+    """
+    token = GEOGRAPHIC_WARNED.set(True)
+    try:
+        return solve(frame, **options, project=project)
+    finally:
+        GEOGRAPHIC_WARNED.reset(token)
 
 
 def _crs_wkt(crs: Any) -> str | None:

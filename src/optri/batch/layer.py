@@ -12,6 +12,7 @@ latitude), as RFC 7946 says and GDAL reads it; NDJSON lines carry no CRS.
 
 from __future__ import annotations
 
+import contextvars
 import functools
 import json
 import warnings
@@ -32,6 +33,7 @@ __all__ = [
     "projjson",
     "projjson_text",
     "renamed_columns",
+    "GEOGRAPHIC_WARNED",
     "warn_geographic",
 ]
 
@@ -140,11 +142,19 @@ def is_geographic(crs: str | None) -> bool | None:
 PROJECT_HINT = "pass --project (project=True) to measure each polygon in metres"
 
 
+#: True where a caller has warned once for a whole dataset already, so that its parts,
+#: solved on any thread, do not warn again: a context variable, each thread's own (a
+#: ``warnings.catch_warnings`` filter is the process's, and threads would race on it).
+GEOGRAPHIC_WARNED: contextvars.ContextVar[bool] = contextvars.ContextVar(
+    "optri_geographic_warned", default=False
+)
+
+
 def warn_geographic(
     crs: str | None, project: bool, what: str = "the layer's", hint: str = PROJECT_HINT
 ) -> None:
     """Warn once that costs will be in degrees, unless ``project`` measures in metres."""
-    if project or not is_geographic(crs):
+    if project or GEOGRAPHIC_WARNED.get() or not is_geographic(crs):
         return
     assert crs is not None
     warnings.warn(
