@@ -150,6 +150,29 @@ def test_worker_threads_enter_catch_warnings_only_under_the_lock(tmp_path, monke
     assert len(entered) >= 3 and all(entered)
 
 
+def test_in_a_fresh_process_no_worker_thread_imports_into_catch_warnings(tmp_path):
+    import subprocess
+    import sys
+
+    src = _write(tmp_path / "in.parquet")
+    code = f"""
+import threading, warnings
+from optri.batch.each import WARNINGS_LOCK
+real = warnings.catch_warnings.__enter__
+bad = []
+def enter(self):
+    if threading.current_thread() is not threading.main_thread() and not WARNINGS_LOCK._is_owned():
+        bad.append(1)
+    return real(self)
+warnings.catch_warnings.__enter__ = enter
+from optri.batch.driver import batch
+batch({str(src)!r}, {str(tmp_path / "o.parquet")!r}, workers=2, chunk_size=1)
+print(len(bad))
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split()[-1] == "0"  # pandas, say, imported before the threads start
+
+
 def test_id_hash_is_the_same_in_every_process():
     import subprocess
     import sys

@@ -2996,4 +2996,12 @@ MUTATIONS: list[Mutation] = [
         (DASK, "-k", "warns_once"),
         "every partition of a lon/lat dask frame warns again",
     ),
+    M(
+        "threads-import-pandas-themselves",
+        "src/optri/batch/runner.py",
+        "            _import_before_threads()\n            backend = _Threads(n)\n",
+        "            backend = _Threads(n)\n",
+        (PARTWORK, "-k", "fresh_process"),
+        "the first chunk imports pandas on a worker thread, inside catch_warnings, unlocked",
+    ),
 ]

@@ -23,6 +23,7 @@ from __future__ import annotations
 import concurrent.futures as cf
 import contextlib
 import dataclasses
+import importlib
 import logging
 import multiprocessing
 import os
@@ -304,6 +305,7 @@ def open_backend(
             yield _Inline()
             return
         if threads and n <= config.BATCH_THREADS:
+            _import_before_threads()
             backend = _Threads(n)
             try:
                 yield backend
@@ -325,6 +327,19 @@ def open_backend(
         return
     with dask_client(scheduler, workers, config.BATCH_WORKER_RETRIES, threads=threads) as client:
         yield _Dask(client, workers or cluster_threads(client))
+
+
+def _import_before_threads() -> None:
+    """Import here, before worker threads start, what their first chunk would import.
+
+    Importing pandas (which pyarrow does at its first ``pa.array``) enters
+    ``warnings.catch_warnings``, process-wide state that must not be entered by two
+    threads at once (:data:`~optri.batch.each.WARNINGS_LOCK`); imported now, no worker
+    thread enters it that way.
+    """
+    for name in ("pandas", "pyarrow.parquet", "shapely"):
+        with contextlib.suppress(ImportError):
+            importlib.import_module(name)
 
 
 def cluster_threads(client: Any) -> int:
@@ -354,6 +369,7 @@ def dask_client(
     if scheduler in (None, "dask"):
         n = workers or default_workers()
         if threads and n <= config.BATCH_THREADS:
+            _import_before_threads()
             cluster = distributed.LocalCluster(
                 n_workers=1,
                 threads_per_worker=n,
