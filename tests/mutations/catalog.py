@@ -2916,8 +2916,10 @@ MUTATIONS: list[Mutation] = [
     M(
         "batch-threads-past-the-cap",
         "src/optri/batch/runner.py",
-        "        if threads and n <= config.BATCH_THREADS:\n            backend = _Threads(n)\n",
-        "        if threads:\n            backend = _Threads(n)\n",
+        "        if threads and n <= config.BATCH_THREADS:\n            _import_before_threads()\n"
+        "            backend = _Threads(n)\n",
+        "        if threads:\n            _import_before_threads()\n"
+        "            backend = _Threads(n)\n",
         (STARTUP, "-k", "runs_on_threads"),
         "any number of local workers share one interpreter's GIL",
     ),
