@@ -2916,10 +2916,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "batch-threads-past-the-cap",
         "src/optri/batch/runner.py",
-        "        if threads and n <= config.BATCH_THREADS:\n            _import_before_threads()\n"
-        "            backend = _Threads(n)\n",
-        "        if threads:\n            _import_before_threads()\n"
-        "            backend = _Threads(n)\n",
+        "    return threads and workers <= config.BATCH_THREADS\n",
+        "    return threads\n",
         (STARTUP, "-k", "runs_on_threads"),
         "any number of local workers share one interpreter's GIL",
     ),
@@ -3001,8 +2999,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "threads-import-pandas-themselves",
         "src/optri/batch/runner.py",
-        "            _import_before_threads()\n            backend = _Threads(n)\n",
-        "            backend = _Threads(n)\n",
+        "            _import_before_threads()\n            pool: _Pool = _Threads(n)\n",
+        "            pool: _Pool = _Threads(n)\n",
         (PARTWORK, "-k", "fresh_process"),
         "the first chunk imports pandas on a worker thread, inside catch_warnings, unlocked",
     ),

@@ -118,7 +118,7 @@ class _Inline(Backend):
 class _Pool(Backend):
     shared_fate = True
 
-    def __init__(self, make: Callable[[], cf.ProcessPoolExecutor], workers: int) -> None:
+    def __init__(self, make: Callable[[], cf.Executor], workers: int) -> None:
         self.make, self.workers = make, workers
         self.executor = make()
 
@@ -140,23 +140,19 @@ class _Pool(Backend):
         self.executor = self.make()
 
 
-class _Threads(Backend):
+class _Threads(_Pool):
     """Runs chunks on threads of this process: for the compiled kernel, which releases the GIL.
 
     No process to start or import in, nothing pickled; a worker that fails raises
     in its task like any exception (there is no process to lose).
     """
 
+    shared_fate = False
+
     def __init__(self, workers: int) -> None:
-        self.workers = workers
-        self.executor = cf.ThreadPoolExecutor(workers, thread_name_prefix="optri-batch")
-
-    def submit(self, task: Task) -> Any:
-        return self.executor.submit(solve_task, task)
-
-    def wait_any(self, handles: Iterable[Any]) -> set[Any]:
-        done, _ = cf.wait(list(handles), return_when=cf.FIRST_COMPLETED)
-        return set(done)
+        super().__init__(
+            lambda: cf.ThreadPoolExecutor(workers, thread_name_prefix="optri-batch"), workers
+        )
 
 
 class _Dask(Backend):
@@ -249,11 +245,14 @@ def _alive(pid: int) -> bool:
         return True
 
 
+#: What a worker's first chunk imports: workers get them imported beforehand (a forkserver
+#: preloads them; thread workers' process imports them before the threads start). pandas
+#: because pyarrow imports it, where installed, on its first array conversion.
+WORKER_IMPORTS = ("pyarrow.parquet", "shapely", "pandas")
 #: What the local pool's forkserver imports once, before it forks any worker: each
 #: worker then starts with them instead of importing them itself ("__main__" is
 #: multiprocessing's own default; a module that is not installed is skipped).
-#: pandas because pyarrow imports it, where installed, on its first array conversion.
-FORKSERVER_PRELOAD = ("__main__", "optri.batch.runner", "pyarrow.parquet", "shapely", "pandas")
+FORKSERVER_PRELOAD = ("__main__", "optri.batch.runner", *WORKER_IMPORTS)
 
 
 def _pool_context() -> Any:
@@ -279,11 +278,7 @@ def start_pool_server(scheduler: Any, workers: int | None, *, threads: bool = Fa
     a platform without a forkserver.
     """
     n = workers or default_workers()
-    if (
-        scheduler not in (None, "local", "processes")
-        or n <= 1
-        or (threads and n <= config.BATCH_THREADS)
-    ):
+    if scheduler not in (None, "local", "processes") or n <= 1 or _on_threads(threads, n):
         return
     if _pool_context().get_start_method() == "forkserver":
         from multiprocessing import forkserver
@@ -304,22 +299,18 @@ def open_backend(
         if n <= 1:
             yield _Inline()
             return
-        if threads and n <= config.BATCH_THREADS:
+        if _on_threads(threads, n):
             _import_before_threads()
-            backend = _Threads(n)
-            try:
-                yield backend
-            finally:
-                backend.executor.shutdown(wait=True, cancel_futures=True)
-            return
-        ctx = _pool_context()
+            pool: _Pool = _Threads(n)
+        else:
+            ctx = _pool_context()
 
-        def make() -> cf.ProcessPoolExecutor:
-            return cf.ProcessPoolExecutor(
-                n, mp_context=ctx, initializer=_worker_init, initargs=(os.getpid(),)
-            )
+            def make() -> cf.ProcessPoolExecutor:
+                return cf.ProcessPoolExecutor(
+                    n, mp_context=ctx, initializer=_worker_init, initargs=(os.getpid(),)
+                )
 
-        pool = _Pool(make, n)
+            pool = _Pool(make, n)
         try:
             yield pool
         finally:
@@ -327,6 +318,11 @@ def open_backend(
         return
     with dask_client(scheduler, workers, config.BATCH_WORKER_RETRIES, threads=threads) as client:
         yield _Dask(client, workers or cluster_threads(client))
+
+
+def _on_threads(threads: bool, workers: int) -> bool:
+    """Whether ``workers`` local workers are threads: compiled work (``threads``), few of them."""
+    return threads and workers <= config.BATCH_THREADS
 
 
 def _import_before_threads() -> None:
@@ -337,7 +333,7 @@ def _import_before_threads() -> None:
     threads at once (:data:`~optri.batch.each.WARNINGS_LOCK`); imported now, no worker
     thread enters it that way.
     """
-    for name in ("pandas", "pyarrow.parquet", "shapely"):
+    for name in WORKER_IMPORTS:
         with contextlib.suppress(ImportError):
             importlib.import_module(name)
 
@@ -368,7 +364,7 @@ def dask_client(
     distributed = import_optional("distributed")
     if scheduler in (None, "dask"):
         n = workers or default_workers()
-        if threads and n <= config.BATCH_THREADS:
+        if _on_threads(threads, n):
             _import_before_threads()
             cluster = distributed.LocalCluster(
                 n_workers=1,
@@ -407,16 +403,8 @@ def dask_client(
 
 
 #: What the forkserver of a LocalCluster made here imports once, before it forks each
-#: worker: workers start with them loaded instead of importing them one by one (pandas:
-#: pyarrow imports it at its first ``pa.array``).
-WORKER_PRELOAD = (
-    "distributed",
-    "numpy",
-    "pandas",
-    "pyarrow.parquet",
-    "shapely",
-    "optri.batch.dasklayer",
-)
+#: worker: workers start with them loaded instead of importing them one by one.
+WORKER_PRELOAD = ("distributed", "numpy", *WORKER_IMPORTS, "optri.batch.dasklayer")
 
 
 def _preload_forkserver(distributed: Any) -> None:
