@@ -171,8 +171,7 @@ class PartJoiner:
         self._schemas: list[Any] = []
         self._schema: Any = None
         self._waiting: set[int] = set()
-        self._writer: Any = None
-        self._groups: Any = None  # RowGroups, with the writer
+        self._groups: RowGroups | None = None  # with its writer, once the first part is in
         self._stack = contextlib.ExitStack()
         self._fh: Any = None
         self.broken = False
@@ -211,10 +210,9 @@ class PartJoiner:
         if not any(new.equals(s, check_metadata=True) for s in schemas):
             schemas = [*schemas, new]
         schema = unify(schemas)
-        if self._writer is None:
+        if self._groups is None:
             written = schema.with_metadata(_parquet_metadata(schema, self.layer))
-            self._writer = pq.ParquetWriter(self._fh, written)
-            self._groups = RowGroups(self._writer)
+            self._groups = RowGroups(pq.ParquetWriter(self._fh, written))
         elif not schema.equals(self._schema, check_metadata=True):
             self.broken = True  # the first parts were written with other columns or types
             return
@@ -226,10 +224,10 @@ class PartJoiner:
         """Close the writer; rename the file into place (``exc`` None) or remove it."""
         self._fh = None
         try:
-            if self._writer is not None:
+            if self._groups is not None:
                 if exc is None:
                     self._groups.flush()
-                self._writer.close()
+                self._groups.writer.close()
         except BaseException as err:
             exc = exc or err
             raise
