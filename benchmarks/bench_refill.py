@@ -22,6 +22,7 @@ the fastest of ``--repeat`` calls (default 3, each peer on a fresh copy of its m
     PYTHONPATH=src python benchmarks/bench_refill.py                     # 25 holes, ~7 CPU-minutes
     PYTHONPATH=src python benchmarks/bench_refill.py --sizes 20,100,400 --per-size 3
     PYTHONPATH=src python benchmarks/bench_refill.py --families sphere,torus --json out.json
+    PYTHONPATH=src python benchmarks/bench_refill.py --seed 53,54,55         # 75 holes, three draws
 
 Needs ``pip install cgal meshlib`` (benchmark only; a missing peer is left out).
 """
@@ -538,11 +539,13 @@ def peers() -> dict[str, Callable[[Hole], Refill]]:
 # ---------------------------------------------------------------- the run
 
 
-def run(families, sizes, per_size: int, seed: int, max_level: int, log=print) -> list[dict]:
+def run(
+    families, sizes, per_size: int, seed: int, max_level: int, log=print, first_hole: int = 0
+) -> list[dict]:
     rng = np.random.default_rng(seed)
     methods = peers()
     rows: list[dict] = []
-    hole_id = 0
+    hole_id = first_hole
     for family in families:
         for size in sizes:
             done = 0
@@ -554,7 +557,7 @@ def run(families, sizes, per_size: int, seed: int, max_level: int, log=print) ->
                             break
                         for fn in methods.values():
                             row = measure(hole, fn(hole))
-                            row["size"], row["hole"] = size, hole_id
+                            row["size"], row["hole"], row["seed"] = size, hole_id, seed
                             rows.append(row)
                             log(
                                 json.dumps(
@@ -658,10 +661,15 @@ def totals(rows: list[dict]) -> str:
             t_ratio = _median(
                 [h[method]["seconds"] / max(h["cgal"]["seconds"], 1e-9) for h in both]
             )
+            # all holes filled one after another: the time a user filling them all waits
+            t_total = sum(h[method]["seconds"] for h in both) / max(
+                sum(h["cgal"]["seconds"] for h in both), 1e-9
+            )
             out.append(
                 f"{method}: RMS <= CGAL's on {win}/{len(both)} holes "
                 f"({100 * win / len(both):.0f} %), "
-                f"time <= CGAL's on {faster}/{len(both)}, median time ratio {t_ratio:.2f}"
+                f"time <= CGAL's on {faster}/{len(both)}, median time ratio {t_ratio:.2f}, "
+                f"total time ratio {t_total:.2f}"
             )
     for method in METHODS:
         rs = [h[method] for h in holes if "crossings" in h.get(method, {})]
@@ -683,7 +691,9 @@ def main(argv: list[str] | None = None) -> int:
     )
     ap.add_argument("--per-size", type=int, default=1, help="holes per family and size")
     ap.add_argument("--max-level", type=int, default=3, help="finest mesh level tried for a size")
-    ap.add_argument("--seed", type=int, default=53)
+    ap.add_argument(
+        "--seed", default="53", help="the holes' random draw; several (53,54,55) run one by one"
+    )
     ap.add_argument("--json", help="write every row here")
     ap.add_argument("--quiet", action="store_true", help="no line per hole")
     ap.add_argument("--repeat", type=int, default=3, help="calls timed per method and hole")
@@ -694,15 +704,22 @@ def main(argv: list[str] | None = None) -> int:
     if bad:
         ap.error(f"unknown families {sorted(bad)}; choose from {', '.join(FAMILIES)}")
     sizes = [int(x) for x in args.sizes.split(",")]
+    try:
+        seeds = [int(x) for x in args.seed.split(",") if x]
+    except ValueError:
+        ap.error(f"--seed takes integers separated by commas, got {args.seed!r}")
     start = time.perf_counter()
-    rows = run(
-        families,
-        sizes,
-        args.per_size,
-        args.seed,
-        args.max_level,
-        log=(lambda *_: None) if args.quiet else print,
-    )
+    rows: list[dict] = []
+    for seed in seeds:
+        rows += run(
+            families,
+            sizes,
+            args.per_size,
+            seed,
+            args.max_level,
+            log=(lambda *_: None) if args.quiet else print,
+            first_hole=1 + max((r["hole"] for r in rows), default=-1),
+        )
     print()
     print(summarize(rows))
     print()

@@ -85,6 +85,26 @@ def test_optri_refill_is_measured_and_summarized(hole):
     assert table.count("\n") == 3 and "optri-fair2" in table
 
 
+def test_totals_count_wins_and_ratios_over_every_hole():
+    def row(hole, method, rms, seconds):
+        return {"hole": hole, "method": method, "rms": rms, "seconds": seconds, "crossings": 0}
+
+    holes = [  # (optri's RMS, seconds), (CGAL's)
+        ((1.0, 0.003), (2.0, 0.001)),  # won, 3x slower
+        ((3.0, 0.010), (2.0, 0.020)),  # lost, 2x faster
+        ((2.0, 0.100), (2.0, 0.100)),  # a tie is a win
+    ]
+    rows = [
+        row(h, method, *value)
+        for h, pair in enumerate(holes)
+        for method, value in zip(("optri-fair1", "cgal"), pair)
+    ]
+    line = bench.totals(rows).splitlines()[0]
+    assert "on 2/3 holes (67 %)" in line and "time <= CGAL's on 2/3" in line
+    assert "median time ratio 1.00" in line  # ratios 3, 0.5, 1
+    assert "total time ratio 0.93" in line  # 0.113 s against 0.121 s
+
+
 def test_a_split_boundary_counts_as_new_faces(hole):
     # a peer that split an old face along the hole: that face is no longer old
     v, f = hole.vertices, hole.faces

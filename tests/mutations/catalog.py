@@ -3004,4 +3004,16 @@ MUTATIONS: list[Mutation] = [
         (PARTWORK, "-k", "fresh_process"),
         "the first chunk imports pandas on a worker thread, inside catch_warnings, unlocked",
     ),
+    M(
+        "refill-total-time-the-wrong-way",
+        "benchmarks/bench_refill.py",
+        """            t_total = sum(h[method]["seconds"] for h in both) / max(
+                sum(h["cgal"]["seconds"] for h in both), 1e-9
+            )""",
+        """            t_total = sum(h["cgal"]["seconds"] for h in both) / max(
+                sum(h[method]["seconds"] for h in both), 1e-9
+            )""",
+        ("tests/test_bench_refill.py", "-k", "totals"),
+        "the refill benchmark's total time ratio says CGAL's time over optri's",
+    ),
 ]
