@@ -118,6 +118,13 @@ def test_refinement_matches_the_density_around_the_hole():
     assert 0.5 < patch_len / mesh_len < 2.0
 
 
+def test_boundary_scales_of_a_loop_vertex_without_mesh_edges_come_from_its_sides():
+    v = np.array([[0.0, 0, 0], [2, 0, 0], [2, 2, 0], [0, 3, 0]])
+    s = boundary_scales(v, np.array([[0, 1, 2]]), np.array([0, 1, 2, 3]))
+    assert s[:3].tolist() == pytest.approx([(2 + 8**0.5) / 2, 2, (2 + 8**0.5) / 2])
+    assert s[3] == pytest.approx(0.5 * (3 + 5**0.5))  # sides 2-3 and 3-0
+
+
 def test_a_larger_density_splits_more():
     v, f = _sphere_with_cap_hole()
     added = [optri.fill_holes((v, f), refine=True, density=d)[1][0].vertices_added

@@ -28,6 +28,7 @@ ENGINES = "tests/test_core_engines.py"
 TIES = "tests/test_core_ties.py"
 FAST = "tests/test_fast_engine.py"
 RESULT = "tests/test_core_result.py"
+AROUND = "tests/test_mesh_around.py"
 ERRORS = "tests/test_core_errors.py"
 POLYLINE = "tests/test_mesh_polyline.py"
 MESH = "tests/test_mesh_fill.py"
@@ -1554,8 +1555,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "fill-fair-check-ignores-patch-self-crossings",
         "src/optri/holes/mesh.py",
-        "        after = len(intersecting_pairs(faired, around, patch))",
-        "        after = len(intersecting_pairs(faired, others, patch))",
+        "    return len(intersecting_pairs(v, f, p))",
+        "    return len(intersecting_pairs(v, f[: len(f) - len(p)], p))",
         ("tests/test_mesh_refine.py", "-k", "folds_the_patch"),
         "a fairing that folds the patch onto itself is kept (only crossings with the old "
         "mesh are counted)",
@@ -2738,7 +2739,7 @@ MUTATIONS: list[Mutation] = [
     M(
         "fair-check-skips-refined-count",
         "src/optri/holes/mesh.py",
-        "            before = len(intersecting_pairs(allv, around, patch))",
+        "            before = _crossings(around, patch, added)",
         "            before = 0",
         ("tests/test_mesh_topology.py", "-k", "crossings_left"),
         "a fairing is undone whenever its patch crosses anything, even where the refined one did",
@@ -3015,5 +3016,61 @@ MUTATIONS: list[Mutation] = [
             )""",
         ("tests/test_bench_refill.py", "-k", "totals"),
         "the refill benchmark's total time ratio says CGAL's time over optri's",
+    ),
+    M(
+        "around-fair-sees-too-few-rings",
+        "src/optri/holes/mesh.py",
+        "    near = around.rings(np.unique(patch[patch < first]), continuity + 3)",
+        "    near = around.rings(np.unique(patch[patch < first]), continuity - 1)",
+        (AROUND, "-k", "whole_mesh"),
+        "the fairing of a patch misses faces of the rings its operator reaches",
+    ),
+    M(
+        "around-boxes-skip-patches",
+        "src/optri/holes/around.py",
+        "(box[:, 3:] >= lo), axis=1)):",
+        "(box[:, 3:] >= lo), axis=1))[:0]:",
+        (AROUND, "-k", "scan_of_every_face"),
+        "a patch is checked for crossings with the mesh only, not with the patches before it",
+    ),
+    M(
+        "around-rings-skip-patches",
+        "src/optri/holes/around.py",
+        "for t in self._patch_face_at.get(v, ())})",
+        "for t in self._patch_face_at.get(v, ()) if False})",
+        (AROUND, "-k", "scan_of_every_face"),
+        "the rings around a hole stop at the patches filled before it",
+    ),
+    M(
+        "around-grid-one-cell-short",
+        "src/optri/holes/around.py",
+        "        first = np.floor((lo - g.cell - g.origin) / g.cell)",
+        "        first = np.floor((lo - g.origin) / g.cell)",
+        (AROUND, "-k", "scan_of_every_face"),
+        "a face that starts in the cell before the box and reaches into it is not returned",
+    ),
+    M(
+        "around-grid-forgets-wide-faces",
+        "src/optri/holes/around.py",
+        "        runs = [g.wide]",
+        "        runs = [g.wide[:0]]",
+        (AROUND, "-k", "wide_face"),
+        "a face wider than a grid cell is never returned by a box query",
+    ),
+    M(
+        "fill-refined-ids-not-shifted",
+        "src/optri/holes/mesh.py",
+        "                shift = around.size - len(vertices)",
+        "                shift = 0",
+        (AROUND, "-k", "whole_mesh"),
+        "the second refined hole's new vertices take the first one's numbers",
+    ),
+    M(
+        "boundary-scales-edgeless-loop-vertex",
+        "src/optri/holes/refine.py",
+        "    mine = np.where(at[where] == loop, count[where], 0)",
+        "    mine = count[where]",
+        ("tests/test_mesh_refine.py", "-k", "scales"),
+        "a loop vertex with no mesh edge takes the edge count of the next vertex in order",
     ),
 ]

@@ -11,6 +11,8 @@ mesh around it (:mod:`optri.holes.refine`), and with ``fair=k`` its new vertices
 faired (:mod:`optri.holes.fair`, two solves: the second takes the Laplacian on the
 first's surface); a fairing that would make the patch cross the mesh is undone (the
 first solve is tried, then the refined patch is kept) and the record says why.
+Each hole's refinement, fairing and crossing check see only the faces around it
+(:class:`optri.holes.around.Around`), so the time per hole does not grow with the mesh.
 trimesh is imported only when a ``trimesh.Trimesh`` is passed in.
 """
 
@@ -36,6 +38,7 @@ from ..errors import (
 from ..meshdata import copies_at_border, mesh_arrays, same_kind, weld, with_attributes
 from ..objective import Cost
 from ..weights import get_weight
+from .around import Around
 from .boundary import Loop, trace_loops
 from .fair import CONTINUITY, PATCH_PASSES, fair_vertices
 from .intersect import intersecting_pairs
@@ -277,9 +280,10 @@ def fill_holes(
     loops = trace_loops(faces)
     joined = _Edges(faces, loops, len(vertices))
     records: list[HoleRecord] = []
-    new_faces = [faces]
-    parents: list[tuple[int, int, int]] = []
-    points = [vertices]
+    patches: list[Ints] = []
+    parents: list[Ints] = []  # the corners each new vertex is the centroid of
+    # the mesh and the patches so far, indexed: each hole's steps see the faces near it
+    around = Around(vertices, faces)
     groups = island_groups(vertices, faces, [lp.vertices for lp in loops]) if islands else {}
     inside = {j for members in groups.values() for j in members}
     for h, loop in enumerate(loops):
@@ -293,80 +297,111 @@ def fill_holes(
         rec, patch = _fill_one(h, vertices, loop, joined, max_hole_edges, weight, mode, group)
         ring = np.concatenate([loop.vertices, *(lp.vertices for lp in group)])
         if patch is not None:
-            allv = np.concatenate(points) if len(points) > 1 else vertices
-            others = np.concatenate(new_faces)
+            added = np.zeros((0, 3))
             crossings = None  # of the final patch, once a check has counted them
             if refine:
-                scales = boundary_scales(vertices, faces, ring)
-                forbidden = joined.pairs_among(ring)
+                scales = boundary_scales(vertices, faces[around.mesh_faces_at(ring)], ring)
+                split: list[tuple[int, int, int]] = []
                 added, patch = refine_patch(
-                    allv,
+                    vertices,
                     patch,
                     ring,
                     scales,
                     density,
-                    forbidden=forbidden,
-                    parents=parents,
+                    forbidden=joined.pairs_among(ring),
+                    parents=split,
                 )
+                # refinement numbers its vertices from len(vertices); they follow the
+                # vertices of the holes filled before
+                shift = around.size - len(vertices)
+                patch = np.where(patch >= len(vertices), patch + shift, patch)
+                corners = np.asarray(split, dtype=np.int64).reshape(-1, 3)
+                parents.append(np.where(corners >= len(vertices), corners + shift, corners))
                 if len(added):
-                    allv = np.concatenate([allv, added])
-                    free = np.arange(len(allv) - len(added), len(allv))
                     rec.vertices_added = len(added)
                     rec.faces_added = len(patch)
                     if fair is not None:
-                        allv, crossings = _fair_patch(rec, allv, others, patch, free, fair)
-                    points.append(allv[free])
+                        added, crossings = _fair_patch(rec, around, patch, added, fair)
             joined.add(patch)
-            new_faces.append(patch)
             if crossings is None:
-                crossings = len(intersecting_pairs(allv, np.concatenate([others, patch]), patch))
+                crossings = _crossings(around, patch, added)
+            around.add(added, patch)
+            patches.append(patch)
             rec.self_intersections = crossings
         records.append(rec)
         if progress is not None:
             progress(h + 1, len(loops))
-    out_vertices = np.concatenate(points) if len(points) > 1 else vertices.copy()
-    patches = np.concatenate([np.zeros((0, 3), np.int64), *new_faces[1:]]).astype(np.int64)
-    split = np.asarray(parents, dtype=np.int64).reshape(-1, 3)
-    if is_trimesh or faces is not own_faces:  # some vertex has copies (or attributes)
-        patches, split, source = copies_at_border(own_faces, faces, patches, len(vertices), split)
-    out_faces = np.concatenate([own_faces, patches])
+    out_vertices = np.concatenate([vertices, around.new_vertices()])
+    patches_all = np.concatenate([np.zeros((0, 3), np.int64), *patches]).astype(np.int64)
+    split_all = np.concatenate([np.zeros((0, 3), np.int64), *parents])
+    if not (is_trimesh or faces is not own_faces):  # no vertex has copies or attributes
+        return same_kind(out_vertices, np.concatenate([own_faces, patches_all]), False), records
+    patches_all, split_all, source = copies_at_border(
+        own_faces, faces, patches_all, len(vertices), split_all
+    )
+    out_faces = np.concatenate([own_faces, patches_all])
     if is_trimesh:
-        return with_attributes(mesh, out_vertices, out_faces, split, source), records
+        return with_attributes(mesh, out_vertices, out_faces, split_all, source), records
     return same_kind(out_vertices, out_faces, is_trimesh), records
+
+
+def _crossings(around: Around, patch: Ints, pending: NDArray[np.float64]) -> int:
+    """Crossings of ``patch`` (new vertices at ``pending``) with the faces near it and itself.
+
+    The faces whose boxes meet the patch's box, with the patch, as
+    :func:`intersecting_pairs` would count them over the whole mesh.
+    """
+    if len(patch) == 0:
+        return 0
+    ids = np.unique(patch)
+    old = ids < around.size
+    pts = np.concatenate([around.coords(ids[old]), pending[ids[~old] - around.size]])
+    near = around.boxed(pts.min(axis=0), pts.max(axis=0))
+    v, f, p, _ = around.local(near, patch, pending)
+    return len(intersecting_pairs(v, f, p))
 
 
 def _fair_patch(
     rec: HoleRecord,
-    allv: NDArray[np.float64],
-    others: Ints,
+    around: Around,
     patch: Ints,
-    free: Ints,
+    added: NDArray[np.float64],
     continuity: int,
 ) -> tuple[NDArray[np.float64], int | None]:
-    """``allv`` with ``free`` faired; as given when it fails or adds crossings (said in rec).
+    """The patch's new vertices faired; as given when that fails or adds crossings (said in rec).
 
+    ``added`` are the new vertices' positions (ids from ``around.size`` on).
     ``PATCH_PASSES`` solves, each with ``L`` taken where the one before left the patch;
     when the last adds crossings the earlier ones are tried, from the latest back. Also
     the crossings of the patch so returned, when they were counted (else None).
+
+    The solve sees the faces within ``continuity + 3`` sweeps of the patch's vertices
+    (a superset of the rings it selects from the whole mesh: every path from a new
+    vertex to a face off the patch passes a border vertex) and the patch.
     """
-    around = np.concatenate([others, patch])
-    tried = [allv]
+    first = around.size
+    near = around.rings(np.unique(patch[patch < first]), continuity + 3)
+    v, f, _, ids = around.local(near, patch, added)
+    free = np.flatnonzero(ids >= first)  # local numbers of the new vertices, in id order
+    tried = [added]
+    at = v
     for _ in range(PATCH_PASSES):
-        res = fair_vertices(tried[-1], around, free, continuity)
+        res = fair_vertices(at, f, free, continuity)
         if not res.ok:
             break
-        tried.append(res.vertices)
+        at = res.vertices
+        tried.append(at[free])
     if len(tried) == 1:
         rec.fair_reason = res.reason
-        return allv, None
+        return added, None
     # the patch against the mesh and against itself (a fold within the patch counts too);
     # the refined patch's count matters only when a faired one has crossings
     before: int | None = None
     after = 0
     for faired in tried[:0:-1]:
-        after = len(intersecting_pairs(faired, around, patch))
+        after = _crossings(around, patch, faired)
         if after and before is None:
-            before = len(intersecting_pairs(allv, around, patch))
+            before = _crossings(around, patch, added)
         if not after or (before is not None and after <= before):
             rec.faired = True
             return faired, after
@@ -374,7 +409,7 @@ def _fair_patch(
         f"the faired patch would cross the mesh ({after} crossings, {before} before); "
         f"the refined patch is kept"
     )
-    return allv, before
+    return added, before
 
 
 class _Edges:
@@ -387,28 +422,45 @@ class _Edges:
             on_loop[lp.vertices] = True
         from .._core import topology
 
-        # a few, not every edge
-        self.keys = topology.edges_among(np.ascontiguousarray(faces), nv, on_loop)
+        # a few, not every edge: each end's partners, so a loop's look-up is local
+        keys = topology.edges_among(np.ascontiguousarray(faces), nv, on_loop)
+        self._partners: dict[int, set[int]] = {}
+        for a, b in zip(*(x.tolist() for x in np.divmod(keys, nv))):
+            self._join(a, b)
+
+    def _join(self, a: int, b: int) -> None:
+        self._partners.setdefault(a, set()).add(b)
+        self._partners.setdefault(b, set()).add(a)
 
     def add(self, patch: Ints) -> None:
         a = patch.ravel()
         b = patch[:, [1, 2, 0]].ravel()
         old = (a < self.nv) & (b < self.nv)  # refinement's vertices are on no loop
-        a, b = a[old], b[old]
-        self.keys = np.union1d(self.keys, np.minimum(a, b) * self.nv + np.maximum(a, b))
+        for x, y in zip(a[old].tolist(), b[old].tolist()):
+            self._join(x, y)
+
+    def keys_among(self, vertices: Ints) -> Ints:
+        """Keys ``low * nv + high`` of the edges joining two of ``vertices``, ascending."""
+        on = set(vertices.tolist())
+        keys = {
+            min(x, y) * self.nv + max(x, y)
+            for x in on
+            for y in self._partners.get(x, ())
+            if y in on
+        }
+        return np.array(sorted(keys), dtype=np.int64)
 
     def pairs_among(self, loop: Ints) -> set[frozenset[int]]:
         """Vertex pairs of ``loop`` the mesh (or a patch so far) joins."""
-        on = set(loop.tolist())
-        a, b = np.divmod(self.keys, self.nv)
-        return {frozenset((x, y)) for x, y in zip(a.tolist(), b.tolist()) if x in on and y in on}
+        a, b = np.divmod(self.keys_among(loop), self.nv)
+        return {frozenset((x, y)) for x, y in zip(a.tolist(), b.tolist())}
 
     def chords_of(self, loop: Ints) -> Ints:
         """Pairs of loop positions the mesh already joins, sides excluded."""
         n = len(loop)
         pos = {int(v): i for i, v in enumerate(loop.tolist())}
-        a, b = np.divmod(self.keys, self.nv)
-        pairs = [(pos[x], pos[y]) for x, y in zip(a.tolist(), b.tolist()) if x in pos and y in pos]
+        a, b = np.divmod(self.keys_among(loop), self.nv)
+        pairs = [(pos[x], pos[y]) for x, y in zip(a.tolist(), b.tolist())]
         out = np.array(pairs, dtype=np.int64).reshape(-1, 2)
         gap = np.abs(out[:, 0] - out[:, 1])
         return out[(gap != 1) & (gap != n - 1)]
@@ -483,7 +535,7 @@ def _fill_group(
     if max_hole_edges is not None and n > max_hole_edges:
         reason = f"{n} edges with its islands > max_hole_edges={max_hole_edges}"
         return _left_open(rec, "skipped", reason), None
-    forbidden = group_chords(joined.keys, joined.nv, [lp.vertices for lp in members])
+    forbidden = group_chords(joined.keys_among(ring), joined.nv, [lp.vertices for lp in members])
     rec.forbidden_chords = len(forbidden)
     start = time.perf_counter()
     points = [vertices[lp.vertices] for lp in members]

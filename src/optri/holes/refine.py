@@ -67,17 +67,21 @@ def boundary_scales(
     """
     loop = np.asarray(loop, dtype=np.int64)
     f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
-    on_loop = np.zeros(len(vertices), dtype=bool)
-    on_loop[loop] = True
-    f = f[on_loop[f[:, 0]] | on_loop[f[:, 1]] | on_loop[f[:, 2]]]  # faces holding its edges
+    f = f[np.isin(f, loop).any(axis=1)]  # faces holding its edges
     a, b = f.ravel(), f[:, [1, 2, 0]].ravel()
     nv = len(vertices)  # distinct edges in (low, high) order, by one key each
     e = np.column_stack(np.divmod(np.unique(np.minimum(a, b) * nv + np.maximum(a, b)), nv))
     length = np.linalg.norm(vertices[e[:, 0]] - vertices[e[:, 1]], axis=1)
     ends = np.concatenate([e[:, 0], e[:, 1]])  # summed in this order, as np.add.at would
-    total = np.bincount(ends, weights=np.concatenate([length, length]), minlength=nv)
-    count = np.bincount(ends, minlength=nv)
-    out = np.where(count[loop] > 0, total[loop] / np.maximum(count[loop], 1), 0.0)
+    # sums per edge end over the ends present: work in the loop's faces, not the mesh's
+    at, slot = np.unique(ends, return_inverse=True)
+    if len(at) == 0:
+        return np.zeros(len(loop))
+    total = np.bincount(slot, weights=np.concatenate([length, length]), minlength=len(at))
+    count = np.bincount(slot, minlength=len(at))
+    where = np.minimum(np.searchsorted(at, loop), len(at) - 1)
+    mine = np.where(at[where] == loop, count[where], 0)
+    out = np.where(mine > 0, total[where] / np.maximum(mine, 1), 0.0)
     if not np.any(out > 0):
         return out
     # a loop vertex with no mesh edge (an isolated polyline) takes its loop neighbours'
