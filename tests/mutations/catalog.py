@@ -3020,7 +3020,7 @@ MUTATIONS: list[Mutation] = [
     M(
         "around-fair-sees-too-few-rings",
         "src/optri/holes/mesh.py",
-        "    near = around.rings(np.unique(patch[patch < first]), continuity + 3)",
+        "    near = around.rings(np.unique(patch[patch < first]), continuity + 1)",
         "    near = around.rings(np.unique(patch[patch < first]), continuity - 1)",
         (AROUND, "-k", "whole_mesh"),
         "the fairing of a patch misses faces of the rings its operator reaches",
@@ -3036,8 +3036,8 @@ MUTATIONS: list[Mutation] = [
     M(
         "around-rings-skip-patches",
         "src/optri/holes/around.py",
-        "for t in self._patch_face_at.get(v, ())})",
-        "for t in self._patch_face_at.get(v, ()) if False})",
+        "            for j in self._patches_touching(reached):",
+        "            for j in self._patches_touching(reached)[:0]:",
         (AROUND, "-k", "scan_of_every_face"),
         "the rings around a hole stop at the patches filled before it",
     ),
@@ -3072,5 +3072,21 @@ MUTATIONS: list[Mutation] = [
         "    mine = count[where]",
         ("tests/test_mesh_refine.py", "-k", "scales"),
         "a loop vertex with no mesh edge takes the edge count of the next vertex in order",
+    ),
+    M(
+        "around-scan-first-vertex-only",
+        "src/optri/holes/around.py",
+        "            mark[v] = True",
+        "            mark[v[:1]] = True",
+        (AROUND, "-k", "whole_mesh"),
+        "before the mesh is indexed, the faces at a set of vertices are those of the first",
+    ),
+    M(
+        "edges-forget-patch-chords",
+        "src/optri/holes/mesh.py",
+        "        old = (a < self.nv) & (b < self.nv)  # refinement's vertices are on no loop",
+        "        old = (a < 0) & (b < self.nv)  # refinement's vertices are on no loop",
+        ("tests/test_mesh_manifold.py", "tests/test_mesh_fill.py"),
+        "a hole may use a chord an earlier patch already made: that edge gets four faces",
     ),
 ]

@@ -16,6 +16,10 @@ and :meth:`Around.local` writes them with a patch over compact vertex numbers th
 keep the global order. The compiled fairing and crossing test select and number
 what they use by the vertices' order and the faces' order alone, so on such a
 superset of what they use they compute the same numbers as on the whole mesh.
+
+Indexing sorts the mesh's faces, which costs more than a hole or two: the first
+``whole_holes`` holes get the whole mesh (the queries answer None, "every face"),
+and the mesh is indexed when a later hole first asks.
 """
 
 from __future__ import annotations
@@ -29,6 +33,10 @@ __all__ = ["Around"]
 
 Ints = NDArray[np.int64]
 Floats = NDArray[np.float64]
+
+#: Holes that get the whole mesh before it is indexed (a sort of its faces): a mesh
+#: with a few holes is never sorted.
+WHOLE_MESH_HOLES = 8
 
 #: A box query widens the box by this fraction of the mesh's extent: more than any
 #: tolerance of the crossing test, so the faces it could pair are all returned.
@@ -47,7 +55,7 @@ class Around:
     --------
     >>> import numpy as np
     >>> v = np.array([[0., 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [5, 5, 0]])
-    >>> a = Around(v, np.array([[0, 1, 2], [1, 3, 2]]))
+    >>> a = Around(v, np.array([[0, 1, 2], [1, 3, 2]]), whole_holes=0)
     >>> a.rings(np.array([0]), 1).tolist(), a.rings(np.array([0]), 2).tolist()
     ([0], [0, 1])
     >>> a.add(np.array([[5.0, 6, 0]]), np.array([[3, 4, 5]]))
@@ -55,23 +63,32 @@ class Around:
     ([0, 1, 2], array([2]))
     """
 
-    def __init__(self, vertices: Floats, faces: Ints) -> None:
+    def __init__(
+        self, vertices: Floats, faces: Ints, whole_holes: int | None = None
+    ) -> None:
         self.vertices = np.ascontiguousarray(vertices, dtype=np.float64)
         self.faces = np.ascontiguousarray(faces, dtype=np.int64)
         self.n, self.m = len(self.vertices), len(self.faces)
-        flat = self.faces.ravel()
-        order = np.argsort(flat, kind="stable")
-        self._face_at = order // 3  # the faces at each vertex, in face order
-        self._start = np.concatenate(([0], np.cumsum(np.bincount(flat, minlength=self.n))))
+        # patches to add before the queries narrow
+        self._whole_left = WHOLE_MESH_HOLES if whole_holes is None else whole_holes
+        self._at: tuple[Ints, Ints] | None = None  # faces at each vertex: (start, face ids)
         self._new = np.zeros((0, 3))  # new vertices' coordinates (first _n_new rows)
         self._n_new = 0
         self._patches: list[Ints] = []
         self._pfaces = np.zeros((0, 3), dtype=np.int64)  # patch faces (first _n_pf rows)
         self._n_pf = 0
-        self._patch_face_at: dict[int, list[int]] = {}  # vertex -> patch face ids
+        self._patches_at: dict[int, list[int]] = {}  # mesh vertex -> patches using it
+        self._indexed = 0  # patches whose vertices and box are in _patches_at and _box
+        self._new_first = np.zeros(0, dtype=np.int64)  # each patch's first new vertex id
         self._box = np.zeros((0, 6))  # each patch's box (lo, hi), first len(_patches) rows
         self._first = np.zeros(0, dtype=np.int64)  # each patch's first face id
-        self._grid: _Grid | None = None  # made at the first box query
+        self._grid: _Grid | None = None
+        self._boxes: tuple[Floats, Floats] | None = None  # each mesh face's (lo, hi)
+
+    @property
+    def whole(self) -> bool:
+        """Whether the queries answer None (every face) for the next hole."""
+        return self._whole_left > 0
 
     @property
     def size(self) -> int:
@@ -104,51 +121,100 @@ class Around:
         """Append a patch (over mesh ids and ids from ``size`` on) and its new vertices."""
         self._new, self._n_new = _append(self._new, self._n_new, new_vertices)
         patch = np.asarray(patch, dtype=np.int64).reshape(-1, 3)
-        first = self.m + self._n_pf
+        self._first, _ = _append(self._first, len(self._patches), np.array([self.m + self._n_pf]))
+        self._new_first, _ = _append(
+            self._new_first, len(self._patches), np.array([self.size - len(new_vertices)])
+        )
         self._pfaces, self._n_pf = _append(self._pfaces, self._n_pf, patch)
-        for t, face in enumerate(patch.tolist(), start=first):
-            for v in face:
-                self._patch_face_at.setdefault(v, []).append(t)
-        box = np.array([np.inf] * 3 + [-np.inf] * 3)
-        if len(patch):
-            pts = self.coords(patch.ravel())
-            box = np.concatenate([pts.min(axis=0), pts.max(axis=0)])
-        self._box, _ = _append(self._box, len(self._patches), box[None])
-        self._first, _ = _append(self._first, len(self._patches), np.array([first]))
         self._patches.append(patch)
+        self._whole_left -= 1
+
+    def _index_patches(self) -> None:
+        """The vertices and boxes of the patches added since the last query that used them."""
+        for j in range(self._indexed, len(self._patches)):
+            patch = self._patches[j]
+            for v in np.unique(patch[patch < self.n]).tolist():
+                self._patches_at.setdefault(v, []).append(j)
+            box = np.array([np.inf] * 3 + [-np.inf] * 3)
+            if len(patch):
+                pts = self.coords(patch.ravel())
+                box = np.concatenate([pts.min(axis=0), pts.max(axis=0)])
+            self._box, _ = _append(self._box, j, box[None])
+        self._indexed = len(self._patches)
 
     def mesh_faces_at(self, vertices: Ints) -> Ints:
         """Ids of the mesh's faces (not the patches') at any of ``vertices``, ascending."""
         v = np.asarray(vertices, dtype=np.int64)
         v = v[v < self.n]
-        lo, hi = self._start[v], self._start[v + 1]
+        if self.whole:
+            mark = np.zeros(self.n, dtype=bool)
+            mark[v] = True
+            f = self.faces
+            return np.flatnonzero(mark[f[:, 0]] | mark[f[:, 1]] | mark[f[:, 2]])
+        if self._at is None:
+            flat = self.faces.ravel()
+            start = np.concatenate(([0], np.cumsum(np.bincount(flat, minlength=self.n))))
+            self._at = (start, np.argsort(flat, kind="stable") // 3)
+        start, face_at = self._at
+        lo, hi = start[v], start[v + 1]
         count = hi - lo
         at = np.repeat(lo - np.cumsum(count) + count, count) + np.arange(int(count.sum()))
-        return np.unique(self._face_at[at])
+        return np.unique(face_at[at])
 
-    def rings(self, seeds: Ints, sweeps: int) -> Ints:
-        """Face ids reached in ``sweeps`` sweeps from ``seeds``, ascending.
+    def rings(self, seeds: Ints, sweeps: int) -> Ints | None:
+        """Face ids reached in ``sweeps`` sweeps from ``seeds``, ascending (None: every face).
 
         A sweep takes every face at a vertex reached so far and reaches its vertices.
         """
+        if self.whole:
+            return None
+        self._index_patches()
         reached = np.unique(np.asarray(seeds, dtype=np.int64))
         found = np.zeros(0, dtype=np.int64)
         for _ in range(sweeps):
-            old = self.mesh_faces_at(reached)
-            new = sorted({t for v in reached.tolist() for t in self._patch_face_at.get(v, ())})
-            found = np.union1d(found, np.concatenate([old, np.asarray(new, dtype=np.int64)]))
+            parts = [found, self.mesh_faces_at(reached)]
+            for j in self._patches_touching(reached):
+                p = self._patches[j]
+                parts.append(self._first[j] + np.flatnonzero(np.isin(p, reached).any(axis=1)))
+            found = np.unique(np.concatenate(parts))
             reached = np.union1d(reached, self.faces_of(found).ravel())
         return found
 
-    def boxed(self, lo: Floats, hi: Floats) -> Ints:
-        """Face ids (mesh or patch) whose bounding boxes meet the box ``[lo, hi]``, ascending.
+    def _patches_touching(self, vertices: Ints) -> list[int]:
+        """Numbers of the patches using any of ``vertices`` (mesh or new), ascending."""
+        old = vertices[vertices < self.n].tolist()
+        touched = {j for v in old for j in self._patches_at.get(v, ())}
+        new = vertices[vertices >= self.n]
+        if len(new):
+            owner = np.searchsorted(self._new_first[: len(self._patches)], new, side="right")
+            touched |= set((owner - 1).tolist())
+        return sorted(touched)
+
+    def boxed(self, lo: Floats, hi: Floats) -> Ints | None:
+        """Face ids (mesh or patch) whose boxes meet the box ``[lo, hi]``, ascending.
 
         The box is widened by a millionth of the mesh's extent, so faces that touch it
-        within rounding are in.
+        within rounding are in. None: every face.
         """
-        g = self._grid_index()
-        lo = np.asarray(lo, dtype=np.float64) - g.slack
-        hi = np.asarray(hi, dtype=np.float64) + g.slack
+        if self.whole:
+            return None
+        self._index_patches()
+        flo, fhi = self._face_boxes()
+        lo = np.asarray(lo, dtype=np.float64) - self._slack
+        hi = np.asarray(hi, dtype=np.float64) + self._slack
+        out = [self._mesh_boxed(lo, hi, flo, fhi)]
+        box = self._box[: len(self._patches)]
+        for j in np.flatnonzero(np.all((box[:, :3] <= hi) & (box[:, 3:] >= lo), axis=1)):
+            p = self._patches[j]
+            pts = self.coords(p.ravel()).reshape(-1, 3, 3)
+            meet = np.all((pts.min(axis=1) <= hi) & (pts.max(axis=1) >= lo), axis=1)
+            out.append(self._first[j] + np.flatnonzero(meet))
+        return np.concatenate(out).astype(np.int64)
+
+    def _mesh_boxed(self, lo: Floats, hi: Floats, flo: Floats, fhi: Floats) -> Ints:
+        if self._grid is None:
+            self._grid = _Grid(self.vertices, flo, fhi)
+        g = self._grid
         # a face's low corner lies in [lo - cell, hi] when its box (at most a cell wide)
         # meets [lo, hi]: the cells of that range, a run of keys per (x, y) column
         first = np.floor((lo - g.cell - g.origin) / g.cell)
@@ -166,23 +232,20 @@ class Around:
             at = np.repeat(a - np.cumsum(count) + count, count) + np.arange(int(count.sum()))
             runs.append(g.order[at])
         run = np.concatenate(runs)
-        keep = np.all((g.flo[run] <= hi) & (g.fhi[run] >= lo), axis=1)
-        out = [np.sort(run[keep])]
-        box = self._box[: len(self._patches)]
-        for j in np.flatnonzero(np.all((box[:, :3] <= hi) & (box[:, 3:] >= lo), axis=1)):
-            p = self._patches[j]
-            pts = self.coords(p.ravel()).reshape(-1, 3, 3)
-            meet = np.all((pts.min(axis=1) <= hi) & (pts.max(axis=1) >= lo), axis=1)
-            out.append(self._first[j] + np.flatnonzero(meet))
-        return np.concatenate(out).astype(np.int64)
+        keep = np.all((flo[run] <= hi) & (fhi[run] >= lo), axis=1)
+        return np.sort(run[keep])
 
-    def _grid_index(self) -> _Grid:
-        if self._grid is None:
-            self._grid = _Grid(self.vertices, self.faces)
-        return self._grid
+    def _face_boxes(self) -> tuple[Floats, Floats]:
+        if self._boxes is None:
+            v, f = self.vertices, self.faces
+            a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+            self._boxes = (np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c))
+            span = (v.max(axis=0) - v.min(axis=0)) if self.n else np.zeros(3)
+            self._slack = _BOX_SLACK * float(span.max(initial=0.0))
+        return self._boxes
 
     def local(
-        self, face_ids: Ints, patch: Ints, pending: Floats
+        self, face_ids: Ints | None, patch: Ints, pending: Floats
     ) -> tuple[Floats, Ints, Ints, Ints]:
         """``(vertices, faces, patch, ids)``: faces ``face_ids`` then ``patch``, compactly.
 
@@ -190,9 +253,14 @@ class Around:
         ``pending`` (a patch's new vertices, not added yet). ``ids`` are the global ids
         of the local vertices, ascending (the local numbering keeps the global order);
         ``faces`` are the faces ``face_ids`` in the given order followed by the patch,
-        and ``patch`` is the patch over the local numbers.
+        and ``patch`` is the patch over the local numbers. ``face_ids=None``: every
+        face and vertex so far, numbered as they are.
         """
         patch = np.asarray(patch, dtype=np.int64).reshape(-1, 3)
+        if face_ids is None:
+            pos = np.concatenate([self.vertices, self._new[: self._n_new], pending])
+            faces = np.concatenate([self.faces, self._pfaces[: self._n_pf], patch])
+            return pos, faces, patch, np.arange(len(pos), dtype=np.int64)
         glob = np.concatenate([self.faces_of(face_ids), patch])
         ids, inverse = np.unique(glob.ravel(), return_inverse=True)
         known = ids < self.size
@@ -211,26 +279,24 @@ class _Grid:
     cell until at most a twentieth of the faces are wide and the cell count fits int64.
     """
 
-    def __init__(self, vertices: Floats, faces: Ints) -> None:
-        pts = vertices[faces]
-        self.flo, self.fhi = pts.min(axis=1), pts.max(axis=1)
+    def __init__(self, vertices: Floats, flo: Floats, fhi: Floats) -> None:
         self.origin = vertices.min(axis=0) if len(vertices) else np.zeros(3)
         span = (vertices.max(axis=0) - self.origin) if len(vertices) else np.zeros(3)
-        self.slack = _BOX_SLACK * float(span.max(initial=0.0))
-        extent = (self.fhi - self.flo).max(axis=1) if len(faces) else np.zeros(0)
+        d = fhi - flo
+        extent = np.maximum(np.maximum(d[:, 0], d[:, 1]), d[:, 2])
         positive = extent[extent > 0]
         cell = 2.0 * float(np.median(positive)) if len(positive) else 1.0
         cell = max(cell, float(span.max(initial=0.0)) / 2.0**20, 1e-300)
         while True:
             dims = np.floor(span / cell).astype(np.float64) + 1
             wide = extent > cell
-            if float(np.prod(dims)) < 2.0**62 and wide.sum() <= len(faces) // 20:
+            if float(np.prod(dims)) < 2.0**62 and wide.sum() <= len(flo) // 20:
                 break
             cell *= 2
         self.cell, self.dims = cell, dims.astype(np.int64)
         self.wide = np.flatnonzero(wide)
         narrow = np.flatnonzero(~wide)
-        c = np.minimum(np.floor((self.flo[narrow] - self.origin) / cell), dims - 1)
+        c = np.minimum(np.floor((flo[narrow] - self.origin) / cell), dims - 1)
         c = c.astype(np.int64)
         key = (c[:, 0] * self.dims[1] + c[:, 1]) * self.dims[2] + c[:, 2]
         order = np.argsort(key, kind="stable")

@@ -300,7 +300,8 @@ def fill_holes(
             added = np.zeros((0, 3))
             crossings = None  # of the final patch, once a check has counted them
             if refine:
-                scales = boundary_scales(vertices, faces[around.mesh_faces_at(ring)], ring)
+                near = faces if around.whole else faces[around.mesh_faces_at(ring)]
+                scales = boundary_scales(vertices, near, ring)
                 split: list[tuple[int, int, int]] = []
                 added, patch = refine_patch(
                     vertices,
@@ -353,10 +354,12 @@ def _crossings(around: Around, patch: Ints, pending: NDArray[np.float64]) -> int
     """
     if len(patch) == 0:
         return 0
-    ids = np.unique(patch)
-    old = ids < around.size
-    pts = np.concatenate([around.coords(ids[old]), pending[ids[~old] - around.size]])
-    near = around.boxed(pts.min(axis=0), pts.max(axis=0))
+    near = None
+    if not around.whole:
+        ids = np.unique(patch)
+        old = ids < around.size
+        pts = np.concatenate([around.coords(ids[old]), pending[ids[~old] - around.size]])
+        near = around.boxed(pts.min(axis=0), pts.max(axis=0))
     v, f, p, _ = around.local(near, patch, pending)
     return len(intersecting_pairs(v, f, p))
 
@@ -375,12 +378,12 @@ def _fair_patch(
     when the last adds crossings the earlier ones are tried, from the latest back. Also
     the crossings of the patch so returned, when they were counted (else None).
 
-    The solve sees the faces within ``continuity + 3`` sweeps of the patch's vertices
-    (a superset of the rings it selects from the whole mesh: every path from a new
-    vertex to a face off the patch passes a border vertex) and the patch.
+    The solve sees the patch and the faces within ``continuity + 1`` sweeps of its
+    border: its operator reaches the faces within ``continuity + 1`` sweeps of the new
+    vertices, and a path from a new vertex off the patch passes a border vertex.
     """
     first = around.size
-    near = around.rings(np.unique(patch[patch < first]), continuity + 3)
+    near = around.rings(np.unique(patch[patch < first]), continuity + 1)
     v, f, _, ids = around.local(near, patch, added)
     free = np.flatnonzero(ids >= first)  # local numbers of the new vertices, in id order
     tried = [added]
@@ -422,31 +425,51 @@ class _Edges:
             on_loop[lp.vertices] = True
         from .._core import topology
 
-        # a few, not every edge: each end's partners, so a loop's look-up is local
+        # a few, not every edge: each end's partners by end, so a loop looks up its own
         keys = topology.edges_among(np.ascontiguousarray(faces), nv, on_loop)
-        self._partners: dict[int, set[int]] = {}
-        for a, b in zip(*(x.tolist() for x in np.divmod(keys, nv))):
-            self._join(a, b)
-
-    def _join(self, a: int, b: int) -> None:
-        self._partners.setdefault(a, set()).add(b)
-        self._partners.setdefault(b, set()).add(a)
+        a, b = np.divmod(keys, nv)
+        ends, partners = np.concatenate([a, b]), np.concatenate([b, a])
+        order = np.argsort(ends, kind="stable")
+        self._ends, self._partners = ends[order], partners[order]
+        self._added: dict[int, set[int]] = {}  # edges the patches made
+        self._memo: tuple[bytes, Ints] = (b"", np.zeros(0, dtype=np.int64))
 
     def add(self, patch: Ints) -> None:
         a = patch.ravel()
         b = patch[:, [1, 2, 0]].ravel()
         old = (a < self.nv) & (b < self.nv)  # refinement's vertices are on no loop
+        self._memo = (b"", self._memo[1])
         for x, y in zip(a[old].tolist(), b[old].tolist()):
-            self._join(x, y)
+            self._added.setdefault(x, set()).add(y)
+            self._added.setdefault(y, set()).add(x)
 
     def keys_among(self, vertices: Ints) -> Ints:
         """Keys ``low * nv + high`` of the edges joining two of ``vertices``, ascending."""
-        on = set(vertices.tolist())
+        v = np.asarray(vertices, dtype=np.int64)
+        memo = v.tobytes()  # a hole asks twice (its chords, then its refinement)
+        if self._memo[0] != memo:
+            self._memo = (memo, self._keys_among(v))
+        return self._memo[1]
+
+    def _keys_among(self, v: Ints) -> Ints:
+        ends, partners = self._ends, self._partners
+        if len(ends) > 8 * len(v) + 256:  # many loops: look up this one's ends only
+            lo = np.searchsorted(ends, v, side="left")
+            count = np.searchsorted(ends, v, side="right") - lo
+            at = np.repeat(lo - np.cumsum(count) + count, count) + np.arange(int(count.sum()))
+            ends, partners = ends[at], partners[at]
+        on = set(v.tolist())
+        nv = self.nv
         keys = {
-            min(x, y) * self.nv + max(x, y)
-            for x in on
-            for y in self._partners.get(x, ())
-            if y in on
+            min(x, y) * nv + max(x, y)
+            for x, y in zip(ends.tolist(), partners.tolist())
+            if x in on and y in on
+        }
+        keys |= {
+            min(p, q) * self.nv + max(p, q)
+            for p in on & self._added.keys()
+            for q in self._added[p]
+            if q in on
         }
         return np.array(sorted(keys), dtype=np.int64)
 

@@ -67,7 +67,9 @@ def boundary_scales(
     """
     loop = np.asarray(loop, dtype=np.int64)
     f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
-    f = f[np.isin(f, loop).any(axis=1)]  # faces holding its edges
+    on_loop = np.zeros(len(vertices), dtype=bool)
+    on_loop[loop] = True
+    f = f[on_loop[f[:, 0]] | on_loop[f[:, 1]] | on_loop[f[:, 2]]]  # faces holding its edges
     a, b = f.ravel(), f[:, [1, 2, 0]].ravel()
     nv = len(vertices)  # distinct edges in (low, high) order, by one key each
     e = np.column_stack(np.divmod(np.unique(np.minimum(a, b) * nv + np.maximum(a, b)), nv))
