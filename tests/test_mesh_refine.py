@@ -137,10 +137,10 @@ def test_refine_patch_refuses_a_bad_density():
 
 def _swept(faces, pts, fixed=(), blocked=()):
     """The faces after one relaxation sweep, and its number of swaps."""
-    from optri.holes.refine import _sweep
+    from optri.holes.refine import _sides, _sweep
 
     out = list(faces)
-    swaps = _sweep(out, lambda i: tuple(pts[i]), set(fixed), set(blocked))
+    swaps = _sweep(out, _sides(out), lambda i: tuple(pts[i]), set(fixed), set(blocked))
     return out, swaps
 
 

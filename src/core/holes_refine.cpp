@@ -175,14 +175,15 @@ struct Refiner {
 using Sides = std::unordered_map<uint64_t, int64_t>;  // directed edge -> its face
 
 // refine.py's _sides
-void sides(const std::vector<Tri>& faces, Sides& where) {
-    where.clear();
+Sides sides(const std::vector<Tri>& faces) {
+    Sides where;
     where.reserve(faces.size() * 3);
     for (size_t t = 0; t < faces.size(); ++t) {
         const Tri f = faces[t];
         const int64_t i = static_cast<int64_t>(t);
         where[key(f.a, f.b)] = i, where[key(f.b, f.c)] = i, where[key(f.c, f.a)] = i;
     }
+    return where;
 }
 
 // what no swap may take away or make, and the fold limits of refine.py's _folds
@@ -217,17 +218,18 @@ bool swap_edge(std::vector<Tri>& faces, Sides& where, int64_t u, int64_t v, cons
     return true;
 }
 
-// refine.py's _sweep: every edge once, in the order the faces first name it
+// refine.py's _sweep: every interior edge once, in the order the faces first name it
 void sweep(std::vector<Tri>& faces, Sides& where, const Refiner& R, const Guards& g) {
-    sides(faces, where);
     std::vector<std::pair<int64_t, int64_t>> edges;
-    edges.reserve(faces.size() * 2);
-    std::unordered_set<uint64_t> seen;
-    seen.reserve(faces.size() * 2);
-    for (const Tri& f : faces) {
+    edges.reserve(faces.size() * 3 / 2);
+    for (size_t t = 0; t < faces.size(); ++t) {
+        const Tri f = faces[t];
         const int64_t e[3][2] = {{f.a, f.b}, {f.b, f.c}, {f.c, f.a}};
         for (auto& uv : e) {
-            if (seen.insert(ukey(uv[0], uv[1])).second) edges.emplace_back(uv[0], uv[1]);
+            auto across = where.find(key(uv[1], uv[0]));
+            if (across != where.end() && across->second > static_cast<int64_t>(t)) {
+                edges.emplace_back(uv[0], uv[1]);
+            }
         }
     }
     for (auto [u, v] : edges) swap_edge(faces, where, u, v, R, g);
@@ -490,9 +492,8 @@ void bind_refine(nb::module_& m) {
                 return it == sigma_old.end() ? 0.0 : it->second;
             };
             const Guards g{fixed, blocked, fold_cos, crease_cos};
-            Sides where;
+            Sides where = sides(faces);  // kept up to date by every split and swap
             for (int64_t round = 0; round < max_rounds; ++round) {
-                sides(faces, where);
                 bool split = false;
                 const size_t count = faces.size();  // the round's faces: those it adds wait
                 for (size_t t = 0; t < count; ++t) {

@@ -1554,7 +1554,7 @@ MUTATIONS: list[Mutation] = [
     M(
         "refine-no-sweep",
         "src/optri/holes/refine.py",
-        "        _sweep(faces, point, loop_edges, blocked)\n",
+        "        _sweep(faces, where, point, loop_edges, blocked)\n",
         "",
         ("tests/test_mesh_refine.py", "-k", "locally_delaunay"),
         "only the sides of each split are relaxed: the round's other edges keep failing "

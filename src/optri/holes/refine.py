@@ -208,8 +208,8 @@ def reference_refine_patch(
     def point(i: int) -> Point:
         return coords[i] if i < base else added[i - base]
 
+    where = _sides(faces)  # kept up to date by every split and swap
     for _ in range(max_rounds):
-        where = _sides(faces)
         split = False
         for t in range(len(faces)):  # the round's faces: those its splits add wait
             a, b, c = faces[t]
@@ -240,7 +240,7 @@ def reference_refine_patch(
                 split = True
         if not split:
             break
-        _sweep(faces, point, loop_edges, blocked)
+        _sweep(faces, where, point, loop_edges, blocked)
     new = np.asarray(added, dtype=np.float64).reshape(-1, 3)
     return new, np.asarray(faces, dtype=np.int64).reshape(-1, 3)
 
@@ -297,24 +297,23 @@ def _swap(
 
 def _sweep(
     faces: list[tuple[int, int, int]],
+    where: dict[tuple[int, int], int],
     point: Callable[[int], Any],
     fixed_edges: set[frozenset[int]],
     blocked: set[frozenset[int]],
 ) -> int:
-    """Test every edge of the faces once (:func:`_swap`), in place; the number of swaps.
+    """Test every interior edge once (:func:`_swap`), in place; the number of swaps.
 
-    Edges are taken in the order the faces first name them (either direction); an
-    edge a swap makes is not tested in the same sweep.
+    ``where`` is :func:`_sides` of the faces. Edges are taken in the order the faces
+    first name them (the face on their other side comes later); an edge a swap makes
+    is not tested in the same sweep.
     """
-    where = _sides(faces)
-    edges: list[tuple[int, int]] = []
-    seen: set[tuple[int, int]] = set()
-    for a, b, c in faces:
-        for u, v in ((a, b), (b, c), (c, a)):
-            key = (u, v) if u < v else (v, u)
-            if key not in seen:
-                seen.add(key)
-                edges.append((u, v))
+    edges = [
+        (u, v)
+        for t, (a, b, c) in enumerate(faces)
+        for u, v in ((a, b), (b, c), (c, a))
+        if where.get((v, u), -1) > t
+    ]
     swaps = 0
     for u, v in edges:
         swaps += _swap(faces, where, u, v, point, fixed_edges, blocked)
