@@ -142,31 +142,66 @@ def test_refine_patch_refuses_a_bad_density():
         optri.fill_holes((v, np.array([[0, 1, 2]])), refine=True, fair=5)
 
 
-def test_relaxation_swaps_a_thin_pair_but_never_onto_an_edge_the_mesh_has():
-    from optri.holes.refine import _relax
+def _swept(faces, pts, fixed=(), blocked=()):
+    """The faces after one relaxation sweep, and its number of swaps."""
+    from optri.holes.refine import _sides, _sweep
 
+    out = list(faces)
+    swaps = _sweep(out, _sides(out), lambda i: tuple(pts[i]), set(fixed), set(blocked))
+    return out, swaps
+
+
+def test_relaxation_swaps_a_thin_pair_but_never_onto_an_edge_the_mesh_has():
     # (u, v, x) and (v, u, y) around a long edge u-v: y lies in u-v-x's diametral sphere
     pts = np.array([[0.0, 0, 0], [4, 0, 0], [2, 0.1, 0], [2, -0.1, 0]])
     faces = [(0, 1, 2), (1, 0, 3)]
-    swapped = _relax(faces, lambda i: pts[i], set(), set())
-    assert sorted(map(sorted, swapped)) == [[0, 2, 3], [1, 2, 3]]  # now x-y is the edge
-    kept = _relax(faces, lambda i: pts[i], set(), {frozenset((2, 3))})
-    assert kept == faces
-    fixed = _relax(faces, lambda i: pts[i], {frozenset((0, 1))}, set())
-    assert fixed == faces  # a boundary edge is never swapped away
+    swapped, swaps = _swept(faces, pts)
+    assert swaps == 1 and sorted(map(sorted, swapped)) == [[0, 2, 3], [1, 2, 3]]  # now x-y
+    assert _swept(faces, pts, blocked={frozenset((2, 3))}) == (faces, 0)
+    # a boundary edge is never swapped away
+    assert _swept(faces, pts, fixed={frozenset((0, 1))}) == (faces, 0)
+
+
+def test_relaxation_tests_the_diametral_spheres_of_both_triangles():
+    # x = (2.5, 0.5, 0) lies inside the diametral sphere of (v, u, y), y not inside that
+    # of (u, v, x): the edge is swapped all the same, as CGAL does
+    from optri.holes.refine import _inside_sphere
+
+    pts = np.array([[0.0, 0, 0], [4, 0, 0], [2.5, 0.5, 0], [-1.5, -2, 1.5]])
+    u, v, x, y = map(tuple, pts)
+    assert not _inside_sphere(u, v, x, y) and _inside_sphere(v, u, y, x)
+    swapped, swaps = _swept([(0, 1, 2), (1, 0, 3)], pts)
+    assert swaps == 1 and swapped == [(0, 3, 2), (1, 2, 3)]
 
 
 def test_relaxation_never_sharpens_a_crease():
-    from optri.holes.refine import _relax
-
     # y lies in the diametral sphere of (u, v, x), but the swapped pair would meet at a
     # sharper angle than the pair it replaces: the swap is refused; flattened, it is made
     pts = np.array([[0.0, 0, 0], [4, 0, 0], [3, 1.8, 0], [2.9, -1.6, -0.55]])
     faces = [(0, 1, 2), (1, 0, 3)]
-    assert _relax(faces, lambda i: pts[i], set(), set()) == faces
+    assert _swept(faces, pts) == (faces, 0)
     flat = pts.copy()
     flat[3, 2] = 0.0
-    assert _relax(faces, lambda i: flat[i], set(), set()) != faces
+    assert _swept(faces, flat)[1] == 1
+
+
+def test_refinement_relaxes_the_sides_of_each_split_at_once():
+    # a square of two triangles, one round: the split of (0, 1, 2) at 4 = (0, 1/3) swaps
+    # its side 0-2 for 4-3 before the second triangle is looked at, which is then
+    # (0, 4, 3) and is split at its own centroid (1/3, -2/9); relaxed only after the
+    # round, the split would be of (0, 2, 3), at (0, -1/3)
+    from optri.holes.refine import reference_refine_patch
+
+    v = np.array([[1.0, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]])
+    args = (v, np.array([[0, 1, 2], [0, 2, 3]]), np.arange(4), np.full(4, 0.1))
+    for refine in (refine_patch, reference_refine_patch):
+        parents: list[tuple[int, int, int]] = []
+        new, faces = refine(*args, max_rounds=1, parents=parents)
+        assert parents == [(0, 1, 2), (0, 4, 3)]
+        assert np.allclose(new, [[0, 1 / 3, 0], [1 / 3, -2 / 9, 0]], rtol=0, atol=1e-15)
+        # and (0, 4, 3)'s side 4-3 became 5-2 in turn
+        assert faces.tolist() == [[0, 1, 4], [0, 4, 5], [1, 2, 4], [3, 5, 2], [4, 2, 5], [3, 0, 5]]
+        assert _not_locally_delaunay(np.vstack([v, new]), faces.tolist()) == []
 
 
 def test_a_corner_with_a_coarse_neighbourhood_keeps_its_triangle_whole():
@@ -318,18 +353,25 @@ def _not_locally_delaunay(pts, faces):
 
 
 def test_relaxation_and_refinement_leave_a_flat_patch_locally_delaunay():
-    from optri.holes.refine import _relax
-
-    # a fan over a convex polygon: each swap makes its neighbours' edges swappable in turn
+    # a fan over a convex polygon: each swap makes its neighbours' edges swappable in
+    # turn, which one sweep does not test again; sweeps repeated reach the Delaunay fan
     t = np.linspace(0, 2 * np.pi, 25)[:-1]
     pts = np.column_stack([5 * np.cos(t), np.sin(t), np.zeros(24)])
     fan = [(0, i, i + 1) for i in range(1, 23)]
     loop = {frozenset((i, (i + 1) % 24)) for i in range(24)}
-    relaxed = _relax(fan, lambda i: pts[i], loop, set())
+    relaxed, swaps = _swept(fan, pts, loop)
+    assert swaps > 0 and _not_locally_delaunay(pts, relaxed) != []
+    while swaps:
+        relaxed, swaps = _swept(relaxed, pts, loop)
     assert _not_locally_delaunay(pts, fan) != [] and _not_locally_delaunay(pts, relaxed) == []
+    # refinement goes on to the density the scales ask for (stopping at the first sweep
+    # that swaps nothing, as CGAL does, would leave 2 new vertices here)
+    from optri.holes.refine import reference_refine_patch
+
     v = np.array([[0.0, 0, 0], [10, 0, 0], [10, 3, 0], [0, 3, 0]])
-    new, faces = refine_patch(v, np.array([[0, 1, 2], [0, 2, 3]]), np.arange(4), np.full(4, 0.6))
-    assert len(new) > 20 and _not_locally_delaunay(np.vstack([v, new]), faces.tolist()) == []
+    for refine in (refine_patch, reference_refine_patch):
+        new, faces = refine(v, np.array([[0, 1, 2], [0, 2, 3]]), np.arange(4), np.full(4, 0.6))
+        assert len(new) > 20 and _not_locally_delaunay(np.vstack([v, new]), faces.tolist()) == []
 
 
 def test_the_fill_cli_refines_and_fairs(tmp_path):

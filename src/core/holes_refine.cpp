@@ -172,56 +172,67 @@ struct Refiner {
     }
 };
 
-// refine.py's _relax: a work list of interior edges, popped from its end
-void relax(std::vector<Tri>& faces, const Refiner& R, const std::unordered_set<uint64_t>& fixed,
-           const std::unordered_set<uint64_t>& blocked, int64_t max_sweeps, double fold_cos,
-           double crease_cos) {
-    std::unordered_map<uint64_t, int64_t> where;
-    where.reserve(faces.size() * 6);
-    std::vector<std::pair<int64_t, int64_t>> todo;
-    auto put = [&](int64_t u, int64_t v, int64_t t) {
-        auto [it, fresh] = where.try_emplace(key(u, v), t);
-        if (!fresh) it->second = t;
-        return fresh;
-    };
+using Sides = std::unordered_map<uint64_t, int64_t>;  // directed edge -> its face
+
+// refine.py's _sides
+Sides sides(const std::vector<Tri>& faces) {
+    Sides where;
+    where.reserve(faces.size() * 3);
+    for (size_t t = 0; t < faces.size(); ++t) {
+        const Tri f = faces[t];
+        const int64_t i = static_cast<int64_t>(t);
+        where[key(f.a, f.b)] = i, where[key(f.b, f.c)] = i, where[key(f.c, f.a)] = i;
+    }
+    return where;
+}
+
+// what no swap may take away or make, and the fold limits of refine.py's _folds
+struct Guards {
+    const std::unordered_set<uint64_t>& fixed;
+    const std::unordered_set<uint64_t>& blocked;
+    double fold_cos, crease_cos;
+};
+
+// refine.py's _swap: swap u-v in place if it fails the diametral-sphere test
+bool swap_edge(std::vector<Tri>& faces, Sides& where, int64_t u, int64_t v, const Refiner& R,
+               const Guards& g) {
+    auto i1 = where.find(key(u, v));
+    auto i2 = where.find(key(v, u));
+    if (i1 == where.end() || i2 == where.end() || g.fixed.count(ukey(u, v))) return false;
+    const int64_t t1 = i1->second, t2 = i2->second;
+    const int64_t x = third(faces[t1], u, v);
+    const int64_t y = third(faces[t2], v, u);
+    if (x == y || where.count(key(x, y)) || where.count(key(y, x)) ||
+        g.blocked.count(ukey(x, y))) {
+        return false;
+    }
+    const P3 pu = R.point(u), pv = R.point(v), px = R.point(x), py = R.point(y);
+    if (!(inside_sphere(pu, pv, px, py) || inside_sphere(pv, pu, py, px))) return false;
+    if (folds(pu, pv, px, py, g.fold_cos, g.crease_cos)) return false;
+    faces[t1] = {u, y, x};
+    faces[t2] = {v, x, y};
+    where.erase(key(u, v));
+    where.erase(key(v, u));
+    where[key(u, y)] = t1, where[key(y, x)] = t1, where[key(x, u)] = t1;
+    where[key(v, x)] = t2, where[key(x, y)] = t2, where[key(y, v)] = t2;
+    return true;
+}
+
+// refine.py's _sweep: every interior edge once, in the order the faces first name it
+void sweep(std::vector<Tri>& faces, Sides& where, const Refiner& R, const Guards& g) {
+    std::vector<std::pair<int64_t, int64_t>> edges;
+    edges.reserve(faces.size() * 3 / 2);
     for (size_t t = 0; t < faces.size(); ++t) {
         const Tri f = faces[t];
         const int64_t e[3][2] = {{f.a, f.b}, {f.b, f.c}, {f.c, f.a}};
         for (auto& uv : e) {
-            // a dict keeps a key's first place: the work list follows first insertions
-            if (put(uv[0], uv[1], static_cast<int64_t>(t)) && uv[0] < uv[1]) {
-                todo.emplace_back(uv[0], uv[1]);
+            auto across = where.find(key(uv[1], uv[0]));
+            if (across != where.end() && across->second > static_cast<int64_t>(t)) {
+                edges.emplace_back(uv[0], uv[1]);
             }
         }
     }
-    int64_t budget = max_sweeps * std::max<int64_t>(static_cast<int64_t>(faces.size()), 1);
-    while (!todo.empty() && budget > 0) {
-        auto [u, v] = todo.back();
-        todo.pop_back();
-        auto i1 = where.find(key(u, v));
-        auto i2 = where.find(key(v, u));
-        if (i1 == where.end() || i2 == where.end() || fixed.count(ukey(u, v))) continue;
-        const int64_t t1 = i1->second, t2 = i2->second;
-        const int64_t x = third(faces[t1], u, v);
-        const int64_t y = third(faces[t2], v, u);
-        if (x == y || where.count(key(x, y)) || where.count(key(y, x)) ||
-            blocked.count(ukey(x, y))) {
-            continue;
-        }
-        const P3 pu = R.point(u), pv = R.point(v), px = R.point(x), py = R.point(y);
-        if (!inside_sphere(pu, pv, px, py) || folds(pu, pv, px, py, fold_cos, crease_cos)) continue;
-        faces[t1] = {u, y, x};
-        faces[t2] = {v, x, y};
-        where.erase(key(u, v));
-        where.erase(key(v, u));
-        put(u, y, t1), put(y, x, t1), put(x, u, t1);
-        put(v, x, t2), put(x, y, t2), put(y, v, t2);
-        todo.emplace_back(v, x);
-        todo.emplace_back(x, u);
-        todo.emplace_back(u, y);
-        todo.emplace_back(y, v);
-        budget -= 1;
-    }
+    for (auto [u, v] : edges) swap_edge(faces, where, u, v, R, g);
 }
 
 // ---------------------------------------------------------------- crossings
@@ -444,8 +455,7 @@ void bind_refine(nb::module_& m) {
 
     r.def("refine_patch", [](In<double> V, In<int64_t> patch, In<int64_t> loop,
                              In<double> scales, double density, int64_t max_rounds,
-                             In<int64_t> forbidden, int64_t max_sweeps, double fold_cos,
-                             double crease_cos) {
+                             In<int64_t> forbidden, double fold_cos, double crease_cos) {
         need(V.ndim() == 2 && V.shape(1) == 3, "vertices must be (n, 3)");
         const int64_t n = static_cast<int64_t>(V.shape(0));
         need(n < (int64_t(1) << 31), "at most 2**31 vertices");
@@ -481,11 +491,13 @@ void bind_refine(nb::module_& m) {
                 auto it = sigma_old.find(i);
                 return it == sigma_old.end() ? 0.0 : it->second;
             };
-            std::vector<Tri> next;
+            const Guards g{fixed, blocked, fold_cos, crease_cos};
+            Sides where = sides(faces);  // kept up to date by every split and swap
             for (int64_t round = 0; round < max_rounds; ++round) {
                 bool split = false;
-                next.clear();
-                for (const Tri& f : faces) {
+                const size_t count = faces.size();  // the round's faces: those it adds wait
+                for (size_t t = 0; t < count; ++t) {
+                    const Tri f = faces[t];
                     const P3 pa = R.point(f.a), pb = R.point(f.b), pc = R.point(f.c);
                     const P3 m{(pa.x + pb.x + pc.x) / 3.0, (pa.y + pb.y + pc.y) / 3.0,
                                (pa.z + pb.z + pc.z) / 3.0};
@@ -496,22 +508,27 @@ void bind_refine(nb::module_& m) {
                         go = density * dist(m, corners[k].second) >
                              std::max(sm, sig(corners[k].first));
                     }
-                    if (go) {
-                        const int64_t k = n + static_cast<int64_t>(R.added.size());
-                        R.added.push_back(m);
-                        sigma_new.push_back(sm);
-                        parents.insert(parents.end(), {f.a, f.b, f.c});
-                        next.push_back({f.a, f.b, k});
-                        next.push_back({f.b, f.c, k});
-                        next.push_back({f.c, f.a, k});
-                        split = true;
-                    } else {
-                        next.push_back(f);
-                    }
+                    if (!go) continue;
+                    const int64_t k = n + static_cast<int64_t>(R.added.size());
+                    R.added.push_back(m);
+                    sigma_new.push_back(sm);
+                    parents.insert(parents.end(), {f.a, f.b, f.c});
+                    const int64_t t1 = static_cast<int64_t>(t);
+                    const int64_t t2 = static_cast<int64_t>(faces.size()), t3 = t2 + 1;
+                    faces[t] = {f.a, f.b, k};
+                    faces.push_back({f.b, f.c, k});
+                    faces.push_back({f.c, f.a, k});
+                    where[key(f.b, k)] = t1, where[key(k, f.a)] = t1;
+                    where[key(f.b, f.c)] = t2, where[key(f.c, k)] = t2, where[key(k, f.b)] = t2;
+                    where[key(f.c, f.a)] = t3, where[key(f.a, k)] = t3, where[key(k, f.c)] = t3;
+                    // its sides, relaxed at once
+                    swap_edge(faces, where, f.a, f.b, R, g);
+                    swap_edge(faces, where, f.b, f.c, R, g);
+                    swap_edge(faces, where, f.c, f.a, R, g);
+                    split = true;
                 }
-                faces.swap(next);
                 if (!split) break;
-                relax(faces, R, fixed, blocked, max_sweeps, fold_cos, crease_cos);
+                sweep(faces, where, R, g);
             }
         }
         std::vector<double> nv;
@@ -525,8 +542,8 @@ void bind_refine(nb::module_& m) {
                               from_vector(std::move(nf), nfaces, 3),
                               from_vector(std::move(parents), na, 3));
     }, nb::arg("vertices"), nb::arg("patch"), nb::arg("loop"), nb::arg("scales"),
-       nb::arg("density"), nb::arg("max_rounds"), nb::arg("forbidden"), nb::arg("max_sweeps"),
-       nb::arg("fold_cos"), nb::arg("crease_cos"),
+       nb::arg("density"), nb::arg("max_rounds"), nb::arg("forbidden"), nb::arg("fold_cos"),
+       nb::arg("crease_cos"),
        "(new_vertices, faces, parents) of optri.holes.refine's centroid splits and relaxation.");
 
     r.def("intersecting_pairs", [](In<double> V, In<int64_t> F, In<int64_t> P) {

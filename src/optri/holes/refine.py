@@ -8,16 +8,20 @@ the mesh around it:
   edges; a new vertex gets the mean scale of the triangle it splits;
 * a triangle ``(a, b, c)`` with centroid ``m`` is split in three at ``m`` when, for
   every corner ``x``, ``density * |m - x|`` exceeds both ``s(m)`` and ``s(x)``;
-* after a round of splits, interior edges are relaxed: an edge is swapped when the
-  vertex across it lies inside the diametral sphere of the triangle on its other
-  side (the sphere through its three vertices centred in its plane) -- Delaunay in
-  3-D, as Liepa does; boundary edges and swaps to an edge that already exists are
-  never made, so the patch stays manifold; nor are swaps that fold the patch more
-  sharply, or any swap across a crease sharper than ``CREASE`` degrees unless it
-  leaves the two faces nearly flat: a swap replaces two faces by the other two faces
-  of their tetrahedron, and across a crease that tetrahedron is wide enough to hold
-  faces of the mesh or of the patch, which the new faces would then cross;
-* rounds repeat until no triangle splits, or ``max_rounds``.
+* edges are relaxed as Liepa and CGAL do: the three sides of each split triangle
+  right after its split, and after each round of splits every interior edge once, in
+  the order the faces name them. An edge is swapped when the vertex across it lies
+  inside the diametral sphere (the sphere through three vertices centred in their
+  plane) of the triangle on either side -- Delaunay in 3-D; boundary edges and swaps
+  to an edge that already exists are never made, so the patch stays manifold; nor
+  are swaps that fold the patch more sharply, or any swap across a crease sharper
+  than ``CREASE`` degrees unless it leaves the two faces nearly flat: a swap replaces
+  two faces by the other two faces of their tetrahedron, and across a crease that
+  tetrahedron is wide enough to hold faces of the mesh or of the patch, which the new
+  faces would then cross;
+* rounds repeat until no triangle splits, or ``max_rounds``; a sweep tests each edge
+  once, so no round can cycle. (CGAL also stops at a sweep that swaps nothing, which
+  can leave a patch far coarser than its scales ask where the hole's sides are long.)
 
 A larger ``density`` splits more (smaller triangles); ``sqrt(2)``, Liepa's value, the
 default, gives triangles about as long as the mesh edges around the hole.
@@ -51,8 +55,6 @@ _CREASE_COS = math.cos(math.radians(CREASE))
 
 #: Rounds of splitting and relaxation at most (each round at most triples the faces).
 MAX_ROUNDS = 40
-#: Edge swaps per face at most in one relaxation (a guard against cycling).
-MAX_SWEEPS = 50
 
 
 def boundary_scales(
@@ -105,6 +107,11 @@ def refine_patch(
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Refine a hole's patch; returns ``(new_vertices, faces)``.
 
+    Each round splits the triangles that are too large for the scales around them at
+    their centroids, relaxing the three sides of each split triangle right after its
+    split, then tests every edge of the patch once (the module's docstring has the
+    tests); rounds go on until no triangle splits.
+
     Parameters
     ----------
     vertices : (n, 3) array
@@ -118,7 +125,7 @@ def refine_patch(
     density : float
         Liepa's alpha, > 0.
     max_rounds : int
-        Split-and-relax rounds at most.
+        Rounds of splits and relaxation at most.
     forbidden : set of frozenset, optional
         Vertex pairs an edge swap must not join (edges the mesh already has between
         the loop's vertices: a swap to one would give that edge a third face).
@@ -157,7 +164,6 @@ def refine_patch(
         float(density),
         int(max_rounds),
         pairs,
-        MAX_SWEEPS,
         _FOLD_FREE_COS,
         _CREASE_COS,
     )
@@ -208,10 +214,11 @@ def reference_refine_patch(
     def point(i: int) -> Point:
         return coords[i] if i < base else added[i - base]
 
+    where = _sides(faces)  # kept up to date by every split and swap
     for _ in range(max_rounds):
         split = False
-        next_faces: list[tuple[int, int, int]] = []
-        for a, b, c in faces:
+        for t in range(len(faces)):  # the round's faces: those its splits add wait
+            a, b, c = faces[t]
             pa, pb, pc = point(a), point(b), point(c)
             m = (
                 (pa[0] + pb[0] + pc[0]) / 3.0,
@@ -228,14 +235,18 @@ def reference_refine_patch(
                 sigma[k] = sm
                 if parents is not None:
                     parents.append((a, b, c))
-                next_faces += [(a, b, k), (b, c, k), (c, a, k)]
+                t2, t3 = len(faces), len(faces) + 1
+                faces[t] = (a, b, k)
+                faces += [(b, c, k), (c, a, k)]
+                where[(b, k)], where[(k, a)] = t, t
+                where[(b, c)], where[(c, k)], where[(k, b)] = t2, t2, t2
+                where[(c, a)], where[(a, k)], where[(k, c)] = t3, t3, t3
+                for u, v in ((a, b), (b, c), (c, a)):  # its sides, relaxed at once
+                    _swap(faces, where, u, v, point, loop_edges, blocked)
                 split = True
-            else:
-                next_faces.append((a, b, c))
-        faces = next_faces
         if not split:
             break
-        faces = _relax(faces, point, loop_edges, blocked)
+        _sweep(faces, where, point, loop_edges, blocked)
     new = np.asarray(added, dtype=np.float64).reshape(-1, 3)
     return new, np.asarray(faces, dtype=np.int64).reshape(-1, 3)
 
@@ -246,51 +257,73 @@ def _rows(pts: NDArray[np.float64], faces: list[tuple[int, int, int]]) -> Any:
     return zip(used.tolist(), pts[used].tolist())
 
 
-def _relax(
+def _sides(faces: list[tuple[int, int, int]]) -> dict[tuple[int, int], int]:
+    """Each directed edge of the faces -> the index of the face it bounds."""
+    where: dict[tuple[int, int], int] = {}
+    for t, (a, b, c) in enumerate(faces):
+        where[(a, b)], where[(b, c)], where[(c, a)] = t, t, t
+    return where
+
+
+def _swap(
     faces: list[tuple[int, int, int]],
+    where: dict[tuple[int, int], int],
+    u: int,
+    v: int,
     point: Callable[[int], Any],
     fixed_edges: set[frozenset[int]],
     blocked: set[frozenset[int]],
-) -> list[tuple[int, int, int]]:
-    """Swap interior edges whose opposite vertex is inside the diametral sphere.
+) -> bool:
+    """Swap the edge ``u-v`` (in place) if it fails the diametral-sphere test; whether it did.
 
-    ``fixed_edges`` are never swapped away; no swap creates an edge of ``blocked``.
-    Every interior edge is tested once, and the four edges around a swap again
-    (a work list); swaps stop after ``MAX_SWEEPS`` per face at most.
+    The edge is kept when it is in ``fixed_edges``, when it bounds one face only, when
+    the swap would make an edge of ``blocked`` or one the faces already have, when
+    neither opposite vertex lies inside the other triangle's diametral sphere, or when
+    the swap folds the patch (:func:`_folds`). ``where`` follows the swap.
     """
-    faces = list(faces)
-    coords: dict[int, Point] = {}
-    for face in faces:
-        for i in face:
-            if i not in coords:
-                q = point(i)
-                coords[i] = (float(q[0]), float(q[1]), float(q[2]))
+    t1, t2 = where.get((u, v)), where.get((v, u))
+    if t1 is None or t2 is None or frozenset((u, v)) in fixed_edges:
+        return False
+    x = _third(faces[t1], u, v)
+    y = _third(faces[t2], v, u)
+    if x == y or (x, y) in where or (y, x) in where or frozenset((x, y)) in blocked:
+        return False
+    pu, pv, px, py = point(u), point(v), point(x), point(y)
+    if not (_inside_sphere(pu, pv, px, py) or _inside_sphere(pv, pu, py, px)):
+        return False
+    if _folds(pu, pv, px, py):
+        return False
+    # (u, v, x) and (v, u, y) become (u, y, x) and (v, x, y): same winding
+    faces[t1], faces[t2] = (u, y, x), (v, x, y)
+    del where[(u, v)], where[(v, u)]
+    where[(u, y)], where[(y, x)], where[(x, u)] = t1, t1, t1
+    where[(v, x)], where[(x, y)], where[(y, v)] = t2, t2, t2
+    return True
 
-    where: dict[tuple[int, int], int] = {}  # directed edge -> face index
-    for t, (a, b, c) in enumerate(faces):
-        where[(a, b)], where[(b, c)], where[(c, a)] = t, t, t
-    todo = [e for e in where if e[0] < e[1]]
-    budget = MAX_SWEEPS * max(len(faces), 1)
-    while todo and budget > 0:
-        u, v = todo.pop()
-        t1, t2 = where.get((u, v)), where.get((v, u))
-        if t1 is None or t2 is None or frozenset((u, v)) in fixed_edges:
-            continue
-        x = _third(faces[t1], u, v)
-        y = _third(faces[t2], v, u)
-        if x == y or (x, y) in where or (y, x) in where or frozenset((x, y)) in blocked:
-            continue
-        pu, pv, px, py = coords[u], coords[v], coords[x], coords[y]
-        if not _inside_sphere(pu, pv, px, py) or _folds(pu, pv, px, py):
-            continue
-        # (u, v, x) and (v, u, y) become (u, y, x) and (v, x, y): same winding
-        faces[t1], faces[t2] = (u, y, x), (v, x, y)
-        del where[(u, v)], where[(v, u)]
-        where[(u, y)], where[(y, x)], where[(x, u)] = t1, t1, t1
-        where[(v, x)], where[(x, y)], where[(y, v)] = t2, t2, t2
-        todo += [(v, x), (x, u), (u, y), (y, v)]
-        budget -= 1
-    return faces
+
+def _sweep(
+    faces: list[tuple[int, int, int]],
+    where: dict[tuple[int, int], int],
+    point: Callable[[int], Any],
+    fixed_edges: set[frozenset[int]],
+    blocked: set[frozenset[int]],
+) -> int:
+    """Test every interior edge once (:func:`_swap`), in place; the number of swaps.
+
+    ``where`` is :func:`_sides` of the faces. Edges are taken in the order the faces
+    first name them (the face on their other side comes later); an edge a swap makes
+    is not tested in the same sweep.
+    """
+    edges = [
+        (u, v)
+        for t, (a, b, c) in enumerate(faces)
+        for u, v in ((a, b), (b, c), (c, a))
+        if where.get((v, u), -1) > t
+    ]
+    swaps = 0
+    for u, v in edges:
+        swaps += _swap(faces, where, u, v, point, fixed_edges, blocked)
+    return swaps
 
 
 def _third(face: tuple[int, int, int], u: int, v: int) -> int:
