@@ -5,7 +5,7 @@ border, fairs it with the rings of faces around it and checks it for crossings w
 the faces near it. Handing the whole mesh (and every patch so far) to each of those
 steps costs time in proportion to the mesh for every hole: quadratic on a scan with
 thousands of small holes. :class:`Around` indexes the mesh once -- its faces at each
-vertex, its faces' boxes sorted by their low x -- and keeps the patches added since,
+vertex, its faces' boxes in a uniform grid -- and keeps the patches added since,
 so that each step gets only
 
 * :meth:`Around.rings`: the faces (of the mesh or of a patch so far) within some
