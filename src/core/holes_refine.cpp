@@ -495,7 +495,7 @@ void bind_refine(nb::module_& m) {
             Sides where = sides(faces);  // kept up to date by every split and swap
             for (int64_t round = 0; round < max_rounds; ++round) {
                 bool split = false;
-                const size_t count = faces.size();  // the round's faces: those it adds wait
+                const size_t count = faces.size();  // faces it adds wait: next round
                 for (size_t t = 0; t < count; ++t) {
                     const Tri f = faces[t];
                     const P3 pa = R.point(f.a), pb = R.point(f.b), pc = R.point(f.c);

@@ -63,9 +63,7 @@ class Around:
     ([0, 1, 2], array([2]))
     """
 
-    def __init__(
-        self, vertices: Floats, faces: Ints, whole_holes: int | None = None
-    ) -> None:
+    def __init__(self, vertices: Floats, faces: Ints, whole_holes: int | None = None) -> None:
         self.vertices = np.ascontiguousarray(vertices, dtype=np.float64)
         self.faces = np.ascontiguousarray(faces, dtype=np.int64)
         self.n, self.m = len(self.vertices), len(self.faces)
@@ -82,8 +80,7 @@ class Around:
         self._new_first = np.zeros(0, dtype=np.int64)  # each patch's first new vertex id
         self._box = np.zeros((0, 6))  # each patch's box (lo, hi), first len(_patches) rows
         self._first = np.zeros(0, dtype=np.int64)  # each patch's first face id
-        self._grid: _Grid | None = None
-        self._boxes: tuple[Floats, Floats] | None = None  # each mesh face's (lo, hi)
+        self._grid: _Grid | None = None  # made at the first box query
 
     @property
     def whole(self) -> bool:
@@ -143,7 +140,10 @@ class Around:
         self._indexed = len(self._patches)
 
     def mesh_faces_at(self, vertices: Ints) -> Ints:
-        """Ids of the mesh's faces (not the patches') at any of ``vertices``, ascending."""
+        """Ids of the mesh's faces (not the patches') at any of ``vertices``, ascending.
+
+        Before the mesh is indexed (:attr:`whole`), a scan of every face.
+        """
         v = np.asarray(vertices, dtype=np.int64)
         v = v[v < self.n]
         if self.whole:
@@ -156,10 +156,7 @@ class Around:
             start = np.concatenate(([0], np.cumsum(np.bincount(flat, minlength=self.n))))
             self._at = (start, np.argsort(flat, kind="stable") // 3)
         start, face_at = self._at
-        lo, hi = start[v], start[v + 1]
-        count = hi - lo
-        at = np.repeat(lo - np.cumsum(count) + count, count) + np.arange(int(count.sum()))
-        return np.unique(face_at[at])
+        return np.unique(face_at[runs(start[v], start[v + 1] - start[v])])
 
     def rings(self, seeds: Ints, sweeps: int) -> Ints | None:
         """Face ids reached in ``sweeps`` sweeps from ``seeds``, ascending (None: every face).
@@ -199,10 +196,12 @@ class Around:
         if self.whole:
             return None
         self._index_patches()
-        flo, fhi = self._face_boxes()
-        lo = np.asarray(lo, dtype=np.float64) - self._slack
-        hi = np.asarray(hi, dtype=np.float64) + self._slack
-        out = [self._mesh_boxed(lo, hi, flo, fhi)]
+        if self._grid is None:
+            self._grid = _Grid(self.vertices, self.faces)
+        g = self._grid
+        lo = np.asarray(lo, dtype=np.float64) - g.slack
+        hi = np.asarray(hi, dtype=np.float64) + g.slack
+        out = [g.boxed(lo, hi)]
         box = self._box[: len(self._patches)]
         for j in np.flatnonzero(np.all((box[:, :3] <= hi) & (box[:, 3:] >= lo), axis=1)):
             p = self._patches[j]
@@ -210,39 +209,6 @@ class Around:
             meet = np.all((pts.min(axis=1) <= hi) & (pts.max(axis=1) >= lo), axis=1)
             out.append(self._first[j] + np.flatnonzero(meet))
         return np.concatenate(out).astype(np.int64)
-
-    def _mesh_boxed(self, lo: Floats, hi: Floats, flo: Floats, fhi: Floats) -> Ints:
-        if self._grid is None:
-            self._grid = _Grid(self.vertices, flo, fhi)
-        g = self._grid
-        # a face's low corner lies in [lo - cell, hi] when its box (at most a cell wide)
-        # meets [lo, hi]: the cells of that range, a run of keys per (x, y) column
-        first = np.floor((lo - g.cell - g.origin) / g.cell)
-        last = np.floor((hi - g.origin) / g.cell)
-        first, last = np.maximum(first, 0), np.minimum(last, g.dims - 1)
-        runs = [g.wide]
-        if np.all(first <= last) and np.all(np.isfinite(first)) and np.all(np.isfinite(last)):
-            x, y = np.meshgrid(
-                np.arange(first[0], last[0] + 1), np.arange(first[1], last[1] + 1), indexing="ij"
-            )
-            base = (x.ravel().astype(np.int64) * g.dims[1] + y.ravel().astype(np.int64)) * g.dims[2]
-            a = np.searchsorted(g.keys, base + int(first[2]), side="left")
-            b = np.searchsorted(g.keys, base + int(last[2]), side="right")
-            count = b - a
-            at = np.repeat(a - np.cumsum(count) + count, count) + np.arange(int(count.sum()))
-            runs.append(g.order[at])
-        run = np.concatenate(runs)
-        keep = np.all((flo[run] <= hi) & (fhi[run] >= lo), axis=1)
-        return np.sort(run[keep])
-
-    def _face_boxes(self) -> tuple[Floats, Floats]:
-        if self._boxes is None:
-            v, f = self.vertices, self.faces
-            a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
-            self._boxes = (np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c))
-            span = (v.max(axis=0) - v.min(axis=0)) if self.n else np.zeros(3)
-            self._slack = _BOX_SLACK * float(span.max(initial=0.0))
-        return self._boxes
 
     def local(
         self, face_ids: Ints | None, patch: Ints, pending: Floats
@@ -279,10 +245,14 @@ class _Grid:
     cell until at most a twentieth of the faces are wide and the cell count fits int64.
     """
 
-    def __init__(self, vertices: Floats, flo: Floats, fhi: Floats) -> None:
+    def __init__(self, vertices: Floats, faces: Ints) -> None:
+        a, b, c = vertices[faces[:, 0]], vertices[faces[:, 1]], vertices[faces[:, 2]]
+        self.flo = np.minimum(np.minimum(a, b), c)
+        self.fhi = np.maximum(np.maximum(a, b), c)
         self.origin = vertices.min(axis=0) if len(vertices) else np.zeros(3)
         span = (vertices.max(axis=0) - self.origin) if len(vertices) else np.zeros(3)
-        d = fhi - flo
+        self.slack = _BOX_SLACK * float(span.max(initial=0.0))
+        d = self.fhi - self.flo
         extent = np.maximum(np.maximum(d[:, 0], d[:, 1]), d[:, 2])
         positive = extent[extent > 0]
         cell = 2.0 * float(np.median(positive)) if len(positive) else 1.0
@@ -290,17 +260,48 @@ class _Grid:
         while True:
             dims = np.floor(span / cell).astype(np.float64) + 1
             wide = extent > cell
-            if float(np.prod(dims)) < 2.0**62 and wide.sum() <= len(flo) // 20:
+            if float(np.prod(dims)) < 2.0**62 and wide.sum() <= len(faces) // 20:
                 break
             cell *= 2
         self.cell, self.dims = cell, dims.astype(np.int64)
         self.wide = np.flatnonzero(wide)
         narrow = np.flatnonzero(~wide)
-        c = np.minimum(np.floor((flo[narrow] - self.origin) / cell), dims - 1)
-        c = c.astype(np.int64)
-        key = (c[:, 0] * self.dims[1] + c[:, 1]) * self.dims[2] + c[:, 2]
+        cells = np.minimum(np.floor((self.flo[narrow] - self.origin) / cell), dims - 1)
+        cells = cells.astype(np.int64)
+        key = (cells[:, 0] * self.dims[1] + cells[:, 1]) * self.dims[2] + cells[:, 2]
         order = np.argsort(key, kind="stable")
         self.order, self.keys = narrow[order], key[order]
+
+    def boxed(self, lo: Floats, hi: Floats) -> Ints:
+        """Ids of the faces whose boxes meet ``[lo, hi]`` (already widened), ascending."""
+        # a face's low corner lies in [lo - cell, hi] when its box (at most a cell wide)
+        # meets [lo, hi]: the cells of that range, a run of keys per (x, y) column
+        first = np.floor((lo - self.cell - self.origin) / self.cell)
+        last = np.floor((hi - self.origin) / self.cell)
+        first, last = np.maximum(first, 0), np.minimum(last, self.dims - 1)
+        found = [self.wide]
+        if np.all(first <= last) and np.all(np.isfinite(first)) and np.all(np.isfinite(last)):
+            x, y = np.meshgrid(
+                np.arange(first[0], last[0] + 1), np.arange(first[1], last[1] + 1), indexing="ij"
+            )
+            base = (
+                x.ravel().astype(np.int64) * self.dims[1] + y.ravel().astype(np.int64)
+            ) * self.dims[2]
+            a = np.searchsorted(self.keys, base + int(first[2]), side="left")
+            b = np.searchsorted(self.keys, base + int(last[2]), side="right")
+            found.append(self.order[runs(a, b - a)])
+        run = np.concatenate(found)
+        keep = np.all((self.flo[run] <= hi) & (self.fhi[run] >= lo), axis=1)
+        return np.sort(run[keep])
+
+
+def runs(start: Ints, count: Ints) -> Ints:
+    """The indices ``start[i], ..., start[i] + count[i] - 1`` for each ``i``, concatenated.
+
+    >>> runs(np.array([5, 0, 9]), np.array([2, 0, 3])).tolist()
+    [5, 6, 9, 10, 11]
+    """
+    return np.repeat(start - np.cumsum(count) + count, count) + np.arange(int(count.sum()))
 
 
 def _append(buffer: NDArray[np.generic], used: int, rows: NDArray[np.generic]) -> tuple[Any, int]:

@@ -38,7 +38,7 @@ from ..errors import (
 from ..meshdata import copies_at_border, mesh_arrays, same_kind, weld, with_attributes
 from ..objective import Cost
 from ..weights import get_weight
-from .around import Around
+from .around import Around, runs
 from .boundary import Loop, trace_loops
 from .fair import CONTINUITY, PATCH_PASSES, fair_vertices
 from .intersect import intersecting_pairs
@@ -300,8 +300,7 @@ def fill_holes(
             added = np.zeros((0, 3))
             crossings = None  # of the final patch, once a check has counted them
             if refine:
-                near = faces if around.whole else faces[around.mesh_faces_at(ring)]
-                scales = boundary_scales(vertices, near, ring)
+                scales = boundary_scales(vertices, faces[around.mesh_faces_at(ring)], ring)
                 split: list[tuple[int, int, int]] = []
                 added, patch = refine_patch(
                     vertices,
@@ -335,11 +334,10 @@ def fill_holes(
     out_vertices = np.concatenate([vertices, around.new_vertices()])
     patches_all = np.concatenate([np.zeros((0, 3), np.int64), *patches]).astype(np.int64)
     split_all = np.concatenate([np.zeros((0, 3), np.int64), *parents])
-    if not (is_trimesh or faces is not own_faces):  # no vertex has copies or attributes
-        return same_kind(out_vertices, np.concatenate([own_faces, patches_all]), False), records
-    patches_all, split_all, source = copies_at_border(
-        own_faces, faces, patches_all, len(vertices), split_all
-    )
+    if is_trimesh or faces is not own_faces:  # some vertex has copies (or attributes)
+        patches_all, split_all, source = copies_at_border(
+            own_faces, faces, patches_all, len(vertices), split_all
+        )
     out_faces = np.concatenate([own_faces, patches_all])
     if is_trimesh:
         return with_attributes(mesh, out_vertices, out_faces, split_all, source), records
@@ -455,8 +453,7 @@ class _Edges:
         ends, partners = self._ends, self._partners
         if len(ends) > 8 * len(v) + 256:  # many loops: look up this one's ends only
             lo = np.searchsorted(ends, v, side="left")
-            count = np.searchsorted(ends, v, side="right") - lo
-            at = np.repeat(lo - np.cumsum(count) + count, count) + np.arange(int(count.sum()))
+            at = runs(lo, np.searchsorted(ends, v, side="right") - lo)
             ends, partners = ends[at], partners[at]
         on = set(v.tolist())
         nv = self.nv
@@ -466,7 +463,7 @@ class _Edges:
             if x in on and y in on
         }
         keys |= {
-            min(p, q) * self.nv + max(p, q)
+            min(p, q) * nv + max(p, q)
             for p in on & self._added.keys()
             for q in self._added[p]
             if q in on

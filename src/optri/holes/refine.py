@@ -217,7 +217,7 @@ def reference_refine_patch(
     where = _sides(faces)  # kept up to date by every split and swap
     for _ in range(max_rounds):
         split = False
-        for t in range(len(faces)):  # the round's faces: those its splits add wait
+        for t in range(len(faces)):  # faces its splits add wait for the next round
             a, b, c = faces[t]
             pa, pb, pc = point(a), point(b), point(c)
             m = (
